@@ -1,0 +1,61 @@
+// meshtour: mesh in, tour video out. main() only wires the sub-commands and turns errors into
+// one line on stderr and an exit code; the work happens in the commands and the libraries.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "cli/commands.h"
+#include "core/error.h"
+
+namespace {
+
+constexpr const char* kFooter = R"(
+Exit codes: 0 success, 1 unexpected failure, 2 bad input or options, 3 file could not be read or
+written, 4 rendering or encoding failed, 130 interrupted.
+
+Examples:
+  meshtour tour                                  # the built-in default scene -> meshtour-default.mp4
+  meshtour tour bunny.ply --up y -o bunny.mp4    # a mesh file, 4 s at 30 fps
+  meshtour tour scenes/default.json --frames 48 --width 640 --height 360
+  meshtour path bunny.ply -o bunny.path.json --plot bunny.png
+Run 'meshtour <command> --help' for the options of a command.)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"meshtour: renders a tour video of a 3D triangle mesh, along a camera path computed from its geometry."};
+  app.set_version_flag("--version", std::string("meshtour ") + MESHTOUR_VERSION);
+  app.footer(kFooter);
+  app.require_subcommand(1);
+  meshtour::cli::add_tour_command(app);
+  meshtour::cli::add_path_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "meshtour: " << e.what() << " (see 'meshtour --help')\n";
+    return 2;
+  } catch (const meshtour::InputError& e) {
+    std::cerr << "meshtour: error: " << e.what() << "\n";
+    return 2;
+  } catch (const meshtour::IoError& e) {
+    std::cerr << "meshtour: error: " << e.what() << "\n";
+    return 3;
+  } catch (const meshtour::RuntimeFailure& e) {
+    std::cerr << "meshtour: error: " << e.what() << "\n";
+    return 4;
+  } catch (const meshtour::cli::Interrupted&) {
+    std::cerr << "meshtour: interrupted; partial outputs removed\n";
+    return 130;
+  } catch (const std::exception& e) {
+    std::cerr << "meshtour: unexpected error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,2 @@
+#include "cli/commands.h"
+namespace meshtour::cli { void add_path_command(CLI::App&) {} }

@@ -1,0 +1,182 @@
+// meshtour tour: the whole job on one machine. Model -> camera path -> frames -> video, with the
+// encoder fed as frames finish, so memory stays flat however long the tour is.
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include "cli/commands.h"
+#include "cli/progress.h"
+#include "core/error.h"
+#include "encoder/video_encoder.h"
+#include "pathgen/turntable.h"
+#include "scenes/scene.h"
+#include "tracer/tracer.h"
+
+namespace meshtour::cli {
+namespace {
+
+struct TourArgs {
+  std::string input;  // mesh or .json scene; empty = built-in default scene
+  std::string output;
+  std::optional<int> width, height, fps, frames, spp, crf;
+  std::optional<double> seconds, fov, elevation;
+  std::optional<std::string> up, path_mode;
+  std::string frames_dir;
+  std::string format = "png";
+  int threads = 0;
+  bool quiet = false;
+};
+
+bool is_scene_file(const std::filesystem::path& p) { return p.extension() == ".json"; }
+
+Scene resolve_scene(const TourArgs& a) {
+  Scene scene;
+  if (a.input.empty()) {
+    scene = default_scene();
+  } else if (is_scene_file(a.input)) {
+    scene = load_scene(a.input);
+  } else {
+    scene = default_scene();  // defaults for everything but the model
+    scene.source = a.input;
+    scene.mesh_file = a.input;
+  }
+  if (a.up) scene.up = Axis::parse(*a.up);
+  if (a.width) scene.render.width = *a.width;
+  if (a.height) scene.render.height = *a.height;
+  if (a.fps) scene.fps = *a.fps;
+  if (a.frames) scene.frames = *a.frames;
+  if (a.seconds) {
+    const double frames = *a.seconds * scene.fps;
+    if (!(frames >= 1.0 && frames <= 1e6)) throw InputError("--seconds gives " + std::to_string(frames) + " frames; it must give 1 to 1000000");
+    scene.frames = static_cast<int>(std::lround(frames));
+  }
+  if (a.spp) scene.render.samples_per_pixel = *a.spp;
+  if (a.crf) scene.crf = *a.crf;
+  if (a.fov) scene.vertical_fov_deg = *a.fov;
+  if (a.elevation) scene.elevation_deg = *a.elevation;
+  if (a.path_mode) scene.path_mode = *a.path_mode;
+  return scene;
+}
+
+std::filesystem::path default_output(const TourArgs& a) {
+  if (a.input.empty()) return "meshtour-default.mp4";
+  return std::filesystem::path(a.input).stem().string() + ".mp4";
+}
+
+std::string frame_name(int frame, const char* ext) {
+  char name[64];
+  std::snprintf(name, sizeof name, "frame_%06d.%s", frame, ext);
+  return name;
+}
+
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens) {
+  if (scene.path_mode == "turntable") {
+    TurntableOptions options;
+    options.up = scene.up;
+    options.elevation_deg = scene.elevation_deg;
+    options.lens = lens;
+    return std::make_unique<TurntablePath>(mesh.positions, options);
+  }
+  throw InputError("camera path '" + scene.path_mode + "' is not available in this build; use --path turntable");
+}
+
+void run_tour(const TourArgs& args) {
+  install_interrupt_handlers();
+  const Scene scene = resolve_scene(args);
+  const std::filesystem::path output = args.output.empty() ? default_output(args) : std::filesystem::path(args.output);
+  if (output.extension() != ".mp4") throw InputError(output.string() + ": the video is written as H.264 MP4; name it *.mp4");
+  const bool keep_frames = !args.frames_dir.empty();
+  const bool write_png = keep_frames && (args.format == "png" || args.format == "png+exr");
+  const bool write_exr = keep_frames && (args.format == "exr" || args.format == "png+exr");
+
+  const int threads = args.threads > 0 ? args.threads : tbb::info::default_concurrency();
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+
+  // Fail on the output before the expensive work: the encoder opens its temporary file now.
+  VideoOptions video;
+  video.width = scene.render.width;
+  video.height = scene.render.height;
+  video.fps = scene.fps;
+  video.crf = scene.crf;
+  LoadReport report;
+  const TriangleMesh mesh = load_scene_model(scene, &report);
+  const Bounds bounds = mesh.bounds();
+  if (!args.quiet) {
+    std::fprintf(stderr, "%s: %zu faces, %zu vertices%s, bounds (%.4g %.4g %.4g) - (%.4g %.4g %.4g), up %s\n",
+                 scene.mesh_file ? scene.mesh_file->string().c_str() : "built-in sculpture", mesh.face_count(),
+                 mesh.vertex_count(), mesh.has_colors() ? " with colours" : "", bounds.lo.x(), bounds.lo.y(),
+                 bounds.lo.z(), bounds.hi.x(), bounds.hi.y(), bounds.hi.z(), scene.up.name().c_str());
+    for (const auto& w : report.warnings) std::fprintf(stderr, "  reader: %s\n", w.c_str());
+  }
+
+  VideoEncoder encoder(output, video);
+  if (!args.frames_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(args.frames_dir, ec);
+    if (ec) throw IoError(args.frames_dir + ": cannot create the frames directory: " + ec.message());
+  }
+
+  Lens lens;
+  lens.vertical_fov_deg = scene.vertical_fov_deg;
+  lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
+  const auto path = make_path(scene, mesh, lens);
+  const Renderer renderer(mesh, scene.render);
+
+  Progress progress("frame", scene.frames, args.quiet);
+  for (int k = 0; k < scene.frames; ++k) {
+    throw_if_interrupted();
+    const CameraPose pose = frame_pose(*path, k, scene.frames);
+    const Image image = renderer.render(Camera{pose.eye, pose.target, pose.up, scene.vertical_fov_deg});
+    if (write_png) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "png"));
+    if (write_exr) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "exr"));
+    encoder.add_frame(image.to_srgb8());
+    progress.update(k + 1);
+  }
+  throw_if_interrupted();
+  encoder.finish();
+  progress.finish();
+  if (!args.quiet) std::fprintf(stderr, "wrote %s (%d frames, %dx%d, %d fps)\n", output.string().c_str(), scene.frames,
+                                scene.render.width, scene.render.height, scene.fps);
+}
+
+}  // namespace
+
+void add_tour_command(CLI::App& app) {
+  auto args = std::make_shared<TourArgs>();
+  CLI::App* cmd = app.add_subcommand("tour", "Render a tour video of a mesh or a scene (the whole job on this machine).");
+  cmd->description(
+      "Render a tour video: load the model, compute the camera path, render every frame with the\n"
+      "ray tracer and encode them to an H.264 MP4. With no INPUT, renders the built-in default scene.\n"
+      "Options given here override the scene file; a mesh file gets the default scene's settings.");
+  cmd->add_option("input", args->input, "Mesh (" + supported_mesh_formats() + ") or scene file (.json); default: built-in scene");
+  cmd->add_option("-o,--output", args->output, "Video file to write (.mp4); default: <input name>.mp4 in the current directory");
+  cmd->add_option("--width", args->width, "Frame width in pixels, even (default 1280)")->check(CLI::Range(2, 16384));
+  cmd->add_option("--height", args->height, "Frame height in pixels, even (default 720)")->check(CLI::Range(2, 16384));
+  cmd->add_option("--fps", args->fps, "Frames per second (default 30)")->check(CLI::Range(1, 240));
+  auto* frames = cmd->add_option("--frames", args->frames, "Frames in one loop of the path (default 120)")->check(CLI::Range(1, 1000000));
+  cmd->add_option("--seconds", args->seconds, "Length of the video in seconds (sets --frames = seconds x fps)")
+      ->check(CLI::PositiveNumber)->excludes(frames);
+  cmd->add_option("--up", args->up, "The model's up axis: x, y, z, -x, -y or -z (default y)")
+      ->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"}, CLI::ignore_case));
+  cmd->add_option("--path", args->path_mode, "Camera path: turntable (circular orbit around the up axis)")
+      ->check(CLI::IsMember({"turntable", "paper"}));
+  cmd->add_option("--fov", args->fov, "Vertical field of view in degrees (default 35)")->check(CLI::Range(5.0, 120.0));
+  cmd->add_option("--elevation", args->elevation, "Turntable: camera elevation above the model's centre, degrees (default 18)")
+      ->check(CLI::Range(-80.0, 80.0));
+  cmd->add_option("--spp", args->spp, "Samples per pixel, stratified (default 4)")->check(CLI::Range(1, 4096));
+  cmd->add_option("--crf", args->crf, "H.264 quality: 0 lossless .. 51 worst; 18 looks lossless (default 18)")->check(CLI::Range(0, 51));
+  cmd->add_option("--frames-dir", args->frames_dir, "Also write every frame as an image into this directory (frame_000000.png, ...)");
+  cmd->add_option("--format", args->format, "Frame image format for --frames-dir: png (8-bit sRGB), exr (half float, linear) or png+exr")
+      ->check(CLI::IsMember({"png", "exr", "png+exr"}));
+  cmd->add_option("--threads", args->threads, "Threads to render with (default: all cores); results do not depend on it")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
+  cmd->callback([args] { run_tour(*args); });
+}
+
+}  // namespace meshtour::cli

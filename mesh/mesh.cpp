@@ -1,0 +1,274 @@
+#include "mesh/mesh.h"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace meshtour {
+namespace {
+
+struct LoaderTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  VertexAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status);
+};
+using LoaderMesh = OpenMesh::TriMesh_ArrayKernelT<LoaderTraits>;
+
+std::string lower_extension(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+bool is_supported(const std::string& ext) {
+  return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
+}
+
+// OpenMesh reports problems (non-manifold faces it had to split off, parse errors) on its own
+// error stream. Capture that stream for the duration of a load so the messages reach the user
+// through LoadReport instead of being printed in the middle of a progress display.
+class CapturedOpenMeshLog {
+public:
+  CapturedOpenMeshLog() {
+    omerr().disconnect(std::cerr);
+    omerr().connect(buffer_);
+    omlog().disconnect(std::clog);
+    omout().disconnect(std::cout);
+  }
+  ~CapturedOpenMeshLog() {
+    omerr().disconnect(buffer_);
+    omerr().connect(std::cerr);
+    omlog().connect(std::clog);
+    omout().connect(std::cout);
+  }
+  std::vector<std::string> lines() const {
+    std::vector<std::string> out;
+    std::istringstream in(buffer_.str());
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) out.push_back(line);
+    return out;
+  }
+
+private:
+  std::ostringstream buffer_;
+};
+
+std::mutex& openmesh_io_mutex() {
+  // OpenMesh's IO manager and log streams are process-wide singletons.
+  static std::mutex m;
+  return m;
+}
+
+// Counts polygon faces with more than three corners in OBJ/OFF/ASCII-PLY text, so the report can
+// say how many were triangulated. Binary formats are not scanned (the count stays 0).
+std::size_t count_polygons_in_text(const std::filesystem::path& file, const std::string& ext) {
+  std::ifstream in(file);
+  std::size_t polygons = 0;
+  std::string line;
+  if (ext == ".obj") {
+    while (std::getline(in, line)) {
+      if (line.size() < 2 || line[0] != 'f' || !std::isspace(static_cast<unsigned char>(line[1]))) continue;
+      std::istringstream fields(line.substr(2));
+      std::size_t corners = 0;
+      for (std::string token; fields >> token;) ++corners;
+      if (corners > 3) ++polygons;
+    }
+  }
+  return polygons;
+}
+
+// A PLY header announces its element counts, and OpenMesh allocates for them before reading the
+// body; a corrupt or hostile header ("element vertex 4000000000" on a 100-byte file) would make
+// it allocate gigabytes. Check that the body can possibly hold what the header announces.
+void check_ply_header(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return;  // OpenMesh reports the error
+  bool ascii = false;
+  struct Element {
+    std::string name;
+    unsigned long long count = 0;
+    unsigned long long min_bytes = 0;  // smallest possible size of one element in the body
+  };
+  std::vector<Element> elements;
+  bool header_complete = false;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "format") {
+      std::string format;
+      words >> format;
+      ascii = format == "ascii";
+    } else if (keyword == "element") {
+      Element e;
+      std::string count;
+      words >> e.name >> count;
+      try {
+        e.count = std::stoull(count);
+      } catch (const std::exception&) {
+        throw InputError(file.string() + ": PLY header: element '" + e.name + "' has an invalid count '" + count + "'");
+      }
+      elements.push_back(e);
+    } else if (keyword == "property" && !elements.empty()) {
+      std::string type;
+      words >> type;
+      // ASCII needs a digit and a separator per value; binary at least one byte (a list's count).
+      elements.back().min_bytes += ascii ? 2 : 1;
+    } else if (keyword == "end_header") {
+      header_complete = true;
+      break;
+    }
+  }
+  if (!header_complete) throw InputError(file.string() + ": truncated or corrupt PLY: the header has no 'end_header' line");
+  const auto body_start = in.tellg();
+  if (body_start < 0) return;
+  const auto size = std::filesystem::file_size(file);
+  const unsigned long long body = size - static_cast<unsigned long long>(body_start);
+  long double needed = 0;
+  for (const auto& e : elements) needed += static_cast<long double>(e.count) * std::max(1ull, e.min_bytes);
+  if (needed > static_cast<long double>(body))
+    throw InputError(file.string() + ": truncated or corrupt PLY: the header announces " +
+                     [&] {
+                       std::string s;
+                       for (const auto& e : elements) s += (s.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name;
+                       return s;
+                     }() +
+                     " but the file holds only " + std::to_string(body) + " bytes after the header");
+}
+
+}  // namespace
+
+Bounds TriangleMesh::bounds() const {
+  Bounds b;
+  bool first = true;
+  for (const auto& t : triangles) {
+    for (auto vi : t) {
+      const Eigen::Vector3d& p = positions[vi];
+      if (first) {
+        b.lo = b.hi = p;
+        first = false;
+      } else {
+        b.lo = b.lo.cwiseMin(p);
+        b.hi = b.hi.cwiseMax(p);
+      }
+    }
+  }
+  return b;
+}
+
+std::string supported_mesh_formats() { return "obj, ply (ascii or binary), off, stl"; }
+
+TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
+  const std::string name = file.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec))
+    throw IoError(name + ": no such file");
+  if (std::filesystem::is_directory(file, ec))
+    throw IoError(name + ": is a directory, not a mesh file");
+  const std::string ext = lower_extension(file);
+  if (!is_supported(ext))
+    throw InputError(name + ": unknown mesh format '" + ext + "' (supported: " + supported_mesh_formats() + ")");
+  {
+    std::ifstream probe(file, std::ios::binary);
+    if (!probe) throw IoError(name + ": cannot open for reading (check permissions)");
+    if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
+  }
+
+  if (ext == ".ply") check_ply_header(file);
+
+  LoaderMesh om;
+  om.request_vertex_colors();
+  OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor;
+  std::vector<std::string> messages;
+  bool ok = false;
+  try {
+    std::lock_guard lock(openmesh_io_mutex());
+    CapturedOpenMeshLog log;
+    ok = OpenMesh::IO::read_mesh(om, name, options);
+    messages = log.lines();
+  } catch (const std::bad_alloc&) {
+    throw InputError(name + ": the mesh is too large for the memory of this machine, or its header is corrupt");
+  }
+  if (!ok) {
+    std::string why = messages.empty() ? "not a valid " + ext.substr(1) + " file" : messages.front();
+    throw InputError(name + ": cannot read mesh: " + why);
+  }
+  if (om.n_faces() == 0)
+    throw InputError(name + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
+
+  TriangleMesh mesh;
+  mesh.positions.reserve(om.n_vertices());
+  for (auto vh : om.vertices()) {
+    const auto& p = om.point(vh);
+    mesh.positions.emplace_back(p[0], p[1], p[2]);
+  }
+  for (const auto& p : mesh.positions)
+    if (!p.allFinite()) throw InputError(name + ": mesh has a vertex with a NaN or infinite coordinate");
+  if (options.check(OpenMesh::IO::Options::VertexColor)) {
+    mesh.colors.reserve(om.n_vertices());
+    for (auto vh : om.vertices()) {
+      const auto c = om.color(vh);
+      mesh.colors.emplace_back(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f);
+    }
+  }
+  mesh.triangles.reserve(om.n_faces());
+  for (auto fh : om.faces()) {
+    std::array<std::uint32_t, 3> tri{};
+    int k = 0;
+    for (auto vh : om.fv_range(fh)) {
+      if (k < 3) tri[k] = static_cast<std::uint32_t>(vh.idx());
+      ++k;
+    }
+    mesh.triangles.push_back(tri);
+  }
+  if (mesh.bounds().diagonal() <= 0.0)
+    throw InputError(name + ": all vertices coincide; the mesh has no extent to render");
+
+  if (report) {
+    report->polygons_triangulated = count_polygons_in_text(file, ext);
+    report->warnings = messages;
+    // OpenMesh keeps faces it cannot add manifoldly by giving them copies of their vertices;
+    // each such copy is a vertex the file did not have.
+    std::size_t split = 0;
+    for (const auto& m : messages)
+      if (m.find("complex") != std::string::npos || m.find("non-manifold") != std::string::npos) ++split;
+    report->vertices_split = split;
+  }
+  return mesh;
+}
+
+void save_mesh(const TriangleMesh& mesh, const std::filesystem::path& file) {
+  LoaderMesh om;
+  const bool colors = mesh.has_colors();
+  if (colors) om.request_vertex_colors();
+  std::vector<LoaderMesh::VertexHandle> handles;
+  handles.reserve(mesh.positions.size());
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const auto& p = mesh.positions[i];
+    handles.push_back(om.add_vertex(LoaderMesh::Point(p.x(), p.y(), p.z())));
+    if (colors) {
+      const auto& c = mesh.colors[i];
+      auto to8 = [](float v) { return static_cast<unsigned char>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+      om.set_color(handles.back(), LoaderMesh::Color(to8(c.x()), to8(c.y()), to8(c.z())));
+    }
+  }
+  std::lock_guard lock(openmesh_io_mutex());
+  CapturedOpenMeshLog log;
+  for (const auto& t : mesh.triangles) om.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
+  OpenMesh::IO::Options options = OpenMesh::IO::Options::Binary;
+  if (colors) options += OpenMesh::IO::Options::VertexColor;
+  if (!OpenMesh::IO::write_mesh(om, file.string(), options))
+    throw IoError(file.string() + ": cannot write mesh");
+}
+
+}  // namespace meshtour

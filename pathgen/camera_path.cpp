@@ -1,0 +1,42 @@
+#include <Eigen/Geometry>
+#include "pathgen/camera_path.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/error.h"
+
+namespace meshtour {
+namespace {
+double radians(double deg) { return deg * std::numbers::pi / 180.0; }
+}  // namespace
+
+double Lens::horizontal_fov_deg() const {
+  return 2.0 * std::atan(std::tan(radians(vertical_fov_deg) / 2.0) * aspect) * 180.0 / std::numbers::pi;
+}
+
+double fit_pullback(std::span<const Eigen::Vector3d> points, const CameraPose& pose, const Lens& lens) {
+  const Eigen::Vector3d view = pose.target - pose.eye;
+  if (!(view.norm() > 0.0)) throw InputError("camera eye and target coincide; cannot frame the model");
+  const Eigen::Vector3d forward = view.normalized();
+  const Eigen::Vector3d right = forward.cross(pose.up);
+  if (!(right.norm() > 1e-9)) throw InputError("camera looks along its up axis; cannot frame the model");
+  const Eigen::Vector3d r = right.normalized();
+  const Eigen::Vector3d u = r.cross(forward);
+  // A point (x, y, z) in camera coordinates is in frame when |x| <= tx*z and |y| <= ty*z. Moving
+  // the eye back by s adds s to every z, so each point needs s >= max(|x|/tx, |y|/ty) - z.
+  const double keep = std::clamp(1.0 - lens.margin, 0.05, 1.0);
+  const double ty = std::tan(radians(lens.vertical_fov_deg) / 2.0) * keep;
+  const double tx = std::tan(radians(lens.vertical_fov_deg) / 2.0) * lens.aspect * keep;
+  double needed = -std::numeric_limits<double>::infinity();
+  for (const auto& p : points) {
+    const Eigen::Vector3d q = p - pose.eye;
+    const double z = q.dot(forward);
+    const double s = std::max(std::abs(q.dot(r)) / tx, std::abs(q.dot(u)) / ty) - z;
+    needed = std::max(needed, s);
+  }
+  return needed;
+}
+
+}  // namespace meshtour

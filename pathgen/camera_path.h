@@ -1,0 +1,46 @@
+#pragma once
+// Camera paths: where the camera is and what it looks at, as a function of the loop fraction.
+// Every path mode (turntable, the paper's toroidal-patch path, a path file) implements CameraPath.
+#include <Eigen/Core>
+#include <span>
+
+namespace meshtour {
+
+/// A camera placement in model units: eye position, the point looked at, and the up direction.
+struct CameraPose {
+  Eigen::Vector3d eye = Eigen::Vector3d::Zero();
+  Eigen::Vector3d target = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+};
+
+/// What the camera sees: the vertical field of view and the image aspect ratio (width / height).
+struct Lens {
+  double vertical_fov_deg = 40.0;
+  double aspect = 16.0 / 9.0;
+  /// Fraction of the half-frame kept empty around the model when framing (0.05 = 5 %).
+  double margin = 0.06;
+
+  double horizontal_fov_deg() const;
+};
+
+/// A closed camera path. t is the loop fraction: t and t + 1 give the same pose.
+class CameraPath {
+public:
+  virtual ~CameraPath() = default;
+  /// Pose at loop fraction t (any real number; the path is periodic with period 1).
+  virtual CameraPose pose(double t) const = 0;
+};
+
+/// Pose of frame k of a loop of `frame_count` frames: t = k / frame_count, so the last frame
+/// stops one step short of the first and the video loops seamlessly.
+inline CameraPose frame_pose(const CameraPath& path, int frame, int frame_count) {
+  return path.pose(static_cast<double>(frame) / static_cast<double>(frame_count));
+}
+
+/// Signed distance by which the eye of `pose` must move back along its view direction so that
+/// every point lies inside the view frustum of `lens` (with its margin). Negative when the camera
+/// could move closer. Points behind the eye are handled: the result always brings them in front.
+/// \throw InputError if `pose` has eye == target or up parallel to the view direction.
+double fit_pullback(std::span<const Eigen::Vector3d> points, const CameraPose& pose, const Lens& lens);
+
+}  // namespace meshtour

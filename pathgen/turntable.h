@@ -1,0 +1,38 @@
+#pragma once
+// The turntable path: a circular orbit around the model's up axis, framed so the whole model
+// stays in view at every angle. The baseline every geometry-driven path is compared with.
+#include <span>
+
+#include "core/axis.h"
+#include "pathgen/camera_path.h"
+
+namespace meshtour {
+
+struct TurntableOptions {
+  Axis up{1, false};             ///< the model's up axis (the orbit's axis)
+  double elevation_deg = 15.0;   ///< camera height above the model's centre, as an angle
+  double revolutions = 1.0;      ///< turns per loop (an integer keeps the loop seamless)
+  Lens lens;
+};
+
+/// Circular orbit around the vertical line through the centre of the bounding box, counter-
+/// clockwise seen from +up, starting in front of the model (+Z for a Y-up model, -Y for Z-up,
+/// +Z for X-up). The radius is the smallest that keeps every vertex in frame at every angle.
+class TurntablePath final : public CameraPath {
+public:
+  /// \throw InputError if there are no points or they all coincide.
+  TurntablePath(std::span<const Eigen::Vector3d> points, const TurntableOptions& options);
+  CameraPose pose(double t) const override;
+
+  double radius() const { return radius_; }
+  const Eigen::Vector3d& center() const { return center_; }
+
+private:
+  Eigen::Vector3d direction(double angle) const;  // unit vector from centre to eye
+
+  TurntableOptions options_;
+  Eigen::Vector3d center_, up_, front_, side_;
+  double radius_ = 0.0;
+};
+
+}  // namespace meshtour

@@ -1,0 +1,214 @@
+#include "scenes/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/error.h"
+#include "default_scene.h"
+
+namespace meshtour {
+namespace {
+
+using nlohmann::json;
+
+// Reads one JSON object strictly: every key must be known (a typo must not be silently ignored),
+// every value must have the right type and range. Messages name the file and the key path.
+class ObjectReader {
+public:
+  ObjectReader(const json& object, std::string source, std::string path)
+      : object_(object), source_(std::move(source)), path_(std::move(path)) {
+    if (!object_.is_object()) fail(path_.empty() ? "the document must be a JSON object" : "must be a JSON object");
+  }
+
+  bool has(const std::string& key) {
+    known_.insert(key);
+    return object_.contains(key);
+  }
+  const json& raw(const std::string& key) {
+    known_.insert(key);
+    return object_.at(key);
+  }
+  ObjectReader child(const std::string& key) { return ObjectReader(raw(key), source_, join(key)); }
+
+  void read(const std::string& key, std::string& out) {
+    if (!has(key)) return;
+    const json& v = raw(key);
+    if (!v.is_string()) fail_key(key, "must be a string");
+    out = v.get<std::string>();
+  }
+  void read(const std::string& key, double& out, double lo, double hi) {
+    if (!has(key)) return;
+    const json& v = raw(key);
+    if (!v.is_number()) fail_key(key, "must be a number");
+    const double d = v.get<double>();
+    if (!(d >= lo && d <= hi)) fail_key(key, "must be between " + number(lo) + " and " + number(hi) + ", got " + v.dump());
+    out = d;
+  }
+  void read(const std::string& key, float& out, double lo, double hi) {
+    double d = out;
+    read(key, d, lo, hi);
+    out = static_cast<float>(d);
+  }
+  void read(const std::string& key, int& out, int lo, int hi) {
+    if (!has(key)) return;
+    const json& v = raw(key);
+    if (!v.is_number_integer()) fail_key(key, "must be a whole number");
+    const auto i = v.get<long long>();
+    if (i < lo || i > hi) fail_key(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + v.dump());
+    out = static_cast<int>(i);
+  }
+  void read(const std::string& key, Eigen::Vector3f& out) {
+    if (!has(key)) return;
+    const json& v = raw(key);
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+      fail_key(key, "must be an array of three numbers, e.g. [0.8, 0.8, 0.8]");
+    for (int k = 0; k < 3; ++k) {
+      const double c = v[k].get<double>();
+      if (!(c >= 0.0 && c <= 1000.0)) fail_key(key, "components must be between 0 and 1000 (linear RGB)");
+      out[k] = static_cast<float>(c);
+    }
+  }
+  /// Rejects keys that were never asked for.
+  void finish() const {
+    for (const auto& [key, value] : object_.items())
+      if (!known_.count(key)) {
+        std::string known;
+        for (const auto& k : known_) known += (known.empty() ? "" : ", ") + k;
+        fail_key(key, "unknown key (known here: " + known + ")");
+      }
+  }
+  [[noreturn]] void fail_key(const std::string& key, const std::string& what) const {
+    throw InputError(source_ + ": '" + join(key) + "' " + what);
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(source_ + (path_.empty() ? ": " : ": '" + path_ + "' ") + what);
+  }
+
+private:
+  std::string join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  static std::string number(double d) {
+    std::ostringstream s;
+    s << d;
+    return s.str();
+  }
+  const json& object_;
+  std::string source_, path_;
+  std::set<std::string> known_;
+};
+
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const std::string& source, const std::filesystem::path& base_dir) {
+  json doc;
+  try {
+    doc = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    // nlohmann's message carries the line and column.
+    std::string what = e.what();
+    if (auto pos = what.find("parse error"); pos != std::string::npos) what = what.substr(pos);
+    throw InputError(source + ": not valid JSON: " + what);
+  }
+  Scene scene;
+  scene.source = source;
+  ObjectReader top(doc, source, "");
+  std::string format = "meshtour-scene/1";
+  top.read("format", format);
+  if (format != "meshtour-scene/1")
+    top.fail_key("format", "is '" + format + "'; this meshtour reads 'meshtour-scene/1'");
+  std::string description;
+  top.read("description", description);
+
+  if (!top.has("model")) top.fail("has no 'model': name a mesh file ({\"file\": \"bunny.ply\"}) or {\"procedural\": \"sculpture\"}");
+  {
+    ObjectReader model = top.child("model");
+    std::string file;
+    model.read("file", file);
+    model.read("procedural", scene.procedural);
+    model.read("detail", scene.procedural_detail, 0.05, 16.0);
+    if (!file.empty()) {
+      std::filesystem::path p(file);
+      scene.mesh_file = p.is_absolute() ? p : base_dir / p;
+    } else if (scene.procedural != "sculpture") {
+      model.fail_key("procedural", "is '" + scene.procedural + "'; the procedural models are: sculpture");
+    }
+    model.finish();
+  }
+  if (top.has("up")) {
+    std::string up;
+    top.read("up", up);
+    try {
+      scene.up = Axis::parse(up);
+    } catch (const InputError& e) {
+      top.fail_key("up", std::string("is invalid: ") + e.what());
+    }
+  }
+  if (top.has("camera")) {
+    ObjectReader camera = top.child("camera");
+    camera.read("path", scene.path_mode);
+    if (scene.path_mode != "turntable" && scene.path_mode != "paper")
+      camera.fail_key("path", "is '" + scene.path_mode + "'; use \"turntable\" or \"paper\"");
+    std::string path_file;
+    camera.read("path_file", path_file);
+    if (!path_file.empty()) {
+      const std::filesystem::path p(path_file);
+      scene.path_file = p.is_absolute() ? p : base_dir / p;
+    }
+    camera.read("fov", scene.vertical_fov_deg, 5.0, 120.0);
+    camera.read("elevation", scene.elevation_deg, -80.0, 80.0);
+    camera.finish();
+  }
+  if (top.has("timing")) {
+    ObjectReader timing = top.child("timing");
+    timing.read("fps", scene.fps, 1, 240);
+    timing.read("frames", scene.frames, 1, 1000000);
+    timing.finish();
+  }
+  if (top.has("output")) {
+    ObjectReader output = top.child("output");
+    output.read("width", scene.render.width, 2, 16384);
+    output.read("height", scene.render.height, 2, 16384);
+    output.read("spp", scene.render.samples_per_pixel, 1, 4096);
+    output.read("crf", scene.crf, 0, 51);
+    output.finish();
+  }
+  if (top.has("look")) {
+    ObjectReader look = top.child("look");
+    Shading& sh = scene.render.shading;
+    look.read("base_color", sh.base_color);
+    look.read("background_top", sh.background_top);
+    look.read("background_bottom", sh.background_bottom);
+    look.read("ambient", sh.ambient, 0.0, 10.0);
+    look.read("light_intensity", sh.light_intensity, 0.0, 100.0);
+    look.read("specular", sh.specular, 0.0, 10.0);
+    if (look.has("vertex_colors")) {
+      if (!look.raw("vertex_colors").is_boolean()) look.fail_key("vertex_colors", "must be true or false");
+      sh.use_vertex_colors = look.raw("vertex_colors").get<bool>();
+    }
+    look.finish();
+  }
+  top.finish();
+  return scene;
+}
+
+Scene default_scene() {
+  return parse_scene(generated::default_scene_json, "<built-in default scene>", std::filesystem::current_path());
+}
+
+Scene load_scene(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!std::filesystem::exists(file)) throw IoError(file.string() + ": no such file");
+  if (!in) throw IoError(file.string() + ": cannot open for reading (check permissions)");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), file.string(), file.parent_path());
+}
+
+TriangleMesh load_scene_model(const Scene& scene, LoadReport* report) {
+  if (scene.mesh_file) return load_mesh(*scene.mesh_file, report);
+  return make_sculpture(scene.procedural_detail);
+}
+
+}  // namespace meshtour

@@ -1,0 +1,49 @@
+#pragma once
+// Scene files: a JSON document naming the model and how to tour it. Every key is optional except
+// the model; command-line options override what the file says. See scenes/README.md.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "core/axis.h"
+#include "mesh/mesh.h"
+#include "tracer/tracer.h"
+
+namespace meshtour {
+
+/// Everything a tour needs besides the output name.
+struct Scene {
+  std::string source = "<built-in default scene>";  ///< where the scene came from, for messages
+  // Model: a file, or a procedural model made by meshtour itself.
+  std::optional<std::filesystem::path> mesh_file;  ///< resolved relative to the scene file
+  std::string procedural = "sculpture";             ///< used when mesh_file is empty
+  double procedural_detail = 1.0;
+  Axis up{1, false};
+
+  // Camera and timing.
+  std::string path_mode = "turntable";  ///< "turntable" or "paper"
+  std::optional<std::filesystem::path> path_file;
+  double vertical_fov_deg = 35.0;
+  double elevation_deg = 15.0;  ///< turntable only
+  int fps = 30;
+  int frames = 120;
+
+  // Output.
+  RenderOptions render;
+  int crf = 18;
+};
+
+/// The scene compiled into the program (scenes/default.json).
+Scene default_scene();
+
+/// Reads a scene file. \throw IoError if unreadable, InputError naming the file and the key for
+/// malformed JSON, unknown keys, wrong types or values out of range.
+Scene load_scene(const std::filesystem::path& file);
+
+/// Parses scene JSON text; `source` names it in messages, relative paths resolve from `base_dir`.
+Scene parse_scene(const std::string& json_text, const std::string& source, const std::filesystem::path& base_dir);
+
+/// The scene's model: loads mesh_file, or builds the procedural model.
+TriangleMesh load_scene_model(const Scene& scene, LoadReport* report = nullptr);
+
+}  // namespace meshtour

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Quick start, first command: install what is needed, build, and render the default tour
+# (a built-in procedural sculpture, no download) to meshtour-default.mp4.
+# Arguments are passed to `meshtour tour`, e.g. scripts/tour.sh mesh.ply -o mesh.mp4
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/install-deps.sh
+./scripts/build.sh
+exec ./build/cli/meshtour tour "$@"

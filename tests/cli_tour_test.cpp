@@ -1,0 +1,161 @@
+// End-to-end tests of `meshtour tour`: the real executable, the real files, an independent decoder.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "helpers.h"
+#include "video_probe.h"
+
+namespace meshtour {
+namespace {
+
+using test::run_meshtour;
+
+std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
+std::size_t count_files(const std::filesystem::path& dir) {
+  std::size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) n += e.is_regular_file();
+  return n;
+}
+
+// Mean absolute difference (0..255) between a decoded frame and the PNG the same run wrote.
+double mean_abs_diff(const std::vector<std::uint8_t>& rgb, const std::filesystem::path& png) {
+  OIIO::ImageBuf image(png.string());
+  EXPECT_TRUE(image.read(0, 0, true, OIIO::TypeDesc::UINT8));
+  const auto& spec = image.spec();
+  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(spec.width) * spec.height * 3);
+  image.get_pixels(OIIO::ROI(0, spec.width, 0, spec.height, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, pixels.data());
+  EXPECT_EQ(pixels.size(), rgb.size());
+  double sum = 0;
+  for (std::size_t i = 0; i < std::min(pixels.size(), rgb.size()); ++i) sum += std::abs(int(pixels[i]) - int(rgb[i]));
+  return sum / static_cast<double>(rgb.size());
+}
+
+TEST(TourCommand, DefaultSceneVideoHasEveryFrameAndMatchesThePngs) {
+  const auto dir = test::scratch_dir();
+  const auto video = dir / "default.mp4";
+  const auto frames = dir / "frames";
+  const auto r = run_meshtour("tour -o " + q(video) + " --frames 12 --fps 24 --width 160 --height 120 --spp 1 --frames-dir " +
+                              q(frames) + " --format png+exr --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(count_files(frames), 24u);  // 12 PNG + 12 EXR
+  const auto probe = test::probe_video(video, {0, 7});
+  EXPECT_EQ(probe.codec, "h264");
+  EXPECT_EQ(probe.pixel_format, "yuv420p");
+  EXPECT_EQ(probe.width, 160);
+  EXPECT_EQ(probe.height, 120);
+  EXPECT_EQ(probe.stream_frames, 12);
+  EXPECT_EQ(probe.decoded_frames, 12);
+  EXPECT_NEAR(probe.fps, 24.0, 1e-9);
+  EXPECT_NEAR(probe.duration_seconds, 0.5, 1e-3);
+  // A decoded frame matches its own PNG closely (chroma subsampling and CRF 18 only), and clearly
+  // does not match another frame of the turntable: the check can tell frames apart.
+  const double same = mean_abs_diff(probe.rgb_frames[0], frames / "frame_000000.png");
+  const double other = mean_abs_diff(probe.rgb_frames[1], frames / "frame_000000.png");
+  EXPECT_LT(same, 2.5);
+  EXPECT_GT(other, 2.0 * same + 1.0);
+  EXPECT_LT(mean_abs_diff(probe.rgb_frames[1], frames / "frame_000007.png"), 2.5);
+}
+
+TEST(TourCommand, SecondsAndFpsGiveTheFrameCount) {
+  const auto dir = test::scratch_dir();
+  const auto r = run_meshtour("tour -o " + q(dir / "t.mp4") + " --seconds 0.5 --fps 10 --width 64 --height 48 --spp 1 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(test::probe_video(dir / "t.mp4").decoded_frames, 5);
+}
+
+TEST(TourCommand, BunnyTourShowsTheWholeModel) {
+  MESHTOUR_SHARED_MESH(bunny, "bunny.ply");
+  const auto dir = test::scratch_dir();
+  const auto video = dir / "bunny.mp4";
+  const auto r = run_meshtour("tour " + q(bunny) + " -o " + q(video) + " --frames 48 --width 192 --height 108 --spp 1 --up y" +
+                              " --frames-dir " + q(dir / "frames") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto probe = test::probe_video(video);
+  EXPECT_EQ(probe.stream_frames, 48);
+  EXPECT_EQ(probe.decoded_frames, 48);
+  // Every frame: the model covers a real part of the image, and no model pixel touches the border
+  // (the whole model is in view).
+  for (int k = 0; k < 48; k += 6) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d.png", k);
+    OIIO::ImageBuf image((dir / "frames" / name).string());
+    ASSERT_TRUE(image.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    const int w = image.spec().width, h = image.spec().height;
+    // The background is a smooth vertical gradient: a pixel differing from its row's left edge
+    // pixel by more than a few levels is the model.
+    int model = 0, border = 0;
+    for (int y = 0; y < h; ++y) {
+      float bg[3], px[3];
+      image.getpixel(0, y, bg, 3);
+      for (int x = 0; x < w; ++x) {
+        image.getpixel(x, y, px, 3);
+        const bool is_model = std::abs(px[0] - bg[0]) + std::abs(px[1] - bg[1]) + std::abs(px[2] - bg[2]) > 0.06f;
+        model += is_model;
+        border += is_model && (x == 0 || y == 0 || x == w - 1 || y == h - 1);
+      }
+    }
+    EXPECT_GT(model, w * h / 20) << name << ": the model covers too little of the frame";
+    EXPECT_EQ(border, 0) << name << ": the model touches the frame border";
+  }
+}
+
+struct BadInput {
+  const char* name;
+  std::string args;      // arguments after "tour"
+  int exit_code;
+  std::string message;   // must appear in the one-line error
+};
+
+TEST(TourCommand, BadInputGivesOneClearLineAndNoVideo) {
+  const auto dir = test::scratch_dir();
+  std::ofstream(dir / "garbage.ply") << "ply\nformat binary_little_endian 1.0\nelement vertex 99999999\n";
+  std::ofstream(dir / "garbage.off") << "OFF\nthis is not a number\n\x01\x02";
+  std::ofstream(dir / "empty.obj") << "# nothing here\n";
+  std::ofstream(dir / "points.obj") << "v 0 0 0\nv 1 0 0\n";
+  const std::vector<BadInput> cases = {
+      {"missing file", q(dir / "nope.ply"), 3, "no such file"},
+      {"corrupt PLY", q(dir / "garbage.ply"), 2, "corrupt PLY"},
+      {"unreadable mesh", q(dir / "garbage.off"), 2, "cannot read mesh"},
+      {"empty mesh", q(dir / "empty.obj"), 2, "no faces"},
+      {"points only", q(dir / "points.obj"), 2, "no faces"},
+      {"unwritable output", "-o /proc/forbidden/x.mp4", 3, "x.mp4"},
+      {"odd size", "--width 161 --height 121", 2, "even"},
+      {"bad axis", "--up w", 2, "--up"},
+  };
+  for (const auto& c : cases) {
+    const auto video = dir / (std::string(c.name) + ".mp4");
+    std::string args = c.args;
+    if (args.find("-o ") == std::string::npos) args += " -o " + q(video);
+    if (args.find("--width") == std::string::npos) args += " --width 64 --height 48";
+    const auto r = run_meshtour("tour " + args + " --frames 2 -q");
+    EXPECT_EQ(r.exit_code, c.exit_code) << c.name << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << c.name << ": " << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.name << ": " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(video)) << c.name;
+  }
+  // Nothing half-written anywhere: only the inputs remain.
+  EXPECT_EQ(count_files(dir), 4u);
+}
+
+TEST(Cli, HelpAndVersion) {
+  const auto help = run_meshtour("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("tour"), std::string::npos);
+  EXPECT_NE(help.output.find("Exit codes"), std::string::npos);
+  const auto tour_help = run_meshtour("tour --help");
+  EXPECT_EQ(tour_help.exit_code, 0);
+  for (const char* option : {"--width", "--height", "--fps", "--frames", "--seconds", "--up", "--frames-dir", "--format", "--threads", "--path"})
+    EXPECT_NE(tour_help.output.find(option), std::string::npos) << option;
+  const auto version = run_meshtour("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_NE(version.output.find("meshtour "), std::string::npos);
+  EXPECT_NE(run_meshtour("").exit_code, 0);
+  EXPECT_NE(run_meshtour("frobnicate").exit_code, 0);
+}
+
+}  // namespace
+}  // namespace meshtour

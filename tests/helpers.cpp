@@ -1,0 +1,45 @@
+#include "helpers.h"
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <sys/wait.h>
+
+namespace meshtour::test {
+
+std::filesystem::path source_dir() { return MESHTOUR_SOURCE_DIR; }
+
+std::filesystem::path scratch_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "global";
+  for (char& c : name)
+    if (c == '/') c = '_';
+  const auto dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "test-scratch" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::filesystem::path shared_meshes_dir() {
+  const auto dir = source_dir().parent_path() / "shared" / "meshes";
+  return std::filesystem::is_directory(dir) ? dir : std::filesystem::path();
+}
+
+bool shared_required() {
+  const char* v = std::getenv("MESHTOUR_REQUIRE_SHARED");
+  return v && std::string(v) == "1";
+}
+
+CommandResult run_meshtour(const std::string& args) {
+  const std::string cmd = "cd '" + source_dir().string() + "' && '" + MESHTOUR_EXECUTABLE + "' " + args + " 2>&1";
+  CommandResult result;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = fread(buf.data(), 1, buf.size(), pipe)) result.output.append(buf.data(), n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+}  // namespace meshtour::test

@@ -1,0 +1,36 @@
+#pragma once
+// Shared test helpers: locating the repository, ../shared meshes, and running the CLI.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace meshtour::test {
+
+/// Root of the source tree.
+std::filesystem::path source_dir();
+/// A fresh, empty scratch directory under the build tree, named after the running test.
+std::filesystem::path scratch_dir();
+/// The ../shared/meshes folder next to the repository ("" when it is absent).
+std::filesystem::path shared_meshes_dir();
+/// True when MESHTOUR_REQUIRE_SHARED=1: a missing ../shared is then a failure, not a skip (CI).
+bool shared_required();
+
+/// Result of running the meshtour executable.
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  ///< stdout and stderr, merged
+};
+/// Runs `meshtour <args>` through the shell from the repository root.
+CommandResult run_meshtour(const std::string& args);
+
+}  // namespace meshtour::test
+
+/// Sets `var` to ../shared/meshes/<name>, or skips the test (fails it under MESHTOUR_REQUIRE_SHARED=1).
+#define MESHTOUR_SHARED_MESH(var, name)                                                          \
+  const std::filesystem::path var = ::meshtour::test::shared_meshes_dir() / (name);              \
+  if (!std::filesystem::exists(var)) {                                                           \
+    if (::meshtour::test::shared_required())                                                     \
+      FAIL() << "MESHTOUR_REQUIRE_SHARED=1 but " << var << " is missing";                        \
+    GTEST_SKIP() << "skipped: " << var << " not found (the ../shared test data is not checked out)"; \
+  }

@@ -1,0 +1,127 @@
+// Loader tests: every supported format, colours, triangulation, and the errors users meet.
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/error.h"
+#include "helpers.h"
+#include "mesh/mesh.h"
+
+namespace meshtour {
+namespace {
+
+std::filesystem::path write_text(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream(file, std::ios::binary) << text;
+  return file;
+}
+
+TEST(MeshLoader, ObjQuadIsTriangulated) {
+  const auto dir = test::scratch_dir();
+  const auto file = write_text(dir / "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  LoadReport report;
+  const TriangleMesh mesh = load_mesh(file, &report);
+  EXPECT_EQ(mesh.vertex_count(), 4u);
+  EXPECT_EQ(mesh.face_count(), 2u);
+  EXPECT_EQ(report.polygons_triangulated, 1u);
+  const Bounds b = mesh.bounds();
+  EXPECT_EQ(b.lo, Eigen::Vector3d(0, 0, 0));
+  EXPECT_EQ(b.hi, Eigen::Vector3d(1, 1, 0));
+  EXPECT_DOUBLE_EQ(b.diagonal(), std::sqrt(2.0));
+  EXPECT_FALSE(mesh.has_colors());
+}
+
+TEST(MeshLoader, AsciiPlyKeepsVertexColours) {
+  const auto dir = test::scratch_dir();
+  const auto file = write_text(dir / "tri.ply",
+                               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                               "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+                               "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                               "0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n");
+  const TriangleMesh mesh = load_mesh(file);
+  ASSERT_TRUE(mesh.has_colors());
+  EXPECT_FLOAT_EQ(mesh.colors[0].x(), 1.0f);
+  EXPECT_FLOAT_EQ(mesh.colors[1].y(), 1.0f);
+  EXPECT_FLOAT_EQ(mesh.colors[2].z(), 1.0f);
+  EXPECT_FLOAT_EQ(mesh.colors[0].y(), 0.0f);
+}
+
+TEST(MeshLoader, OffAndStlAndBinaryPlyAgree) {
+  const auto dir = test::scratch_dir();
+  // A tetrahedron in three formats.
+  write_text(dir / "tet.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  const TriangleMesh off = load_mesh(dir / "tet.off");
+  EXPECT_EQ(off.vertex_count(), 4u);
+  EXPECT_EQ(off.face_count(), 4u);
+
+  std::string stl = "solid tet\n";
+  for (const auto& t : off.triangles) {
+    stl += " facet normal 0 0 0\n  outer loop\n";
+    for (auto v : t) {
+      const auto& p = off.positions[v];
+      stl += "   vertex " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+    }
+    stl += "  endloop\n endfacet\n";
+  }
+  stl += "endsolid tet\n";
+  write_text(dir / "tet.stl", stl);
+  const TriangleMesh from_stl = load_mesh(dir / "tet.stl");
+  EXPECT_EQ(from_stl.face_count(), 4u);
+  EXPECT_EQ(from_stl.bounds().hi, off.bounds().hi);
+
+  save_mesh(off, dir / "tet_binary.ply");
+  const TriangleMesh from_ply = load_mesh(dir / "tet_binary.ply");
+  EXPECT_EQ(from_ply.vertex_count(), 4u);
+  EXPECT_EQ(from_ply.face_count(), 4u);
+  EXPECT_EQ(from_ply.positions, off.positions);
+}
+
+TEST(MeshLoader, MissingFileIsAnIoErrorNamingTheFile) {
+  try {
+    load_mesh("/nonexistent/dir/model.ply");
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/model.ply"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("no such file"), std::string::npos);
+  }
+}
+
+TEST(MeshLoader, BadInputsAreInputErrors) {
+  const auto dir = test::scratch_dir();
+  EXPECT_THROW(load_mesh(write_text(dir / "empty.ply", "")), InputError);
+  EXPECT_THROW(load_mesh(write_text(dir / "garbage.ply", "this is not a ply file\n\x01\x02\x03")), InputError);
+  EXPECT_THROW(load_mesh(write_text(dir / "model.xyz", "0 0 0\n")), InputError);
+  EXPECT_THROW(load_mesh(write_text(dir / "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n")), InputError);
+  EXPECT_THROW(load_mesh(write_text(dir / "point.obj", "v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n")), InputError);
+  EXPECT_THROW(load_mesh(dir), IoError);  // a directory
+}
+
+TEST(MeshLoader, StanfordBunnyCounts) {
+  MESHTOUR_SHARED_MESH(file, "bunny.ply");
+  const TriangleMesh mesh = load_mesh(file);
+  EXPECT_EQ(mesh.vertex_count(), 34817u);
+  EXPECT_EQ(mesh.face_count(), 69630u);
+  const Bounds b = mesh.bounds();
+  EXPECT_NEAR(b.lo.x(), -1.893798, 1e-5);
+  EXPECT_NEAR(b.hi.y(), 2.74642, 1e-5);
+}
+
+TEST(ProceduralSculpture, IsClosedEnoughAndOriented) {
+  const TriangleMesh mesh = make_sculpture(1.0);
+  EXPECT_GT(mesh.face_count(), 30000u);
+  EXPECT_LT(mesh.face_count(), 120000u);
+  ASSERT_TRUE(mesh.has_colors());
+  // Outward orientation: the signed volume of a closed, outward-oriented surface is positive.
+  double volume = 0;
+  for (const auto& t : mesh.triangles)
+    volume += mesh.positions[t[0]].dot(mesh.positions[t[1]].cross(mesh.positions[t[2]])) / 6.0;
+  EXPECT_GT(volume, 0.5);  // pedestal alone: pi * 0.85^2 * 0.3 = 0.68
+  const Bounds b = mesh.bounds();
+  EXPECT_NEAR(b.lo.y(), 0.0, 1e-12);
+  EXPECT_GT(b.hi.y(), 1.0);
+  // Detail scales the triangle count.
+  EXPECT_LT(make_sculpture(0.25).face_count(), mesh.face_count() / 2);
+}
+
+}  // namespace
+}  // namespace meshtour

@@ -1,0 +1,117 @@
+// Camera maths of the turntable and of framing: checked with real numbers.
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "pathgen/turntable.h"
+
+namespace meshtour {
+namespace {
+
+// Where a point lands in normalized image coordinates ([-1,1] on both axes when in frame).
+Eigen::Vector2d project(const CameraPose& pose, const Lens& lens, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d f = (pose.target - pose.eye).normalized();
+  const Eigen::Vector3d r = f.cross(pose.up).normalized();
+  const Eigen::Vector3d u = r.cross(f);
+  const Eigen::Vector3d q = p - pose.eye;
+  const double ty = std::tan(lens.vertical_fov_deg * std::numbers::pi / 360.0);
+  return {q.dot(r) / (q.dot(f) * ty * lens.aspect), q.dot(u) / (q.dot(f) * ty)};
+}
+
+std::vector<Eigen::Vector3d> box_corners(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  std::vector<Eigen::Vector3d> c;
+  for (int i = 0; i < 8; ++i) c.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  return c;
+}
+
+TEST(FitPullback, PointsEndUpExactlyInsideTheMargin) {
+  const auto points = box_corners({-1, -2, -0.5}, {3, 1, 0.5});
+  Lens lens;
+  lens.vertical_fov_deg = 40;
+  lens.aspect = 1.5;
+  lens.margin = 0.1;
+  CameraPose pose{{10, 3, 7}, {1, -0.5, 0}, Eigen::Vector3d::UnitY()};
+  const double s = fit_pullback(points, pose, lens);
+  const Eigen::Vector3d back = (pose.eye - pose.target).normalized();
+  pose.eye += s * back;
+  pose.target += s * back;
+  double extreme = 0;
+  for (const auto& p : points) {
+    const Eigen::Vector2d ndc = project(pose, lens, p);
+    extreme = std::max({extreme, std::abs(ndc.x()), std::abs(ndc.y())});
+  }
+  // The tightest point sits exactly on the margin: 1 - margin of the half-frame.
+  EXPECT_NEAR(extreme, 0.9, 1e-12);
+}
+
+TEST(FitPullback, RejectsDegenerateCameras) {
+  const auto points = box_corners({0, 0, 0}, {1, 1, 1});
+  EXPECT_THROW(fit_pullback(points, CameraPose{{1, 1, 1}, {1, 1, 1}, {0, 1, 0}}, Lens{}), InputError);
+  EXPECT_THROW(fit_pullback(points, CameraPose{{0, 5, 0}, {0, 0, 0}, {0, 1, 0}}, Lens{}), InputError);
+}
+
+TEST(Turntable, OrbitIsACircleAroundTheUpAxisAndKeepsEverythingInFrame) {
+  const auto points = box_corners({-1, 0, -0.3}, {1, 2.5, 0.3});
+  TurntableOptions options;
+  options.elevation_deg = 20;
+  options.lens.aspect = 16.0 / 9.0;
+  const TurntablePath path(points, options);
+  const Eigen::Vector3d center(0, 1.25, 0);
+  EXPECT_TRUE(path.center().isApprox(center, 1e-15));
+  double tightest = 0;
+  for (int k = 0; k < 360; ++k) {
+    const CameraPose pose = frame_pose(path, k, 360);
+    EXPECT_NEAR((pose.eye - center).norm(), path.radius(), 1e-12);
+    EXPECT_TRUE(pose.target.isApprox(center, 1e-15));
+    EXPECT_EQ(pose.up, Eigen::Vector3d::UnitY());
+    // Elevation: the height above the centre is radius * sin(20 deg).
+    EXPECT_NEAR(pose.eye.y() - center.y(), path.radius() * std::sin(20 * std::numbers::pi / 180), 1e-12);
+    for (const auto& p : points) {
+      const Eigen::Vector2d ndc = project(pose, options.lens, p);
+      EXPECT_LE(std::abs(ndc.x()), 1.0 - options.lens.margin + 1e-3);
+      EXPECT_LE(std::abs(ndc.y()), 1.0 - options.lens.margin + 1e-3);
+      tightest = std::max({tightest, std::abs(ndc.x()), std::abs(ndc.y())});
+    }
+  }
+  // Not further than needed: some frame touches the margin.
+  EXPECT_GT(tightest, 1.0 - options.lens.margin - 1e-3);
+}
+
+TEST(Turntable, StartsInFrontAndTurnsCounterClockwiseSeenFromUp) {
+  const auto points = box_corners({-1, -1, -1}, {1, 1, 1});
+  TurntableOptions options;
+  options.elevation_deg = 0;
+  const TurntablePath y_up(points, options);
+  EXPECT_GT(y_up.pose(0).eye.z(), 0.0);                 // +Z is the front of a Y-up model
+  EXPECT_GT(y_up.pose(0.25).eye.x(), 0.0);              // a quarter turn later, +X: CCW about +Y
+  EXPECT_TRUE(y_up.pose(1.0).eye.isApprox(y_up.pose(0.0).eye, 1e-12));  // periodic
+
+  options.up = Axis::parse("z");
+  const TurntablePath z_up(points, options);
+  EXPECT_LT(z_up.pose(0).eye.y(), 0.0);                 // -Y is the front of a Z-up model
+  EXPECT_EQ(z_up.pose(0).up, Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d a = z_up.pose(0).eye, b = z_up.pose(0.01).eye;
+  EXPECT_GT(a.cross(b).z(), 0.0);                        // CCW about +Z
+}
+
+TEST(Turntable, RejectsEmptyOrPointModels) {
+  std::vector<Eigen::Vector3d> none;
+  EXPECT_THROW(TurntablePath(none, TurntableOptions{}), InputError);
+  std::vector<Eigen::Vector3d> same(3, Eigen::Vector3d(1, 2, 3));
+  EXPECT_THROW(TurntablePath(same, TurntableOptions{}), InputError);
+}
+
+TEST(Axis, ParsesSignedAxes) {
+  EXPECT_EQ(Axis::parse("y").vector(), Eigen::Vector3d::UnitY());
+  EXPECT_EQ(Axis::parse("-Z").vector(), -Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(Axis::parse("+x").name(), "+x");
+  EXPECT_THROW(Axis::parse("w"), InputError);
+  EXPECT_THROW(Axis::parse(""), InputError);
+  EXPECT_THROW(Axis::parse("xy"), InputError);
+}
+
+}  // namespace
+}  // namespace meshtour

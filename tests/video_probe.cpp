@@ -1,0 +1,135 @@
+#include "video_probe.h"
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/error.h>
+#include <libavutil/pixdesc.h>
+#include <libswscale/swscale.h>
+}
+
+#include <array>
+#include <memory>
+#include <stdexcept>
+
+namespace meshtour::test {
+namespace {
+
+struct InputDeleter {
+  void operator()(AVFormatContext* f) const { avformat_close_input(&f); }
+};
+struct CodecDeleter {
+  void operator()(AVCodecContext* c) const { avcodec_free_context(&c); }
+};
+struct FrameDeleter {
+  void operator()(AVFrame* f) const { av_frame_free(&f); }
+};
+struct PacketDeleter {
+  void operator()(AVPacket* p) const { av_packet_free(&p); }
+};
+struct SwsDeleter {
+  void operator()(SwsContext* s) const { sws_freeContext(s); }
+};
+
+[[noreturn]] void fail(const std::filesystem::path& file, const std::string& what, int code) {
+  std::array<char, AV_ERROR_MAX_STRING_SIZE> buf{};
+  av_strerror(code, buf.data(), buf.size());
+  throw std::runtime_error("probe_video('" + file.string() + "'): " + what + ": " + buf.data());
+}
+
+// Converts one decoded frame to packed RGB24, reading it as BT.709 limited range (what the encoder
+// writes) and producing full-range RGB.
+std::vector<std::uint8_t> to_rgb(const std::filesystem::path& file, const AVFrame& frame) {
+  std::unique_ptr<SwsContext, SwsDeleter> sws(sws_getContext(
+      frame.width, frame.height, static_cast<AVPixelFormat>(frame.format), frame.width, frame.height,
+      AV_PIX_FMT_RGB24, SWS_BICUBIC | SWS_ACCURATE_RND | SWS_BITEXACT | SWS_FULL_CHR_H_INT, nullptr,
+      nullptr, nullptr));
+  if (!sws) fail(file, "no converter from the decoded pixel format to RGB", AVERROR(EINVAL));
+  const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
+  if (sws_setColorspaceDetails(sws.get(), bt709, 0, bt709, 1, 0, 1 << 16, 1 << 16) < 0)
+    fail(file, "BT.709 conversion unsupported", AVERROR(ENOSYS));
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(frame.width) * frame.height * 3);
+  std::uint8_t* dst[1] = {rgb.data()};
+  const int dst_stride[1] = {frame.width * 3};
+  sws_scale(sws.get(), frame.data, frame.linesize, 0, frame.height, dst, dst_stride);
+  return rgb;
+}
+
+}  // namespace
+
+VideoProbe probe_video(const std::filesystem::path& file, const std::vector<int>& keep) {
+  const std::string url = "file:" + file.string();
+  AVFormatContext* raw = nullptr;
+  int ret = avformat_open_input(&raw, url.c_str(), nullptr, nullptr);
+  if (ret < 0) fail(file, "cannot open", ret);
+  std::unique_ptr<AVFormatContext, InputDeleter> input(raw);
+  ret = avformat_find_stream_info(input.get(), nullptr);
+  if (ret < 0) fail(file, "cannot read stream info", ret);
+  const int index = av_find_best_stream(input.get(), AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
+  if (index < 0) fail(file, "no video stream", index);
+  const AVStream* stream = input->streams[index];
+  const AVCodecParameters* par = stream->codecpar;
+
+  VideoProbe probe;
+  probe.codec = avcodec_get_name(par->codec_id);
+  const char* pix = av_get_pix_fmt_name(static_cast<AVPixelFormat>(par->format));
+  probe.pixel_format = pix ? pix : "unknown";
+  probe.width = par->width;
+  probe.height = par->height;
+  probe.fps = av_q2d(stream->avg_frame_rate);
+  probe.duration_seconds = stream->duration != AV_NOPTS_VALUE
+                               ? static_cast<double>(stream->duration) * av_q2d(stream->time_base)
+                               : static_cast<double>(input->duration) / AV_TIME_BASE;
+  probe.stream_frames = stream->nb_frames;
+
+  const AVCodec* decoder = avcodec_find_decoder(par->codec_id);
+  if (!decoder) fail(file, std::string("no decoder for ") + probe.codec, AVERROR_DECODER_NOT_FOUND);
+  std::unique_ptr<AVCodecContext, CodecDeleter> codec(avcodec_alloc_context3(decoder));
+  if (!codec) fail(file, "allocating decoder", AVERROR(ENOMEM));
+  ret = avcodec_parameters_to_context(codec.get(), par);
+  if (ret < 0) fail(file, "configuring decoder", ret);
+  codec->thread_count = 1;  // small test videos; one thread keeps frame output order trivial
+  ret = avcodec_open2(codec.get(), decoder, nullptr);
+  if (ret < 0) fail(file, "opening decoder", ret);
+
+  std::unique_ptr<AVPacket, PacketDeleter> packet(av_packet_alloc());
+  std::unique_ptr<AVFrame, FrameDeleter> frame(av_frame_alloc());
+  if (!packet || !frame) fail(file, "allocating buffers", AVERROR(ENOMEM));
+  probe.rgb_frames.resize(keep.size());
+
+  // Decoded frames come out in display order, so the running count is the frame index.
+  auto drain = [&] {
+    for (;;) {
+      const int r = avcodec_receive_frame(codec.get(), frame.get());
+      if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
+      if (r < 0) fail(file, "decoding", r);
+      for (std::size_t k = 0; k < keep.size(); ++k)
+        if (keep[k] == probe.decoded_frames) probe.rgb_frames[k] = to_rgb(file, *frame);
+      ++probe.decoded_frames;
+      av_frame_unref(frame.get());
+    }
+  };
+  while ((ret = av_read_frame(input.get(), packet.get())) >= 0) {
+    if (packet->stream_index == index) {
+      ret = avcodec_send_packet(codec.get(), packet.get());
+      av_packet_unref(packet.get());
+      if (ret < 0) fail(file, "sending packet to decoder", ret);
+      drain();
+    } else {
+      av_packet_unref(packet.get());
+    }
+  }
+  if (ret != AVERROR_EOF) fail(file, "reading packets", ret);
+  ret = avcodec_send_packet(codec.get(), nullptr);  // flush: the decoder holds back B-frame delay
+  if (ret < 0) fail(file, "flushing decoder", ret);
+  drain();
+
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    if (keep[k] < 0 || keep[k] >= probe.decoded_frames)
+      throw std::runtime_error("probe_video('" + file.string() + "'): frame " +
+                               std::to_string(keep[k]) + " requested but only " +
+                               std::to_string(probe.decoded_frames) + " frames decoded");
+  return probe;
+}
+
+}  // namespace meshtour::test
