@@ -103,6 +103,8 @@ void run_tour(const TourArgs& args) {
   video.height = scene.render.height;
   video.fps = scene.fps;
   video.crf = scene.crf;
+  VideoEncoder encoder(output, video);
+
   LoadReport report;
   const TriangleMesh mesh = load_scene_model(scene, &report);
   const Bounds bounds = mesh.bounds();
@@ -114,7 +116,6 @@ void run_tour(const TourArgs& args) {
     for (const auto& w : report.warnings) std::fprintf(stderr, "  reader: %s\n", w.c_str());
   }
 
-  VideoEncoder encoder(output, video);
   if (!args.frames_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(args.frames_dir, ec);

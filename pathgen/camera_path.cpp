@@ -39,4 +39,17 @@ double fit_pullback(std::span<const Eigen::Vector3d> points, const CameraPose& p
   return needed;
 }
 
+FramedPath::FramedPath(std::unique_ptr<CameraPath> path, std::span<const Eigen::Vector3d> points, const Lens& lens,
+                       int samples)
+    : path_(std::move(path)) {
+  for (int k = 0; k < samples; ++k)
+    pullback_ = std::max(pullback_, fit_pullback(points, path_->pose(static_cast<double>(k) / samples), lens));
+}
+
+CameraPose FramedPath::pose(double t) const {
+  CameraPose p = path_->pose(t);
+  if (pullback_ > 0.0) p.eye -= pullback_ * (p.target - p.eye).normalized();
+  return p;
+}
+
 }  // namespace meshtour

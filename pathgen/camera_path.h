@@ -2,6 +2,7 @@
 // Camera paths: where the camera is and what it looks at, as a function of the loop fraction.
 // Every path mode (turntable, the paper's toroidal-patch path, a path file) implements CameraPath.
 #include <Eigen/Core>
+#include <memory>
 #include <span>
 
 namespace meshtour {
@@ -36,6 +37,22 @@ public:
 inline CameraPose frame_pose(const CameraPath& path, int frame, int frame_count) {
   return path.pose(static_cast<double>(frame) / static_cast<double>(frame_count));
 }
+
+/// Wraps a path so that the model stays in frame: every eye moves back along its view direction
+/// by the largest distance any of `samples` poses around the loop needs (one constant distance,
+/// so the framing does not pump). A path that already frames the model is left unchanged.
+class FramedPath final : public CameraPath {
+public:
+  FramedPath(std::unique_ptr<CameraPath> path, std::span<const Eigen::Vector3d> points, const Lens& lens,
+             int samples = 180);
+  CameraPose pose(double t) const override;
+  /// How far every eye was moved back (0 if the path already framed the model).
+  double pullback() const { return pullback_; }
+
+private:
+  std::unique_ptr<CameraPath> path_;
+  double pullback_ = 0.0;
+};
 
 /// Signed distance by which the eye of `pose` must move back along its view direction so that
 /// every point lies inside the view frustum of `lens` (with its margin). Negative when the camera

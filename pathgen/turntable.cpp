@@ -2,6 +2,7 @@
 #include "pathgen/turntable.h"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/error.h"
@@ -38,16 +39,49 @@ TurntablePath::TurntablePath(std::span<const Eigen::Vector3d> points, const Turn
 
   // The orbit radius is the largest distance any orbit angle needs to keep every vertex in view.
   // Sampling 180 angles is exact enough: between samples the margin of the lens absorbs the rest.
-  constexpr int kAngles = 180;
-  double radius = 0.0;
-  for (int k = 0; k < kAngles; ++k) {
-    const double angle = 2.0 * std::numbers::pi * k / kAngles;
-    // Put the eye (almost) at the centre and ask how far back it has to go.
-    const double start = 1e-6 * (hi - lo).norm();
-    const CameraPose near_center{center_ + direction(angle) * start, center_, up_};
-    radius = std::max(radius, start + fit_pullback(points, near_center, options.lens));
+  radius_ = fit_radius(points, (hi - lo).norm());
+  // An elevated camera sees the near bottom edge low in the frame and the top high, so the bounding
+  // box centre is not where the model looks centred. Move the orbit along the up axis until the
+  // model's vertical extent is balanced in the frame (averaged over the orbit), then refit.
+  const double ty = std::tan(options.lens.vertical_fov_deg * std::numbers::pi / 360.0);
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    center_ += vertical_imbalance(points) * ty * radius_ * up_;
+    radius_ = fit_radius(points, (hi - lo).norm());
   }
-  radius_ = radius;
+}
+
+double TurntablePath::fit_radius(std::span<const Eigen::Vector3d> points, double size) const {
+  double radius = 0.0;
+  const double start = 1e-6 * size;
+  for (int k = 0; k < kFramingAngles; ++k) {
+    const double angle = 2.0 * std::numbers::pi * k / kFramingAngles;
+    // Put the eye (almost) at the centre and ask how far back it has to go.
+    const CameraPose near_center{center_ + direction(angle) * start, center_, up_};
+    radius = std::max(radius, start + fit_pullback(points, near_center, options_.lens));
+  }
+  return radius;
+}
+
+double TurntablePath::vertical_imbalance(std::span<const Eigen::Vector3d> points) const {
+  // Mean over the orbit of the middle of the model's vertical extent, in units of the half-frame
+  // (tan of half the field of view): positive when the model sits high in the frame.
+  constexpr int kAngles = 24;
+  const double ty = std::tan(options_.lens.vertical_fov_deg * std::numbers::pi / 360.0);
+  double sum = 0.0;
+  for (int k = 0; k < kAngles; ++k) {
+    const CameraPose p = pose(static_cast<double>(k) / kAngles);
+    const Eigen::Vector3d forward = (p.target - p.eye).normalized();
+    const Eigen::Vector3d up = forward.cross(p.up).normalized().cross(forward);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& q : points) {
+      const Eigen::Vector3d d = q - p.eye;
+      const double y = d.dot(up) / (d.dot(forward) * ty);
+      lo = std::min(lo, y);
+      hi = std::max(hi, y);
+    }
+    sum += 0.5 * (lo + hi);
+  }
+  return sum / kAngles;
 }
 
 Eigen::Vector3d TurntablePath::direction(double angle) const {

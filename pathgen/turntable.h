@@ -17,7 +17,8 @@ struct TurntableOptions {
 
 /// Circular orbit around the vertical line through the centre of the bounding box, counter-
 /// clockwise seen from +up, starting in front of the model (+Z for a Y-up model, -Y for Z-up,
-/// +Z for X-up). The radius is the smallest that keeps every vertex in frame at every angle.
+/// +Z for X-up). The orbit's height is adjusted so the model looks vertically centred, and its
+/// radius is the smallest that keeps every vertex in frame at every angle.
 class TurntablePath final : public CameraPath {
 public:
   /// \throw InputError if there are no points or they all coincide.
@@ -29,6 +30,9 @@ public:
 
 private:
   Eigen::Vector3d direction(double angle) const;  // unit vector from centre to eye
+  double fit_radius(std::span<const Eigen::Vector3d> points, double size) const;
+  double vertical_imbalance(std::span<const Eigen::Vector3d> points) const;
+  static constexpr int kFramingAngles = 180;
 
   TurntableOptions options_;
   Eigen::Vector3d center_, up_, front_, side_;

@@ -119,7 +119,7 @@ TEST(TourCommand, BadInputGivesOneClearLineAndNoVideo) {
   const std::vector<BadInput> cases = {
       {"missing file", q(dir / "nope.ply"), 3, "no such file"},
       {"corrupt PLY", q(dir / "garbage.ply"), 2, "corrupt PLY"},
-      {"unreadable mesh", q(dir / "garbage.off"), 2, "cannot read mesh"},
+      {"unreadable mesh", q(dir / "garbage.off"), 2, "garbage.off"},
       {"empty mesh", q(dir / "empty.obj"), 2, "no faces"},
       {"points only", q(dir / "points.obj"), 2, "no faces"},
       {"unwritable output", "-o /proc/forbidden/x.mp4", 3, "x.mp4"},

@@ -59,9 +59,13 @@ TEST(Turntable, OrbitIsACircleAroundTheUpAxisAndKeepsEverythingInFrame) {
   options.elevation_deg = 20;
   options.lens.aspect = 16.0 / 9.0;
   const TurntablePath path(points, options);
-  const Eigen::Vector3d center(0, 1.25, 0);
-  EXPECT_TRUE(path.center().isApprox(center, 1e-15));
-  double tightest = 0;
+  // The orbit's axis is the vertical through the box centre; its height balances the framing.
+  const Eigen::Vector3d center = path.center();
+  EXPECT_EQ(center.x(), 0.0);
+  EXPECT_EQ(center.z(), 0.0);
+  EXPECT_GT(center.y(), 0.0);
+  EXPECT_LT(center.y(), 2.5);
+  double tightest = 0, balance = 0;
   for (int k = 0; k < 360; ++k) {
     const CameraPose pose = frame_pose(path, k, 360);
     EXPECT_NEAR((pose.eye - center).norm(), path.radius(), 1e-12);
@@ -69,13 +73,19 @@ TEST(Turntable, OrbitIsACircleAroundTheUpAxisAndKeepsEverythingInFrame) {
     EXPECT_EQ(pose.up, Eigen::Vector3d::UnitY());
     // Elevation: the height above the centre is radius * sin(20 deg).
     EXPECT_NEAR(pose.eye.y() - center.y(), path.radius() * std::sin(20 * std::numbers::pi / 180), 1e-12);
+    double lo = 1e9, hi = -1e9;
     for (const auto& p : points) {
       const Eigen::Vector2d ndc = project(pose, options.lens, p);
+      lo = std::min(lo, ndc.y());
+      hi = std::max(hi, ndc.y());
       EXPECT_LE(std::abs(ndc.x()), 1.0 - options.lens.margin + 1e-3);
       EXPECT_LE(std::abs(ndc.y()), 1.0 - options.lens.margin + 1e-3);
       tightest = std::max({tightest, std::abs(ndc.x()), std::abs(ndc.y())});
     }
+    balance += (lo + hi) / 2 / 360;
   }
+  // Vertically centred on average over the orbit.
+  EXPECT_NEAR(balance, 0.0, 0.01);
   // Not further than needed: some frame touches the margin.
   EXPECT_GT(tightest, 1.0 - options.lens.margin - 1e-3);
 }
@@ -95,6 +105,36 @@ TEST(Turntable, StartsInFrontAndTurnsCounterClockwiseSeenFromUp) {
   EXPECT_EQ(z_up.pose(0).up, Eigen::Vector3d::UnitZ());
   const Eigen::Vector3d a = z_up.pose(0).eye, b = z_up.pose(0.01).eye;
   EXPECT_GT(a.cross(b).z(), 0.0);                        // CCW about +Z
+}
+
+// A path that flies too close: FramedPath moves every eye back by one constant distance.
+class CloseCircle final : public CameraPath {
+public:
+  CameraPose pose(double t) const override {
+    const double a = 2 * std::numbers::pi * t;
+    return {{0.5 * std::cos(a), 0.2, 0.5 * std::sin(a)}, {0, 0, 0}, {0, 1, 0}};
+  }
+};
+
+TEST(FramedPath, PullsBackJustEnoughAndKeepsTheDirection) {
+  const auto points = box_corners({-1, -1, -1}, {1, 1, 1});
+  Lens lens;
+  const FramedPath framed(std::make_unique<CloseCircle>(), points, lens, 360);
+  EXPECT_GT(framed.pullback(), 1.0);
+  const CloseCircle raw;
+  double tightest = 0;
+  for (int k = 0; k < 360; ++k) {
+    const double t = k / 360.0;
+    const CameraPose a = raw.pose(t), b = framed.pose(t);
+    EXPECT_TRUE((b.target - b.eye).normalized().isApprox((a.target - a.eye).normalized(), 1e-12));
+    EXPECT_NEAR((b.eye - a.eye).norm(), framed.pullback(), 1e-12);
+    for (const auto& p : points) {
+      const Eigen::Vector2d ndc = project(b, lens, p);
+      EXPECT_LE(std::max(std::abs(ndc.x()), std::abs(ndc.y())), 1.0 - lens.margin + 1e-9);
+      tightest = std::max({tightest, std::abs(ndc.x()), std::abs(ndc.y())});
+    }
+  }
+  EXPECT_NEAR(tightest, 1.0 - lens.margin, 1e-9);
 }
 
 TEST(Turntable, RejectsEmptyOrPointModels) {
