@@ -170,7 +170,7 @@ void add_tour_command(CLI::App& app) {
   cmd->add_option("--elevation", args->elevation, "Turntable: camera elevation above the model's centre, degrees (default 18)")
       ->check(CLI::Range(-80.0, 80.0));
   cmd->add_option("--spp", args->spp, "Samples per pixel, stratified (default 4)")->check(CLI::Range(1, 4096));
-  cmd->add_option("--crf", args->crf, "H.264 quality: 0 lossless .. 51 worst; 18 looks lossless (default 18)")->check(CLI::Range(0, 51));
+  cmd->add_option("--crf", args->crf, "H.264 quality (x264 CRF): 18 looks lossless, 23 is x264's default, 51 worst; 0 is lossless but High 4:4:4, which browsers do not play (default 18)")->check(CLI::Range(0, 51));
   cmd->add_option("--frames-dir", args->frames_dir, "Also write every frame as an image into this directory (frame_000000.png, ...)");
   cmd->add_option("--format", args->format, "Frame image format for --frames-dir: png (8-bit sRGB), exr (half float, linear) or png+exr")
       ->check(CLI::IsMember({"png", "exr", "png+exr"}));

@@ -2,15 +2,14 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
 #include <cctype>
 #include <fstream>
-#include <mutex>
 #include <sstream>
 
 #include "core/error.h"
+#include "mesh/openmesh_log.h"
 
 namespace meshtour {
 namespace {
@@ -30,41 +29,6 @@ std::string lower_extension(const std::filesystem::path& file) {
 
 bool is_supported(const std::string& ext) {
   return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
-}
-
-// OpenMesh reports problems (non-manifold faces it had to split off, parse errors) on its own
-// error stream. Capture that stream for the duration of a load so the messages reach the user
-// through LoadReport instead of being printed in the middle of a progress display.
-class CapturedOpenMeshLog {
-public:
-  CapturedOpenMeshLog() {
-    omerr().disconnect(std::cerr);
-    omerr().connect(buffer_);
-    omlog().disconnect(std::clog);
-    omout().disconnect(std::cout);
-  }
-  ~CapturedOpenMeshLog() {
-    omerr().disconnect(buffer_);
-    omerr().connect(std::cerr);
-    omlog().connect(std::clog);
-    omout().connect(std::cout);
-  }
-  std::vector<std::string> lines() const {
-    std::vector<std::string> out;
-    std::istringstream in(buffer_.str());
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty()) out.push_back(line);
-    return out;
-  }
-
-private:
-  std::ostringstream buffer_;
-};
-
-std::mutex& openmesh_io_mutex() {
-  // OpenMesh's IO manager and log streams are process-wide singletons.
-  static std::mutex m;
-  return m;
 }
 
 // Counts polygon faces with more than three corners in OBJ/OFF/ASCII-PLY text, so the report can
@@ -192,8 +156,7 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
   std::vector<std::string> messages;
   bool ok = false;
   try {
-    std::lock_guard lock(openmesh_io_mutex());
-    CapturedOpenMeshLog log;
+    OpenMeshLogCapture log;
     ok = OpenMesh::IO::read_mesh(om, name, options);
     messages = log.lines();
   } catch (const std::bad_alloc&) {
@@ -262,8 +225,7 @@ void save_mesh(const TriangleMesh& mesh, const std::filesystem::path& file) {
       om.set_color(handles.back(), LoaderMesh::Color(to8(c.x()), to8(c.y()), to8(c.z())));
     }
   }
-  std::lock_guard lock(openmesh_io_mutex());
-  CapturedOpenMeshLog log;
+  OpenMeshLogCapture log;
   for (const auto& t : mesh.triangles) om.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
   OpenMesh::IO::Options options = OpenMesh::IO::Options::Binary;
   if (colors) options += OpenMesh::IO::Options::VertexColor;

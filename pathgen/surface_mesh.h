@@ -47,10 +47,27 @@ struct SurfaceMesh {
   std::size_t face_count() const { return triangles.size(); }
 };
 
-/// §3 step 1 and §1.2: validates the input, drops what cannot be used, merges duplicate vertices,
-/// builds the OpenMesh halfedge structure (splitting off the faces it refuses) and extracts the
-/// adjacency. Positions are still in input units. Fills `counts` and `notes`.
-/// \throw InputError if nothing usable is left.
+// §3 step 1 and §1.2 in four steps, so that the OpenMesh check can run beside other work:
+//   prepare_mesh → openmesh_refused_faces → repair_refused_faces → build_adjacency → finish_cleanup.
+// Positions stay in input units.
+
+/// Validates the input, drops faces that cannot be used (non-finite, repeated vertex), merges
+/// vertices with identical coordinates and removes unreferenced vertices. Fills positions,
+/// triangles, input_vertex, input_face. \throw InputError if nothing usable is left.
+SurfaceMesh prepare_mesh(const TriangleMesh& mesh, const SurfaceOptions& options, CleanupCounts& counts);
+/// Adds the faces to an OpenMesh halfedge structure in order; returns those add_face refuses
+/// (non-manifold edge or vertex, or oriented against an accepted neighbour). Reads only
+/// triangles and the vertex count.
+std::vector<std::size_t> openmesh_refused_faces(const SurfaceMesh& mesh);
+/// Drops refused faces that repeat an accepted face and splits off the others (own vertex
+/// copies), then renumbers. Adjacency must be (re)built afterwards.
+void repair_refused_faces(SurfaceMesh& mesh, const std::vector<std::size_t>& refused, CleanupCounts& counts);
+/// Fills the adjacency arrays. Returns false if a directed edge is used twice (the face list
+/// still holds faces OpenMesh refuses).
+bool build_adjacency(SurfaceMesh& mesh);
+/// Counts components and boundary edges and writes the clean-up notes.
+void finish_cleanup(SurfaceMesh& mesh, CleanupCounts& counts, std::vector<std::string>& notes);
+/// All of the above in sequence.
 SurfaceMesh clean_and_build(const TriangleMesh& mesh, const SurfaceOptions& options, CleanupCounts& counts,
                             std::vector<std::string>& notes);
 
