@@ -10,9 +10,13 @@
 #include <optional>
 
 #include "cli/commands.h"
+#include "cli/path_options.h"
 #include "cli/progress.h"
+#include "cli/render_options.h"
 #include "core/error.h"
 #include "encoder/video_encoder.h"
+#include "pathgen/paper_path.h"
+#include "pathgen/path_file.h"
 #include "pathgen/turntable.h"
 #include "scenes/scene.h"
 #include "tracer/tracer.h"
@@ -23,13 +27,15 @@ namespace {
 struct TourArgs {
   std::string input;  // mesh or .json scene; empty = built-in default scene
   std::string output;
-  std::optional<int> width, height, fps, frames, spp, crf;
+  std::optional<int> width, height, fps, frames, crf;
   std::optional<double> seconds, fov, elevation;
-  std::optional<std::string> up, path_mode;
+  std::optional<std::string> up, path_mode, path_file;
+  PaperPathOptions paper;  // options of the toroidal-patch path (ALGORITHM.md §2)
   std::string frames_dir;
   std::string format = "png";
   int threads = 0;
   bool quiet = false;
+  RenderArgs render;
 };
 
 bool is_scene_file(const std::filesystem::path& p) { return p.extension() == ".json"; }
@@ -55,11 +61,12 @@ Scene resolve_scene(const TourArgs& a) {
     if (!(frames >= 1.0 && frames <= 1e6)) throw InputError("--seconds gives " + std::to_string(frames) + " frames; it must give 1 to 1000000");
     scene.frames = static_cast<int>(std::lround(frames));
   }
-  if (a.spp) scene.render.samples_per_pixel = *a.spp;
   if (a.crf) scene.crf = *a.crf;
   if (a.fov) scene.vertical_fov_deg = *a.fov;
   if (a.elevation) scene.elevation_deg = *a.elevation;
   if (a.path_mode) scene.path_mode = *a.path_mode;
+  if (a.path_file) scene.path_file = *a.path_file;
+  apply_render_options(a.render, scene);
   return scene;
 }
 
@@ -74,7 +81,15 @@ std::string frame_name(int frame, const char* ext) {
   return name;
 }
 
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens) {
+// The camera path of the scene. Geometry-driven paths are wrapped in FramedPath: the paper's
+// 4r/6r distance rule frames typical models, but the renderer checks every vertex anyway (§16 L6).
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens,
+                                      PaperPathOptions paper, bool quiet) {
+  if (scene.path_file) {
+    auto path = read_path_file(*scene.path_file);
+    if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
+    return std::make_unique<FramedPath>(std::move(path), mesh.positions, lens);
+  }
   if (scene.path_mode == "turntable") {
     TurntableOptions options;
     options.up = scene.up;
@@ -82,7 +97,20 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     options.lens = lens;
     return std::make_unique<TurntablePath>(mesh.positions, options);
   }
-  throw InputError("camera path '" + scene.path_mode + "' is not available in this build; use --path turntable");
+  paper.up = UpDirection{UpDirection::Kind::axis, scene.up, scene.up.vector()};
+  const PaperPathResult result = compute_paper_path(mesh, paper);
+  if (!quiet) {
+    double seconds = 0;
+    for (const auto& [stage, s] : result.stage_seconds) seconds += s;
+    std::fprintf(stderr, "camera path (toroidal patches): %d patches (%.2f %% of faces), amplitude %.1f %%, %d extreme points, %.2f s\n",
+                 result.surface.patch_count, 100.0 * result.surface.patch_count / std::max<std::size_t>(1, result.surface.triangles.size()),
+                 100.0 * result.metrics.amplitude_gaze, result.metrics.extreme_points, seconds);
+    for (const auto& note : result.surface.cleanup_notes) std::fprintf(stderr, "  clean-up: %s\n", note.c_str());
+  }
+  auto framed = std::make_unique<FramedPath>(std::make_unique<PaperCameraPath>(result.camera_path()), mesh.positions, lens);
+  if (!quiet && framed->pullback() > 0.0)
+    std::fprintf(stderr, "  camera moved back by %.4g model units to keep the whole model in frame\n", framed->pullback());
+  return framed;
 }
 
 void run_tour(const TourArgs& args) {
@@ -125,14 +153,14 @@ void run_tour(const TourArgs& args) {
   Lens lens;
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
-  const auto path = make_path(scene, mesh, lens);
+  const auto path = make_path(scene, mesh, lens, args.paper, args.quiet);
   const Renderer renderer(mesh, scene.render);
 
   Progress progress("frame", scene.frames, args.quiet);
   for (int k = 0; k < scene.frames; ++k) {
     throw_if_interrupted();
     const CameraPose pose = frame_pose(*path, k, scene.frames);
-    const Image image = renderer.render(Camera{pose.eye, pose.target, pose.up, scene.vertical_fov_deg});
+    const Image image = renderer.render(Camera{pose.eye, pose.target, pose.up, scene.vertical_fov_deg}, static_cast<std::uint64_t>(k));
     if (write_png) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "png"));
     if (write_exr) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "exr"));
     encoder.add_frame(image.to_srgb8());
@@ -164,12 +192,16 @@ void add_tour_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)->excludes(frames);
   cmd->add_option("--up", args->up, "The model's up axis: x, y, z, -x, -y or -z (default y)")
       ->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"}, CLI::ignore_case));
-  cmd->add_option("--path", args->path_mode, "Camera path: turntable (circular orbit around the up axis)")
+  cmd->add_option("--path", args->path_mode,
+                  "Camera path: paper (default; computed from the geometry by the toroidal-patch method of Choi et al. 2024,\n"
+                  "see 'meshtour path --help') or turntable (circular orbit around the up axis)")
       ->check(CLI::IsMember({"turntable", "paper"}));
+  cmd->add_option("--path-file", args->path_file, "Use the camera path in this file, written by 'meshtour path -o' (overrides --path)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--fov", args->fov, "Vertical field of view in degrees (default 35)")->check(CLI::Range(5.0, 120.0));
   cmd->add_option("--elevation", args->elevation, "Turntable: camera elevation above the model's centre, degrees (default 18)")
       ->check(CLI::Range(-80.0, 80.0));
-  cmd->add_option("--spp", args->spp, "Samples per pixel, stratified (default 4)")->check(CLI::Range(1, 4096));
+  add_render_options(*cmd, args->render);
   cmd->add_option("--crf", args->crf, "H.264 quality (x264 CRF): 18 looks lossless, 23 is x264's default, 51 worst; 0 is lossless but High 4:4:4, which browsers do not play (default 18)")->check(CLI::Range(0, 51));
   cmd->add_option("--frames-dir", args->frames_dir, "Also write every frame as an image into this directory (frame_000000.png, ...)");
   cmd->add_option("--format", args->format, "Frame image format for --frames-dir: png (8-bit sRGB), exr (half float, linear) or png+exr")
@@ -177,6 +209,7 @@ void add_tour_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "Threads to render with (default: all cores); results do not depend on it")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
+  add_paper_path_options(*cmd, args->paper);
   cmd->callback([args] { run_tour(*args); });
 }
 

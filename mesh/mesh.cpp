@@ -130,6 +130,39 @@ Bounds TriangleMesh::bounds() const {
   return b;
 }
 
+namespace {
+
+// The diffuse texture of an OBJ: the first `map_Kd` of the first `mtllib` it names, resolved
+// relative to the files. OpenMesh reads these too, but keeps them per face in properties that
+// vary between versions; meshtour uses one texture per model, so two small text scans suffice.
+std::filesystem::path obj_diffuse_texture(const std::filesystem::path& obj_file) {
+  auto first_argument = [](const std::filesystem::path& file, const std::string& keyword) -> std::string {
+    std::ifstream in(file);
+    std::string line;
+    while (std::getline(in, line)) {
+      std::istringstream words(line);
+      std::string key;
+      if (!(words >> key) || key != keyword) continue;
+      std::string rest;
+      std::getline(words >> std::ws, rest);
+      while (!rest.empty() && std::isspace(static_cast<unsigned char>(rest.back()))) rest.pop_back();
+      // Options such as "-bm 1" may precede the name: the name is the last word.
+      const auto space = rest.find_last_of(" \t");
+      return space == std::string::npos ? rest : rest.substr(space + 1);
+    }
+    return {};
+  };
+  const std::string mtl = first_argument(obj_file, "mtllib");
+  if (mtl.empty()) return {};
+  const auto mtl_file = obj_file.parent_path() / mtl;
+  const std::string map = first_argument(mtl_file, "map_Kd");
+  if (map.empty()) return {};
+  const std::filesystem::path texture(map);
+  return texture.is_absolute() ? texture : mtl_file.parent_path() / texture;
+}
+
+}  // namespace
+
 std::string supported_mesh_formats() { return "obj, ply (ascii or binary), off, stl"; }
 
 TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
@@ -153,6 +186,12 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
   LoaderMesh om;
   om.request_vertex_colors();
   OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor;
+  // OBJ texture coordinates (vt) arrive per face corner, i.e. on halfedges.
+  const bool obj = ext == ".obj";
+  if (obj) {
+    om.request_halfedge_texcoords2D();
+    options += OpenMesh::IO::Options::FaceTexCoord;
+  }
   std::vector<std::string> messages;
   bool ok = false;
   try {
@@ -196,6 +235,20 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
   }
   if (mesh.bounds().diagonal() <= 0.0)
     throw InputError(name + ": all vertices coincide; the mesh has no extent to render");
+  if (obj && options.check(OpenMesh::IO::Options::FaceTexCoord)) {
+    mesh.texture_file = obj_diffuse_texture(file);
+    if (!mesh.texture_file.empty()) {
+      mesh.corner_uvs.reserve(3 * mesh.triangles.size());
+      for (auto fh : om.faces()) {
+        int k = 0;
+        for (auto heh : om.fh_range(fh))  // same order as fv_range: each halfedge's target vertex
+          if (k++ < 3) {
+            const auto& t = om.texcoord2D(heh);
+            mesh.corner_uvs.emplace_back(t[0], t[1]);
+          }
+      }
+    }
+  }
 
   if (report) {
     report->polygons_triangulated = count_polygons_in_text(file, ext);

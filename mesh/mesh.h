@@ -26,10 +26,18 @@ struct TriangleMesh {
   std::vector<Eigen::Vector3f> colors;
   /// Vertex indices of each triangle, counter-clockwise seen from outside.
   std::vector<std::array<std::uint32_t, 3>> triangles;
+  /// Texture coordinates per triangle corner (3 per triangle, in the order of `triangles`; OBJ
+  /// `vt`, origin at the image's bottom left), or empty. Per corner because seams give one vertex
+  /// several coordinates.
+  std::vector<Eigen::Vector2f> corner_uvs;
+  /// The diffuse colour texture (OBJ: `map_Kd` of the MTL file), resolved relative to the mesh
+  /// file, or empty. Used only with `corner_uvs`.
+  std::filesystem::path texture_file;
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t face_count() const { return triangles.size(); }
   bool has_colors() const { return !colors.empty() && colors.size() == positions.size(); }
+  bool has_texture() const { return !texture_file.empty() && corner_uvs.size() == 3 * triangles.size(); }
   /// Bounds of the vertices that some triangle uses (unreferenced vertices do not count).
   Bounds bounds() const;
 };

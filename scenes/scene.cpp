@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -61,15 +62,36 @@ public:
     out = static_cast<int>(i);
   }
   void read(const std::string& key, Eigen::Vector3f& out) {
+    read_vector(key, out, 0.0, 1000.0, "components must be between 0 and 1000 (linear RGB)");
+  }
+  void read_vector(const std::string& key, Eigen::Vector3f& out, double lo, double hi, const std::string& range_message) {
     if (!has(key)) return;
     const json& v = raw(key);
     if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
       fail_key(key, "must be an array of three numbers, e.g. [0.8, 0.8, 0.8]");
     for (int k = 0; k < 3; ++k) {
       const double c = v[k].get<double>();
-      if (!(c >= 0.0 && c <= 1000.0)) fail_key(key, "components must be between 0 and 1000 (linear RGB)");
+      if (!(c >= lo && c <= hi)) fail_key(key, range_message);
       out[k] = static_cast<float>(c);
     }
+  }
+  void read(const std::string& key, bool& out) {
+    if (!has(key)) return;
+    const json& v = raw(key);
+    if (!v.is_boolean()) fail_key(key, "must be true or false");
+    out = v.get<bool>();
+  }
+  /// A string that must be one of `choices` (listed in the message otherwise).
+  void read_choice(const std::string& key, std::string& out, const std::vector<std::string>& choices) {
+    if (!has(key)) return;
+    std::string value;
+    read(key, value);
+    if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
+      std::string list;
+      for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+      fail_key(key, "is '" + value + "'; use one of " + list);
+    }
+    out = value;
   }
   /// Rejects keys that were never asked for.
   void finish() const {
@@ -98,6 +120,64 @@ private:
   std::string source_, path_;
   std::set<std::string> known_;
 };
+
+// The "look" object: a preset, then any of its values overridden. `preset_override`, when not
+// empty, replaces the file's preset (the command line's --preset).
+void apply_look(const json& look_json, const std::string& source, Shading& sh, const std::string& preset_override) {
+  ObjectReader look(look_json, source, "look");
+  std::string preset = sh.preset;
+  look.read_choice("preset", preset, {"studio", "plain"});
+  if (!preset_override.empty()) preset = preset_override;
+  sh = look_preset(preset);
+  Material& m = sh.material;
+  look.read("base_color", m.base_color);
+  look.read("roughness", m.roughness, 0.0, 1.0);
+  look.read("specular", m.specular, 0.0, 10.0);
+  look.read("vertex_colors", m.use_vertex_colors);
+  look.read("texture", m.use_texture);
+  if (look.has("lights")) {
+    const json& lights = look.raw("lights");
+    if (!lights.is_array() || lights.size() > 8)
+      look.fail_key("lights", "must be an array of at most 8 lights, e.g. [{\"from\": [-0.5, 0.7, 0.6], \"intensity\": 2}]");
+    sh.lights.clear();
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      ObjectReader l(lights[i], source, "look.lights[" + std::to_string(i) + "]");
+      Light light;
+      l.read_vector("from", light.from_camera, -1000.0, 1000.0, "components must be between -1000 and 1000");
+      if (!(light.from_camera.norm() > 0.0f)) l.fail_key("from", "must not be [0, 0, 0]: it is the direction the light comes from (camera space: x right, y up, z towards the viewer)");
+      l.read("color", light.color);
+      l.read("intensity", light.intensity, 0.0, 1000.0);
+      l.read("size", light.angular_diameter_deg, 0.0, 90.0);
+      l.finish();
+      sh.lights.push_back(light);
+    }
+  }
+  look.read("shadows", sh.shadows);
+  if (look.has("ambient")) {
+    const json& a = look.raw("ambient");
+    if (a.is_number()) {
+      const double v = a.get<double>();
+      if (!(v >= 0.0 && v <= 1000.0)) look.fail_key("ambient", "must be between 0 and 1000");
+      sh.ambient = Eigen::Vector3f::Constant(static_cast<float>(v));
+    } else {
+      look.read("ambient", sh.ambient);
+    }
+  }
+  look.read("ambient_occlusion", sh.ambient_occlusion);
+  look.read("ao_distance", sh.ao_distance, 0.0, 100.0);
+  look.read("ground", sh.ground);
+  look.read("ground_shadow", sh.ground_shadow, 0.0, 1.0);
+  std::string background = sh.background == BackgroundKind::transparent ? "transparent" : "gradient";
+  look.read_choice("background", background, {"gradient", "transparent"});
+  sh.background = background == "transparent" ? BackgroundKind::transparent : BackgroundKind::gradient;
+  look.read("background_top", sh.background_top);
+  look.read("background_bottom", sh.background_bottom);
+  look.read("exposure", sh.exposure, -20.0, 20.0);
+  std::string tone = sh.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp";
+  look.read_choice("tone_mapping", tone, {"filmic", "clamp"});
+  sh.tone_mapping = tone == "filmic" ? ToneMapping::filmic : ToneMapping::clamp;
+  look.finish();
+}
 
 }  // namespace
 
@@ -172,25 +252,34 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     output.read("height", scene.render.height, 2, 16384);
     output.read("spp", scene.render.samples_per_pixel, 1, 4096);
     output.read("crf", scene.crf, 0, 51);
+    output.read("filter_radius", scene.render.filter_radius, 0.5, 2.0);
+    if (output.has("exr_layers")) {
+      const json& layers = output.raw("exr_layers");
+      if (!layers.is_array()) output.fail_key("exr_layers", "must be an array, e.g. [\"albedo\", \"normal\", \"depth\"]");
+      for (const auto& layer : layers) {
+        const std::string name = layer.is_string() ? layer.get<std::string>() : layer.dump();
+        if (name == "albedo") scene.render.layers.albedo = true;
+        else if (name == "normal") scene.render.layers.normal = true;
+        else if (name == "depth") scene.render.layers.depth = true;
+        else output.fail_key("exr_layers", "has '" + name + "'; the extra layers are \"albedo\", \"normal\" and \"depth\" (alpha is always there)");
+      }
+    }
     output.finish();
   }
   if (top.has("look")) {
-    ObjectReader look = top.child("look");
-    Shading& sh = scene.render.shading;
-    look.read("base_color", sh.base_color);
-    look.read("background_top", sh.background_top);
-    look.read("background_bottom", sh.background_bottom);
-    look.read("ambient", sh.ambient, 0.0, 10.0);
-    look.read("light_intensity", sh.light_intensity, 0.0, 100.0);
-    look.read("specular", sh.specular, 0.0, 10.0);
-    if (look.has("vertex_colors")) {
-      if (!look.raw("vertex_colors").is_boolean()) look.fail_key("vertex_colors", "must be true or false");
-      sh.use_vertex_colors = look.raw("vertex_colors").get<bool>();
-    }
-    look.finish();
+    scene.look_json = top.raw("look").dump();
+    apply_look(top.raw("look"), source, scene.render.shading, "");
   }
   top.finish();
   return scene;
+}
+
+void set_look_preset(Scene& scene, const std::string& preset) {
+  if (scene.look_json.empty()) {
+    scene.render.shading = look_preset(preset);
+    return;
+  }
+  apply_look(json::parse(scene.look_json), scene.source, scene.render.shading, preset);
 }
 
 Scene default_scene() {

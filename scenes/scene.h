@@ -21,7 +21,7 @@ struct Scene {
   Axis up{1, false};
 
   // Camera and timing.
-  std::string path_mode = "turntable";  ///< "turntable" or "paper"
+  std::string path_mode = "paper";  ///< "paper" (toroidal patches, ALGORITHM.md) or "turntable"
   std::optional<std::filesystem::path> path_file;
   double vertical_fov_deg = 35.0;
   double elevation_deg = 15.0;  ///< turntable only
@@ -31,7 +31,14 @@ struct Scene {
   // Output.
   RenderOptions render;
   int crf = 18;
+  /// The file's "look" object as JSON text ("" if none), kept so that a preset chosen on the
+  /// command line can be applied under the file's own overrides (set_look_preset).
+  std::string look_json;
 };
+
+/// Switches the scene's look to another preset, keeping the values the scene file's "look" sets
+/// explicitly. \throw InputError for an unknown preset.
+void set_look_preset(Scene& scene, const std::string& preset);
 
 /// The scene compiled into the program (scenes/default.json).
 Scene default_scene();

@@ -1,6 +1,7 @@
 // End-to-end tests of `meshtour tour`: the real executable, the real files, an independent decoder.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include <cmath>
 #include <fstream>
@@ -71,35 +72,56 @@ TEST(TourCommand, BunnyTourShowsTheWholeModel) {
   MESHTOUR_SHARED_MESH(bunny, "bunny.ply");
   const auto dir = test::scratch_dir();
   const auto video = dir / "bunny.mp4";
+  // The plain preset has no ground plane, so the EXR alpha channel is exactly the model's coverage.
   const auto r = run_meshtour("tour " + q(bunny) + " -o " + q(video) + " --frames 48 --width 192 --height 108 --spp 1 --up y" +
-                              " --frames-dir " + q(dir / "frames") + " -q");
+                              " --preset plain --frames-dir " + q(dir / "frames") + " --format exr -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto probe = test::probe_video(video);
   EXPECT_EQ(probe.stream_frames, 48);
   EXPECT_EQ(probe.decoded_frames, 48);
-  // Every frame: the model covers a real part of the image, and no model pixel touches the border
-  // (the whole model is in view).
+  // Every sixth frame: the model covers a real part of the image, and no model pixel touches the
+  // border (the whole model is in view).
   for (int k = 0; k < 48; k += 6) {
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%06d.png", k);
+    std::snprintf(name, sizeof name, "frame_%06d.exr", k);
     OIIO::ImageBuf image((dir / "frames" / name).string());
-    ASSERT_TRUE(image.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    ASSERT_TRUE(image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << name;
+    ASSERT_GE(image.spec().nchannels, 4) << name;
     const int w = image.spec().width, h = image.spec().height;
-    // The background is a smooth vertical gradient: a pixel differing from its row's left edge
-    // pixel by more than a few levels is the model.
     int model = 0, border = 0;
-    for (int y = 0; y < h; ++y) {
-      float bg[3], px[3];
-      image.getpixel(0, y, bg, 3);
+    for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
-        image.getpixel(x, y, px, 3);
-        const bool is_model = std::abs(px[0] - bg[0]) + std::abs(px[1] - bg[1]) + std::abs(px[2] - bg[2]) > 0.06f;
-        model += is_model;
-        border += is_model && (x == 0 || y == 0 || x == w - 1 || y == h - 1);
+        const bool covered = image.getchannel(x, y, 0, 3) > 0.0f;
+        model += covered;
+        border += covered && (x == 0 || y == 0 || x == w - 1 || y == h - 1);
       }
-    }
     EXPECT_GT(model, w * h / 20) << name << ": the model covers too little of the frame";
     EXPECT_EQ(border, 0) << name << ": the model touches the frame border";
+  }
+}
+
+TEST(TourCommand, PathFileAndTurntableModes) {
+  MESHTOUR_SHARED_MESH(bunny, "bunny.ply");
+  const auto dir = test::scratch_dir();
+  // A path computed once and rendered elsewhere gives the same frames as the path computed in place.
+  ASSERT_EQ(run_meshtour("path " + q(bunny) + " --up y -o " + q(dir / "bunny.path.json")).exit_code, 0);
+  const std::string common = " --frames 6 --width 96 --height 54 --spp 1 --preset plain --frames-dir ";
+  auto r = run_meshtour("tour " + q(bunny) + " -o " + q(dir / "a.mp4") + " --path-file " + q(dir / "bunny.path.json") + common +
+                        q(dir / "from_file") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("tour " + q(bunny) + " -o " + q(dir / "b.mp4") + " --path paper --up y" + common + q(dir / "in_place") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("tour " + q(bunny) + " -o " + q(dir / "c.mp4") + " --path turntable" + common + q(dir / "turntable") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (int k = 0; k < 6; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d.png", k);
+    OIIO::ImageBuf a((dir / "from_file" / name).string()), b((dir / "in_place" / name).string()),
+        c((dir / "turntable" / name).string());
+    const auto same = OIIO::ImageBufAlgo::compare(a, b, 1.0f / 255, 1.0f / 255);
+    EXPECT_EQ(same.nfail, 0u) << name << ": path file and in-place path differ";
+    const auto other = OIIO::ImageBufAlgo::compare(a, c, 1.0f / 255, 1.0f / 255);
+    EXPECT_GT(other.nfail, 100u) << name << ": the turntable should not look like the paper path";
   }
 }
 

@@ -78,6 +78,7 @@ protected:
     options.lens.vertical_fov_deg = scene_->vertical_fov_deg;
     options.lens.aspect = 160.0 / 120.0;
     path_ = new TurntablePath(mesh_->positions, options);
+    scene_->render.world_up = scene_->up.vector();
     renderer_ = new Renderer(*mesh_, scene_->render);
   }
   static void TearDownTestSuite() {
@@ -88,7 +89,7 @@ protected:
   }
   static Image frame(int k) {
     const CameraPose pose = frame_pose(*path_, k, scene_->frames);
-    return renderer_->render(Camera{pose.eye, pose.target, pose.up, scene_->vertical_fov_deg});
+    return renderer_->render(Camera{pose.eye, pose.target, pose.up, scene_->vertical_fov_deg}, static_cast<std::uint64_t>(k));
   }
   static inline Scene* scene_ = nullptr;
   static inline TriangleMesh* mesh_ = nullptr;

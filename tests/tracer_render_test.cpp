@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #include "core/error.h"
@@ -40,40 +41,95 @@ TEST(Renderer, SphereAppearsWhereThePinholeModelPutsIt) {
   RenderOptions options;
   options.width = 101;
   options.height = 101;
-  options.samples_per_pixel = 1;
+  options.samples_per_pixel = 4;
+  options.shading = look_preset("plain");  // no shadows, no occlusion, no ground: analytic
   const Renderer renderer(uv_sphere(1.0, 96, 48), options);
   // Camera 5 units away with a 30 degree vertical fov: the sphere's silhouette has angular radius
   // asin(1/5), i.e. tan(asin(0.2)) / tan(15 deg) of the half image = 0.7618 * 50.5 = 38.5 pixels.
   const Image img = renderer.render(Camera{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 30.0});
   const double expected = std::tan(std::asin(0.2)) / std::tan(15 * std::numbers::pi / 180) * 50.5;
-  int covered_in_row = 0;
-  for (int x = 0; x < 101; ++x) covered_in_row += pixel(img, x, 50)[3] > 0.5f;
-  EXPECT_NEAR(covered_in_row, 2 * expected, 2.5);
+  double covered_in_row = 0;
+  for (int x = 0; x < 101; ++x) covered_in_row += pixel(img, x, 50)[3];
+  EXPECT_NEAR(covered_in_row, 2 * expected, 1.0);  // alpha is coverage: sums to the chord
   EXPECT_FLOAT_EQ(pixel(img, 50, 50)[3], 1.0f);
   EXPECT_FLOAT_EQ(pixel(img, 0, 0)[3], 0.0f);
-  // Lit from above-left of the camera: the upper-left of the sphere is brighter than the lower-right.
-  EXPECT_GT(pixel(img, 40, 40)[0], pixel(img, 60, 60)[0]);
-  // Centre pixel: normal faces the camera, so diffuse = light_dir.z component (light direction
-  // normalized in camera space) and the colour is albedo * (ambient + intensity * diffuse) + specular.
+  // The plain preset's light comes from above the camera: the top of the sphere is brighter.
+  EXPECT_GT(pixel(img, 50, 35)[0], pixel(img, 50, 65)[0]);
+  // Centre pixel: normal faces the camera; colour = albedo * (ambient + E cos) + highlight * E cos.
   const Shading& sh = options.shading;
-  const float nz = sh.light_from_camera.normalized().z();
-  const Eigen::Vector3f half = (sh.light_from_camera.normalized() + Eigen::Vector3f(0, 0, 1)).normalized();
-  const float expected_center = sh.base_color.x() * (sh.ambient + sh.light_intensity * nz) + sh.specular * std::pow(half.z(), sh.shininess);
+  ASSERT_EQ(sh.lights.size(), 1u);
+  const Eigen::Vector3f l = sh.lights[0].from_camera.normalized();
+  const float shininess = 2.0f / std::pow(sh.material.roughness, 4.0f) - 2.0f;
+  const float spec = 0.08f * sh.material.specular * (shininess + 8) / 8 *
+                     std::pow((l + Eigen::Vector3f(0, 0, 1)).normalized().z(), shininess);
+  const float e = sh.lights[0].intensity * l.z();
+  const float expected_center = sh.material.base_color.x() * (sh.ambient.x() + e) + spec * e;
   EXPECT_NEAR(pixel(img, 50, 50)[0], expected_center, 0.01f);
 }
 
+Camera studio_camera(int k) {
+  const double a = 0.4 * k;
+  return Camera{{4 * std::sin(a), 1.5, 4 * std::cos(a)}, {0, 0, 0}, {0, 1, 0}, 35.0};
+}
+
 TEST(Renderer, SamePixelsWithOneOrTwoThreads) {
-  RenderOptions options;
+  RenderOptions options;  // studio: soft shadows, occlusion, ground: every random number in use
   options.width = 96;
   options.height = 64;
   options.samples_per_pixel = 4;
+  options.layers = {true, true, true};
   const Renderer renderer(uv_sphere(1.0, 64, 32), options);
-  const Camera camera{{2, 1.5, 4}, {0, 0, 0}, {0, 1, 0}, 35.0};
   Image one, two;
-  tbb::task_arena(1).execute([&] { one = renderer.render(camera); });
-  tbb::task_arena(2).execute([&] { two = renderer.render(camera); });
+  tbb::task_arena(1).execute([&] { one = renderer.render(studio_camera(1), 7); });
+  tbb::task_arena(2).execute([&] { two = renderer.render(studio_camera(1), 7); });
   ASSERT_EQ(one.rgba.size(), two.rgba.size());
   EXPECT_EQ(0, std::memcmp(one.rgba.data(), two.rgba.data(), one.rgba.size() * sizeof(float)));
+  EXPECT_EQ(one.albedo, two.albedo);
+  EXPECT_EQ(one.normal, two.normal);
+  EXPECT_EQ(0, std::memcmp(one.depth.data(), two.depth.data(), one.depth.size() * sizeof(float)));
+}
+
+TEST(Renderer, FrameAloneEqualsFrameInSequence) {
+  RenderOptions options;
+  options.width = 80;
+  options.height = 48;
+  options.samples_per_pixel = 2;
+  const TriangleMesh sphere = uv_sphere(1.0, 48, 24);
+  Image in_sequence;
+  {
+    const Renderer renderer(sphere, options);
+    for (int k = 0; k < 4; ++k) {
+      Image img = renderer.render(studio_camera(k), static_cast<std::uint64_t>(k));
+      if (k == 2) in_sequence = std::move(img);
+    }
+  }
+  const Renderer fresh(sphere, options);  // another job, as another process would build it
+  const Image alone = fresh.render(studio_camera(2), 2);
+  ASSERT_EQ(alone.rgba.size(), in_sequence.rgba.size());
+  EXPECT_EQ(0, std::memcmp(alone.rgba.data(), in_sequence.rgba.data(), alone.rgba.size() * sizeof(float)));
+  // The frame index seeds the noise: another index gives other noise on the same view.
+  const Image other = fresh.render(studio_camera(2), 3);
+  EXPECT_NE(0, std::memcmp(alone.rgba.data(), other.rgba.data(), alone.rgba.size() * sizeof(float)));
+}
+
+TEST(Renderer, StudioShadowFallsOnTheGroundAndTransparentKeepsIt) {
+  RenderOptions options;
+  options.width = 64;
+  options.height = 64;
+  options.samples_per_pixel = 4;
+  options.shading.background = BackgroundKind::transparent;
+  const Renderer renderer(uv_sphere(1.0, 48, 24), options);
+  const Image img = renderer.render(Camera{{0, 3, 5}, {0, 0, 0}, {0, 1, 0}, 40.0});
+  EXPECT_TRUE(img.transparent);
+  // Corners: lit ground or sky, fully transparent. Just under the sphere (contact shadow): the
+  // ground's alpha carries the shadow.
+  EXPECT_LT(pixel(img, 0, 0)[3], 0.02f);
+  EXPECT_LT(pixel(img, 0, 63)[3], 0.05f);
+  float max_shadow = 0;
+  for (int x = 20; x < 44; ++x) max_shadow = std::max(max_shadow, pixel(img, x, 60)[3] * (pixel(img, x, 60)[0] < 0.02f));
+  EXPECT_GT(max_shadow, 0.3f);
+  const auto rgba = img.to_srgba8();
+  EXPECT_EQ(rgba.size(), 64u * 64u * 4u);
 }
 
 TEST(Renderer, FarFromTheOriginKeepsPrecision) {
@@ -81,6 +137,7 @@ TEST(Renderer, FarFromTheOriginKeepsPrecision) {
   options.width = 64;
   options.height = 64;
   options.samples_per_pixel = 1;
+  options.shading = look_preset("plain");  // no random secondary rays that a rounding could flip
   TriangleMesh near = uv_sphere(1.0, 64, 32), far = near;
   const Eigen::Vector3d shift(5e6, -3e6, 2e6);  // georeferenced scans live here
   for (auto& p : far.positions) p += shift;
@@ -92,6 +149,20 @@ TEST(Renderer, FarFromTheOriginKeepsPrecision) {
   EXPECT_LT(max_diff, 1e-4);
 }
 
+TEST(Renderer, FitFovKeepsEveryVertexInFrame) {
+  const TriangleMesh sphere = uv_sphere(1.0, 64, 32);
+  const Camera c{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 1.0};
+  // Wide frame: the height limits. The vertices reach at most tan(asin(1/5)) off the axis
+  // (slightly less: the tessellation lies inside the sphere).
+  const double fov = fit_vertical_fov({c}, sphere.positions, 16.0 / 9.0, 0.0);
+  EXPECT_LE(fov, 2 * std::asin(0.2) * 180 / std::numbers::pi + 1e-6);
+  EXPECT_GT(fov, 2 * std::atan(0.98 * 1.0 / 4.8) * 180 / std::numbers::pi - 1.0);
+  // A margin widens the lens; a portrait frame is limited by its width.
+  EXPECT_GT(fit_vertical_fov({c}, sphere.positions, 16.0 / 9.0, 0.1), fov);
+  EXPECT_GT(fit_vertical_fov({c}, sphere.positions, 0.5, 0.0), fov);
+  EXPECT_THROW(fit_vertical_fov({Camera{{0, 0, 5}, {0, 0, 10}, {0, 1, 0}, 1.0}}, sphere.positions, 1.0), InputError);
+}
+
 TEST(Renderer, RejectsBadOptions) {
   RenderOptions options;
   options.width = 0;
@@ -100,6 +171,42 @@ TEST(Renderer, RejectsBadOptions) {
   options.samples_per_pixel = 0;
   EXPECT_THROW(Renderer(uv_sphere(1, 8, 4), options), InputError);
   EXPECT_THROW(Renderer(TriangleMesh{}, RenderOptions{}), InputError);
+  options = RenderOptions{};
+  options.filter_radius = 3.0f;
+  EXPECT_THROW(Renderer(uv_sphere(1, 8, 4), options), InputError);
+  EXPECT_THROW(look_preset("dramatic"), InputError);
+}
+
+TEST(Images, FilmicCurveForDisplayOnly) {
+  Image img;
+  img.width = 1;
+  img.height = 1;
+  img.tone_mapping = ToneMapping::filmic;
+  EXPECT_NEAR(img.display(0.0f), 0.0f, 1e-3f);
+  EXPECT_NEAR(img.display(1000.0f), 1.0f, 1e-3f);  // highlights roll off to white, no clipping step
+  EXPECT_LT(img.display(1.0f), img.display(2.0f));
+  EXPECT_LT(img.display(2.0f), img.display(4.0f));
+  img.exposure = 1.0f;  // one stop: twice the light
+  const float brighter = img.display(0.5f);
+  img.exposure = 0.0f;
+  EXPECT_FLOAT_EQ(brighter, img.display(1.0f));
+}
+
+TEST(Images, TransparentPngHasStraightAlpha) {
+  Image img;
+  img.width = 2;
+  img.height = 1;
+  img.transparent = true;
+  img.rgba = {0.25f, 0.25f, 0.25f, 0.5f, 0.0f, 0.0f, 0.0f, 0.0f};  // premultiplied: 0.5 grey at half coverage
+  const auto px = img.to_srgba8();
+  EXPECT_EQ(px[0], 188);  // 0.5 linear, unpremultiplied
+  EXPECT_EQ(px[3], 128);
+  EXPECT_EQ(px[7], 0);
+  const auto dir = test::scratch_dir();
+  write_image(img, dir / "t.png");
+  OIIO::ImageBuf png((dir / "t.png").string());
+  ASSERT_TRUE(png.init_spec(png.name(), 0, 0));
+  EXPECT_EQ(png.spec().nchannels, 4);
 }
 
 TEST(Images, PngIsSrgbAndExrIsLinearHalf) {

@@ -1,3 +1,4 @@
+// Frames out: the display transform (exposure, filmic curve, sRGB) and PNG/EXR writing.
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
@@ -10,15 +11,49 @@
 #include "tracer/color.h"
 #include "tracer/tracer.h"
 
+#ifndef MESHTOUR_VERSION
+#define MESHTOUR_VERSION "unknown"
+#endif
+
 namespace meshtour {
+namespace {
+
+// A filmic curve: Narkowicz's fit of the ACES reference rendering transform (2015), a rational
+// function with a toe that deepens shadows and a shoulder that rolls highlights off to white
+// instead of clipping them; 1.0 maps to 0.80 and 0.18 (mid grey) to 0.27.
+float filmic(float x) {
+  x = std::max(0.0f, x);
+  return std::clamp(x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
+}
+
+std::uint8_t to8(float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+}  // namespace
+
+float Image::display(float linear) const {
+  const float exposed = linear * std::exp2(exposure);
+  const float mapped = tone_mapping == ToneMapping::filmic ? filmic(exposed) : std::clamp(exposed, 0.0f, 1.0f);
+  return linear_to_srgb(mapped);
+}
 
 std::vector<std::uint8_t> Image::to_srgb8() const {
   std::vector<std::uint8_t> out(static_cast<std::size_t>(width) * height * 3);
   for (std::size_t p = 0, n = static_cast<std::size_t>(width) * height; p < n; ++p)
+    for (int k = 0; k < 3; ++k) out[p * 3 + k] = to8(display(rgba[p * 4 + k]));
+  return out;
+}
+
+std::vector<std::uint8_t> Image::to_srgba8() const {
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(width) * height * 4);
+  for (std::size_t p = 0, n = static_cast<std::size_t>(width) * height; p < n; ++p) {
+    const float a = std::clamp(rgba[p * 4 + 3], 0.0f, 1.0f);
+    // PNG alpha is straight: undo the premultiplication before the (non-linear) display curve.
     for (int k = 0; k < 3; ++k) {
-      const float c = linear_to_srgb(std::clamp(rgba[p * 4 + k], 0.0f, 1.0f));
-      out[p * 3 + k] = static_cast<std::uint8_t>(std::lround(c * 255.0f));
+      const float c = transparent ? (a > 0.0f ? rgba[p * 4 + k] / a : 0.0f) : rgba[p * 4 + k];
+      out[p * 4 + k] = to8(display(c));
     }
+    out[p * 4 + 3] = to8(a);
+  }
   return out;
 }
 
@@ -27,24 +62,66 @@ void write_image(const Image& image, const std::filesystem::path& file) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   const bool png = ext == ".png", exr = ext == ".exr";
   if (!png && !exr) throw InputError(file.string() + ": frames can be written as .png or .exr, not '" + ext + "'");
+  const std::size_t npix = static_cast<std::size_t>(image.width) * image.height;
+  if (image.rgba.size() != npix * 4 || (!image.albedo.empty() && image.albedo.size() != npix * 3) ||
+      (!image.normal.empty() && image.normal.size() != npix * 3) || (!image.depth.empty() && image.depth.size() != npix))
+    throw InputError(file.string() + ": the image's layers do not match its size " + std::to_string(image.width) + "x" +
+                     std::to_string(image.height));
 
   // Same directory, same extension (OpenImageIO picks the format from it), hidden temporary name.
-  const auto temp = file.parent_path() /
-                    ("." + file.stem().string() + ".partial-" + std::to_string(::getpid()) + ext);
+  // (Built by appending: GCC 12 warns falsely (-Wrestrict) about `"." + std::string`.)
+  std::string temp_name = ".";
+  temp_name.append(file.stem().string()).append(".partial-").append(std::to_string(::getpid())).append(ext);
+  const auto temp = file.parent_path() / temp_name;
   auto out = OIIO::ImageOutput::create(temp.string());
   if (!out) throw IoError(file.string() + ": no image writer for '" + ext + "': " + OIIO::geterror());
 
   bool ok = false;
   if (png) {
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    const int channels = image.transparent ? 4 : 3;
+    OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:ColorSpace", "sRGB");
-    const auto pixels = image.to_srgb8();
+    const auto pixels = image.transparent ? image.to_srgba8() : image.to_srgb8();
     ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data());
   } else {
-    OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::HALF);
+    // One interleaved float buffer with every layer; OpenEXR stores RGBA and the extra layers
+    // as half, depth as float (half's 11-bit mantissa would band the depth of large scenes).
+    std::vector<std::string> names = {"R", "G", "B", "A"};
+    if (!image.albedo.empty()) names.insert(names.end(), {"albedo.R", "albedo.G", "albedo.B"});
+    if (!image.normal.empty()) names.insert(names.end(), {"N.X", "N.Y", "N.Z"});
+    if (!image.depth.empty()) names.push_back("Z");
+    const int channels = static_cast<int>(names.size());
+    OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::HALF);
+    spec.channelnames = names;
+    spec.alpha_channel = 3;
+    if (!image.depth.empty()) {
+      spec.z_channel = channels - 1;
+      spec.channelformats.assign(channels, OIIO::TypeDesc::HALF);
+      spec.channelformats.back() = OIIO::TypeDesc::FLOAT;
+    }
     spec.attribute("oiio:ColorSpace", "linear");
     spec.attribute("compression", "zip");
-    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgba.data());
+    const FrameInfo& info = image.info;
+    const OIIO::TypeDesc vec3d(OIIO::TypeDesc::DOUBLE, OIIO::TypeDesc::VEC3);
+    spec.attribute("meshtour:version", MESHTOUR_VERSION);
+    spec.attribute("meshtour:cameraPosition", vec3d, info.camera.eye.data());
+    spec.attribute("meshtour:cameraTarget", vec3d, info.camera.target.data());
+    spec.attribute("meshtour:cameraUp", vec3d, info.camera.up.data());
+    spec.attribute("meshtour:verticalFovDegrees", static_cast<float>(info.camera.vertical_fov_deg));
+    spec.attribute("meshtour:samplesPerPixel", info.samples_per_pixel);
+    spec.attribute("meshtour:frame", static_cast<int>(info.frame_index));
+    spec.attribute("meshtour:renderSeconds", static_cast<float>(info.render_seconds));
+    std::vector<float> pixels(npix * channels);
+    for (std::size_t p = 0; p < npix; ++p) {
+      float* dst = &pixels[p * channels];
+      for (int k = 0; k < 4; ++k) *dst++ = image.rgba[p * 4 + k];
+      if (!image.albedo.empty())
+        for (int k = 0; k < 3; ++k) *dst++ = image.albedo[p * 3 + k];
+      if (!image.normal.empty())
+        for (int k = 0; k < 3; ++k) *dst++ = image.normal[p * 3 + k];
+      if (!image.depth.empty()) *dst++ = image.depth[p];
+    }
+    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
   }
   const std::string error = ok ? "" : out->geterror();
   ok = out->close() && ok;

@@ -1,16 +1,25 @@
+// The renderer: Embree scene set-up, and per tile: camera rays in packets, shading, one batch
+// of shadow and occlusion rays, and the reconstruction filter.
 #include <Eigen/Geometry>
+#include <OpenImageIO/texture.h>
 #include <embree3/rtcore.h>
-#include <tbb/blocked_range2d.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <string>
 
 #include "core/error.h"
 #include "tracer/color.h"
+#include "tracer/film.h"
+#include "tracer/random.h"
+#include "tracer/renderer_internal.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
@@ -35,33 +44,31 @@ struct DeviceDeleter {
 struct SceneDeleter {
   void operator()(RTCScene s) const { rtcReleaseScene(s); }
 };
+struct TextureSystemDeleter {
+  void operator()(OIIO::TextureSystem* t) const { OIIO::TextureSystem::destroy(t); }
+};
 using DevicePtr = std::unique_ptr<RTCDeviceTy, DeviceDeleter>;
 using ScenePtr = std::unique_ptr<RTCSceneTy, SceneDeleter>;
+using TextureSystemPtr = std::unique_ptr<OIIO::TextureSystem, TextureSystemDeleter>;
 
-constexpr int kTileSize = 32;
+// 16 x 16 pixels: at 16 spp a tile's rays (4096 camera rays, up to 8192 secondary) stay in the
+// L2 cache, and a 1280x720 frame has 3600 tiles, plenty to balance two or more threads.
+constexpr int kTileSize = 16;
+constexpr int kPacket = 16;
+constexpr unsigned kModelGeometry = 0, kGroundGeometry = 1;
+constexpr unsigned kModelMask = 1, kGroundMask = 2;
 
-}  // namespace
+float luminance(const Eigen::Vector3f& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
 
-struct Renderer::Impl {
-  RenderOptions options;
-  EmbreeErrorSink errors;
-  DevicePtr device;
-  ScenePtr scene;
-  // The scene is stored relative to the model's centre in float; cameras are shifted the same
-  // way, so models far from the origin (georeferenced scans) keep their precision.
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector3f> positions;
-  std::vector<Eigen::Vector3f> normals;  // smooth, angle-weighted vertex normals
-  std::vector<Eigen::Vector3f> colors;   // linear vertex colours, or empty
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-
-  void check(const char* what) {
-    std::lock_guard lock(errors.mutex);
-    if (!errors.message.empty()) throw RuntimeFailure(std::string(what) + ": " + errors.message);
-  }
-};
-
-namespace {
+// An orthonormal basis around a unit vector (Duff et al. 2017, "Building an orthonormal basis,
+// revisited"): branch-free apart from the sign, and continuous away from n.z = -1.
+void basis(const Eigen::Vector3f& n, Eigen::Vector3f& t, Eigen::Vector3f& b) {
+  const float sign = std::copysign(1.0f, n.z());
+  const float a = -1.0f / (sign + n.z());
+  const float c = n.x() * n.y() * a;
+  t = Eigen::Vector3f(1.0f + sign * n.x() * n.x() * a, sign * c, -sign * n.x());
+  b = Eigen::Vector3f(c, sign + n.y() * n.y() * a, -n.y());
+}
 
 std::vector<Eigen::Vector3f> angle_weighted_normals(const std::vector<Eigen::Vector3f>& p,
                                                     const std::vector<std::array<std::uint32_t, 3>>& tris) {
@@ -87,7 +94,65 @@ std::vector<Eigen::Vector3f> angle_weighted_normals(const std::vector<Eigen::Vec
   return out;
 }
 
+// What a camera sample contributes, once its secondary rays are answered:
+// base + (shadow ray unblocked ? with_light : 0) + (occlusion ray unblocked ? with_sky : 0).
+// Folding the shading into these three terms lets all secondary rays of a tile be traced in one
+// Embree call between shading and filtering.
+struct SampleRecord {
+  float film_x, film_y;  // position on the film, in pixels
+  Eigen::Vector4f base, with_light, with_sky;
+  std::int32_t shadow_ray, sky_ray;  // index into the tile's secondary rays, or -1
+};
+
+struct Scratch {
+  std::vector<RTCRayHit16> packets;
+  std::vector<ValidMask> valid;
+  std::vector<SampleRecord> samples;
+  std::vector<RTCRay> secondary;
+  OIIO::TextureSystem::Perthread* texture_thread = nullptr;
+};
+
+// A light as one frame sees it: world direction, colour and its disc's size.
+struct FrameLight {
+  Eigen::Vector3f direction;  // towards the light
+  Eigen::Vector3f tangent, bitangent;
+  Eigen::Vector3f radiance;   // colour * intensity
+  float cos_half_angle;
+};
+
 }  // namespace
+
+struct Renderer::Impl {
+  RenderOptions options;
+  EmbreeErrorSink errors;
+  DevicePtr device;
+  ScenePtr scene;
+  // The scene is stored relative to the model's centre in float; cameras are shifted the same
+  // way, so models far from the origin (georeferenced scans) keep their precision.
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  float scale = 1.0f;  // the model's bounding-box diagonal: sets ray offsets and AO length
+  std::vector<Eigen::Vector3f> positions;
+  std::vector<Eigen::Vector3f> normals;  // smooth, angle-weighted vertex normals
+  std::vector<Eigen::Vector3f> colors;   // linear vertex colours, or empty
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  // Ground: a large square perpendicular to `up`, just under the model's lowest vertex.
+  Eigen::Vector3f up = Eigen::Vector3f::UnitY();
+  float ground_height = 0.0f;  // dot(point, up) of the ground plane
+  std::vector<Eigen::Vector3f> ground_vertices;
+  std::vector<std::array<std::uint32_t, 3>> ground_triangles;
+  // Texture (OBJ map_Kd): per-corner UVs, and the texture system's handle.
+  std::vector<Eigen::Vector2f> corner_uvs;
+  std::vector<float> uv_scale;  // per triangle: sqrt(uv area / world area), for the filter footprint
+  TextureSystemPtr textures;
+  OIIO::TextureSystem::TextureHandle* texture = nullptr;
+  FilterTable filter;
+
+  void check(const char* what) {
+    std::lock_guard lock(errors.mutex);
+    if (!errors.message.empty()) throw RuntimeFailure(std::string(what) + ": " + errors.message);
+  }
+  Image render(const Camera& camera, std::uint64_t frame, RenderStats* stats, RayRecording* recording) const;
+};
 
 Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : impl_(std::make_unique<Impl>()) {
   if (options.width <= 0 || options.height <= 0 || options.width > 16384 || options.height > 16384)
@@ -95,21 +160,50 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
                      std::to_string(options.height));
   if (options.samples_per_pixel < 1 || options.samples_per_pixel > 4096)
     throw InputError("samples per pixel must be between 1 and 4096, got " + std::to_string(options.samples_per_pixel));
+  if (!(options.filter_radius >= 0.5f && options.filter_radius <= 2.0f))
+    throw InputError("the filter radius must be between 0.5 and 2 pixels, got " + std::to_string(options.filter_radius));
+  if (options.shading.lights.size() > 8)
+    throw InputError("at most 8 lights are supported, got " + std::to_string(options.shading.lights.size()));
+  if (!(options.world_up.norm() > 0.0)) throw InputError("the up axis must not be the zero vector");
   if (mesh.triangles.empty()) throw InputError("the mesh has no triangles to render");
 
   Impl& s = *impl_;
   s.options = options;
+  s.filter = FilterTable(options.filter_radius);
   s.origin = mesh.bounds().center();
-  s.positions.reserve(mesh.positions.size());
+  s.scale = static_cast<float>(std::max(mesh.bounds().diagonal(), 1e-30));
+  s.positions.reserve(mesh.positions.size() + 1);
   for (const auto& p : mesh.positions) s.positions.push_back((p - s.origin).cast<float>());
   s.triangles = mesh.triangles;
   for (const auto& t : s.triangles)
     for (auto v : t)
-      if (v >= s.positions.size()) throw InputError("the mesh has a triangle that refers to a missing vertex");
+      if (v >= mesh.positions.size()) throw InputError("the mesh has a triangle that refers to a missing vertex");
   s.normals = angle_weighted_normals(s.positions, s.triangles);
-  if (mesh.has_colors() && options.shading.use_vertex_colors) {
+  const Material& material = options.shading.material;
+  if (mesh.has_colors() && material.use_vertex_colors) {
     s.colors.reserve(mesh.colors.size());
     for (const auto& c : mesh.colors) s.colors.push_back(srgb_to_linear(c));
+  }
+  if (mesh.has_texture() && material.use_texture) {
+    s.textures.reset(OIIO::TextureSystem::create(/*shared=*/false));
+    // Textures are usually sRGB-encoded 8-bit images; lookups must return linear values.
+    s.textures->attribute("colorspace", "linear");
+    const OIIO::ustring texture_name(mesh.texture_file.string());
+    int readable = 0;  // "exists" is 1 only for a file OpenImageIO can open as an image
+    s.textures->get_texture_info(texture_name, 0, OIIO::ustring("exists"), OIIO::TypeInt, &readable);
+    s.texture = readable ? s.textures->get_texture_handle(texture_name) : nullptr;
+    if (!s.texture || !s.textures->good(s.texture))
+      throw IoError(mesh.texture_file.string() + ": cannot read the model's texture (" + s.textures->geterror() +
+                    "); check the map_Kd line of the model's MTL file");
+    s.corner_uvs = mesh.corner_uvs;
+    s.uv_scale.resize(s.triangles.size());
+    for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+      const auto& t = s.triangles[i];
+      const float world = (s.positions[t[1]] - s.positions[t[0]]).cross(s.positions[t[2]] - s.positions[t[0]]).norm();
+      const Eigen::Vector2f a = s.corner_uvs[3 * i + 1] - s.corner_uvs[3 * i], b = s.corner_uvs[3 * i + 2] - s.corner_uvs[3 * i];
+      const float uv = std::abs(a.x() * b.y() - a.y() * b.x());
+      s.uv_scale[i] = world > 0.0f ? std::sqrt(uv / world) : 0.0f;
+    }
   }
 
   s.device.reset(rtcNewDevice(nullptr));
@@ -121,18 +215,38 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
   // as flickering pixels.
   rtcSetSceneFlags(s.scene.get(), RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(s.scene.get(), RTC_BUILD_QUALITY_HIGH);
-  RTCGeometry geometry = rtcNewGeometry(s.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
   // Shared buffers: Embree reads our arrays directly. The vertex buffer needs 16-byte padding at
   // its end, which the 3-float stride plus one spare vertex provides.
-  s.positions.reserve(s.positions.size() + 1);
-  s.positions.push_back(Eigen::Vector3f::Zero());
-  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, s.positions.data(), 0,
-                             sizeof(Eigen::Vector3f), s.positions.size() - 1);
-  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, s.triangles.data(), 0,
-                             sizeof(std::array<std::uint32_t, 3>), s.triangles.size());
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometry(s.scene.get(), geometry);
-  rtcReleaseGeometry(geometry);
+  auto attach = [&](std::vector<Eigen::Vector3f>& vertices, std::vector<std::array<std::uint32_t, 3>>& tris,
+                    unsigned id, unsigned mask) {
+    RTCGeometry geometry = rtcNewGeometry(s.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+    vertices.push_back(Eigen::Vector3f::Zero());
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices.data(), 0,
+                               sizeof(Eigen::Vector3f), vertices.size() - 1);
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, tris.data(), 0,
+                               sizeof(std::array<std::uint32_t, 3>), tris.size());
+    rtcSetGeometryMask(geometry, mask);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(s.scene.get(), geometry, id);
+    rtcReleaseGeometry(geometry);
+  };
+  attach(s.positions, s.triangles, kModelGeometry, kModelMask);
+
+  s.up = options.world_up.normalized().cast<float>();
+  if (options.shading.ground) {
+    float lowest = std::numeric_limits<float>::infinity();
+    for (const auto& t : s.triangles)
+      for (auto v : t) lowest = std::min(lowest, s.positions[v].dot(s.up));
+    // A hair below the model: a flat base resting on the ground must not fight with it.
+    s.ground_height = lowest - 5e-4f * s.scale;
+    Eigen::Vector3f e1, e2;
+    basis(s.up, e1, e2);
+    const float half = 100.0f * s.scale;  // far beyond any shadow; looks infinite
+    const Eigen::Vector3f c = s.ground_height * s.up;
+    s.ground_vertices = {c - half * e1 - half * e2, c + half * e1 - half * e2, c + half * e1 + half * e2, c - half * e1 + half * e2};
+    s.ground_triangles = {{0, 1, 2}, {0, 2, 3}};
+    attach(s.ground_vertices, s.ground_triangles, kGroundGeometry, kGroundMask);
+  }
   rtcCommitScene(s.scene.get());
   s.check("building the ray-tracing scene");
 }
@@ -141,89 +255,416 @@ Renderer::~Renderer() = default;
 
 const RenderOptions& Renderer::options() const { return impl_->options; }
 
-Image Renderer::render(const Camera& camera) const {
-  const Impl& s = *impl_;
-  const int width = s.options.width, height = s.options.height;
+Image Renderer::render(const Camera& camera, std::uint64_t frame_index, RenderStats* stats) const {
+  return impl_->render(camera, frame_index, stats, nullptr);
+}
+
+RTCScene RendererAccess::scene(const Renderer& renderer) { return renderer.impl_->scene.get(); }
+Image RendererAccess::render(const Renderer& renderer, const Camera& camera, std::uint64_t frame_index, RenderStats* stats,
+                             RayRecording* recording) {
+  return renderer.impl_->render(camera, frame_index, stats, recording);
+}
+
+Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderStats* stats, RayRecording* recording) const {
+  const auto start = std::chrono::steady_clock::now();
+  const int width = options.width, height = options.height;
+  const Shading& sh = options.shading;
+  const Material& mat = sh.material;
+  const bool transparent = sh.background == BackgroundKind::transparent;
   Image image;
   image.width = width;
   image.height = height;
-  image.rgba.assign(static_cast<std::size_t>(width) * height * 4, 0.0f);
+  image.transparent = transparent;
+  image.exposure = sh.exposure;
+  image.tone_mapping = sh.tone_mapping;
+  const std::size_t npix = static_cast<std::size_t>(width) * height;
+  image.rgba.assign(npix * 4, 0.0f);
+  if (options.layers.albedo) image.albedo.assign(npix * 3, 0.0f);
+  if (options.layers.normal) image.normal.assign(npix * 3, 0.0f);
+  if (options.layers.depth) image.depth.assign(npix, std::numeric_limits<float>::infinity());
 
+  // Camera frame, in the scene's local (centred) coordinates.
   const Eigen::Vector3d forward_d = (camera.target - camera.eye).normalized();
   Eigen::Vector3d right_d = forward_d.cross(camera.up);
   if (!(right_d.norm() > 1e-9)) right_d = forward_d.unitOrthogonal();
   right_d.normalize();
   const Eigen::Vector3d up_d = right_d.cross(forward_d);
-  const Eigen::Vector3f eye = (camera.eye - s.origin).cast<float>();
-  const Eigen::Vector3f forward = forward_d.cast<float>(), right = right_d.cast<float>(), up = up_d.cast<float>();
+  const Eigen::Vector3f eye = (camera.eye - origin).cast<float>();
+  const Eigen::Vector3f forward = forward_d.cast<float>(), right = right_d.cast<float>(), cam_up = up_d.cast<float>();
   const float tan_half = static_cast<float>(std::tan(camera.vertical_fov_deg * std::numbers::pi / 360.0));
   const float aspect = static_cast<float>(width) / static_cast<float>(height);
 
-  const Shading& sh = s.options.shading;
-  const Eigen::Vector3f light_dir =
-      (sh.light_from_camera.x() * right + sh.light_from_camera.y() * up - sh.light_from_camera.z() * forward).normalized();
+  std::vector<FrameLight> lights;
+  for (const Light& l : sh.lights) {
+    const Eigen::Vector3f d = l.from_camera.x() * right + l.from_camera.y() * cam_up - l.from_camera.z() * forward;
+    if (!(d.norm() > 0.0f) || !(l.intensity > 0.0f)) continue;
+    FrameLight f;
+    f.direction = d.normalized();
+    basis(f.direction, f.tangent, f.bitangent);
+    f.radiance = l.color * l.intensity;
+    f.cos_half_angle = static_cast<float>(std::cos(std::clamp(l.angular_diameter_deg, 0.0f, 90.0f) * std::numbers::pi / 360.0));
+    lights.push_back(f);
+  }
+  // Blinn-Phong exponent from roughness (alpha = roughness^2, Walter et al.'s mapping n = 2/alpha^2 - 2),
+  // normalised so that the highlight's energy stays the same as it widens.
+  const float alpha = std::max(0.02f, mat.roughness * mat.roughness);
+  const float shininess = std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f);
+  const float spec_scale = 0.08f * mat.specular * (shininess + 8.0f) / 8.0f;
+  const bool has_ground = !ground_vertices.empty();
+  // From below the ground the camera must see the model, not the ground's underside.
+  const unsigned camera_mask = has_ground && eye.dot(up) > ground_height ? (kModelMask | kGroundMask) : kModelMask;
+  const float eps = 1e-4f * scale;
+  const float ao_length = sh.ao_distance * scale;
+  const float model_radius = 0.5f * scale * 1.001f;  // bounding sphere around the box's centre (the origin)
+  const float pixel_angle = 2.0f * tan_half / static_cast<float>(height);  // texture filter footprint
 
-  // Stratified samples: a rows x cols grid inside the pixel with rows*cols == spp.
-  const int spp = s.options.samples_per_pixel;
+  const int spp = options.samples_per_pixel;
   int rows = static_cast<int>(std::sqrt(static_cast<double>(spp)));
   while (spp % rows != 0) --rows;
   const int cols = spp / rows;
+  // The corner of each stratum (a rows x cols grid over the unit square), computed once: the
+  // integer divisions would otherwise cost more than the rest of a sample's set-up.
+  std::vector<Eigen::Vector2f> strata(spp);
+  for (int j = 0; j < spp; ++j)
+    strata[j] = Eigen::Vector2f(static_cast<float>(j % cols) / static_cast<float>(cols), static_cast<float>(j / cols) / static_cast<float>(rows));
+  const Eigen::Vector2f stratum_size(1.0f / static_cast<float>(cols), 1.0f / static_cast<float>(rows));
+  auto stratum = [&](int j, float u, float v) { return Eigen::Vector2f(strata[j] + Eigen::Vector2f(u, v).cwiseProduct(stratum_size)); };
+  // Below this cosine the highlight is under 1e-4 of its peak: skip the pow().
+  const float spec_cutoff = std::pow(1e-4f, 1.0f / shininess);
 
   const int tiles_x = (width + kTileSize - 1) / kTileSize, tiles_y = (height + kTileSize - 1) / kTileSize;
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 0, tiles_x), [&](const tbb::blocked_range2d<int>& r) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
-      for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx)
-        for (int y = ty * kTileSize; y < std::min(height, (ty + 1) * kTileSize); ++y)
-          for (int x = tx * kTileSize; x < std::min(width, (tx + 1) * kTileSize); ++x) {
-            Eigen::Vector4f sum = Eigen::Vector4f::Zero();
-            for (int sy = 0; sy < rows; ++sy)
-              for (int sx = 0; sx < cols; ++sx) {
-                const float px = (static_cast<float>(x) + (static_cast<float>(sx) + 0.5f) / cols) / width;
-                const float py = (static_cast<float>(y) + (static_cast<float>(sy) + 0.5f) / rows) / height;
-                const Eigen::Vector3f dir =
-                    (forward + (2.0f * px - 1.0f) * tan_half * aspect * right + (1.0f - 2.0f * py) * tan_half * up)
-                        .normalized();
-                RTCRayHit hit{};
-                hit.ray.org_x = eye.x();
-                hit.ray.org_y = eye.y();
-                hit.ray.org_z = eye.z();
-                hit.ray.dir_x = dir.x();
-                hit.ray.dir_y = dir.y();
-                hit.ray.dir_z = dir.z();
-                hit.ray.tnear = 0.0f;
-                hit.ray.tfar = std::numeric_limits<float>::infinity();
-                hit.ray.mask = 0xFFFFFFFFu;
-                hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect1(s.scene.get(), &context, &hit);
-                if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-                  const float t = py;  // vertical gradient behind the model
-                  const Eigen::Vector3f bg = (1.0f - t) * sh.background_top + t * sh.background_bottom;
-                  sum += Eigen::Vector4f(bg.x(), bg.y(), bg.z(), 0.0f);
-                  continue;
-                }
-                const auto& tri = s.triangles[hit.hit.primID];
-                const float u = hit.hit.u, v = hit.hit.v, w = 1.0f - u - v;
-                Eigen::Vector3f n = (w * s.normals[tri[0]] + u * s.normals[tri[1]] + v * s.normals[tri[2]]);
-                n = n.norm() > 0.0f ? n.normalized() : Eigen::Vector3f(hit.hit.Ng_x, hit.hit.Ng_y, hit.hit.Ng_z).normalized();
-                // Two-sided: open scans show their inside, which must be lit like the outside.
-                if (n.dot(dir) > 0.0f) n = -n;
-                const Eigen::Vector3f albedo = s.colors.empty()
-                    ? sh.base_color
-                    : Eigen::Vector3f(w * s.colors[tri[0]] + u * s.colors[tri[1]] + v * s.colors[tri[2]]);
-                const float diffuse = std::max(0.0f, n.dot(light_dir));
-                const Eigen::Vector3f half = (light_dir - dir).normalized();
-                const float spec = diffuse > 0.0f ? sh.specular * std::pow(std::max(0.0f, n.dot(half)), sh.shininess) : 0.0f;
-                const Eigen::Vector3f c = albedo * (sh.ambient + sh.light_intensity * diffuse) + Eigen::Vector3f::Constant(spec);
-                sum += Eigen::Vector4f(c.x(), c.y(), c.z(), 1.0f);
-              }
-            const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 4;
-            const Eigen::Vector4f avg = sum / static_cast<float>(spp);
-            for (int k = 0; k < 4; ++k) image.rgba[i + k] = avg[k];
+  const int ntiles = tiles_x * tiles_y;
+  const int apron = filter.apron();
+  const int buf_w = kTileSize + 2 * apron;
+  // Each tile splats its samples into its own buffer (with an apron for the filter's reach);
+  // the buffers are summed afterwards in a fixed order, so no sum depends on thread timing.
+  std::vector<std::vector<float>> tile_sums(ntiles);
+  if (recording) recording->tiles.assign((ntiles + recording->tile_stride - 1) / recording->tile_stride, {});
+  std::atomic<std::uint64_t> primary_count{0}, secondary_count{0};
+  tbb::enumerable_thread_specific<Scratch> scratch_per_thread;
+
+  tbb::parallel_for(tbb::blocked_range<int>(0, ntiles, 1), [&](const tbb::blocked_range<int>& range) {
+    Scratch& scratch = scratch_per_thread.local();
+    if (textures && !scratch.texture_thread) scratch.texture_thread = textures->get_perthread_info();
+    RTCIntersectContext coherent;
+    rtcInitIntersectContext(&coherent);
+    coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RTCIntersectContext incoherent;
+    rtcInitIntersectContext(&incoherent);
+    incoherent.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+
+    for (int tile = range.begin(); tile != range.end(); ++tile) {
+      const int tx = tile % tiles_x, ty = tile / tiles_x;
+      const int x0 = tx * kTileSize, y0 = ty * kTileSize;
+      const int x1 = std::min(width, x0 + kTileSize), y1 = std::min(height, y0 + kTileSize);
+      const std::size_t nsamples = static_cast<std::size_t>(x1 - x0) * (y1 - y0) * spp;
+      const std::size_t npackets = (nsamples + kPacket - 1) / kPacket;
+      scratch.packets.resize(npackets);
+      scratch.valid.resize(npackets);
+      scratch.samples.resize(nsamples);
+      scratch.secondary.clear();
+
+      // 1. Camera rays, stratified and jittered inside each pixel, in packets of 16 (one pixel
+      //    at 16 spp): neighbouring rays traverse the BVH together.
+      std::size_t k = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
+          for (int s = 0; s < spp; ++s, ++k) {
+            const rng::SampleStream r(frame, pixel, static_cast<std::uint64_t>(s));
+            const Eigen::Vector2f jitter = stratum(s, r.uniform(0), r.uniform(1));
+            const float fx = static_cast<float>(x) + jitter.x(), fy = static_cast<float>(y) + jitter.y();
+            const Eigen::Vector3f dir = (forward + (2.0f * fx / width - 1.0f) * tan_half * aspect * right +
+                                         (1.0f - 2.0f * fy / height) * tan_half * cam_up).normalized();
+            SampleRecord& rec = scratch.samples[k];
+            rec.film_x = fx;
+            rec.film_y = fy;
+            RTCRayHit16& p = scratch.packets[k / kPacket];
+            const std::size_t lane = k % kPacket;
+            p.ray.org_x[lane] = eye.x();
+            p.ray.org_y[lane] = eye.y();
+            p.ray.org_z[lane] = eye.z();
+            p.ray.dir_x[lane] = dir.x();
+            p.ray.dir_y[lane] = dir.y();
+            p.ray.dir_z[lane] = dir.z();
+            p.ray.tnear[lane] = 0.0f;
+            p.ray.tfar[lane] = std::numeric_limits<float>::infinity();
+            p.ray.time[lane] = 0.0f;
+            p.ray.mask[lane] = camera_mask;
+            p.ray.id[lane] = 0;
+            p.ray.flags[lane] = 0;
+            p.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+            p.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
           }
+        }
+      for (std::size_t i = 0; i < npackets; ++i)
+        for (std::size_t lane = 0; lane < kPacket; ++lane) scratch.valid[i][lane] = i * kPacket + lane < nsamples ? -1 : 0;
+      RayRecording::Tile* rec_tile = recording && tile % recording->tile_stride == 0 ? &recording->tiles[tile / recording->tile_stride] : nullptr;
+      if (rec_tile) {
+        rec_tile->packets = scratch.packets;
+        rec_tile->valid = scratch.valid;
+      }
+      for (std::size_t i = 0; i < npackets; ++i)
+        rtcIntersect16(scratch.valid[i].data(), scene.get(), &coherent, &scratch.packets[i]);
+
+      // 2. Shading: everything but the visibility of the chosen light and of the sky.
+      std::vector<float> sums(static_cast<std::size_t>(buf_w) * buf_w * 5, 0.0f);
+      int x = x0, y = y0, s = 0;
+      std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
+      int light_shift = 0, sky_shift = 0;
+      for (k = 0; k < nsamples; ++k, ++s) {
+        if (s == spp) {  // next pixel (samples are stored pixel by pixel, rows of the tile)
+          s = 0;
+          if (++x == x1) x = x0, ++y;
+          pixel = static_cast<std::uint64_t>(y) * width + x;
+        }
+        if (s == 0) {
+          // The secondary rays' strata are shifted per pixel, so that they do not line up with
+          // the camera-ray strata (a sample in the top row would always test the same light area).
+          const rng::SampleStream pr = rng::pixel_stream(frame, pixel);
+          light_shift = static_cast<int>(pr.bits(0) % static_cast<std::uint32_t>(spp));
+          sky_shift = static_cast<int>(pr.bits(1) % static_cast<std::uint32_t>(spp));
+        }
+        SampleRecord& rec = scratch.samples[k];
+        const RTCRayHit16& p = scratch.packets[k / kPacket];
+        const std::size_t lane = k % kPacket;
+        const rng::SampleStream r(frame, pixel, static_cast<std::uint64_t>(s));
+        rec.shadow_ray = rec.sky_ray = -1;
+        rec.with_light.setZero();
+        rec.with_sky.setZero();
+        const float t_bg = std::clamp(rec.film_y / height, 0.0f, 1.0f);
+        const Eigen::Vector3f bg = transparent ? Eigen::Vector3f::Zero()
+                                               : Eigen::Vector3f((1.0f - t_bg) * sh.background_top + t_bg * sh.background_bottom);
+        const unsigned geom = p.hit.geomID[lane];
+        if (geom == RTC_INVALID_GEOMETRY_ID) {
+          rec.base = Eigen::Vector4f(bg.x(), bg.y(), bg.z(), 0.0f);
+          continue;
+        }
+        const Eigen::Vector3f dir(p.ray.dir_x[lane], p.ray.dir_y[lane], p.ray.dir_z[lane]);
+        const float t = p.ray.tfar[lane];
+        const Eigen::Vector3f hit = eye + t * dir;
+        Eigen::Vector3f ng = Eigen::Vector3f(p.hit.Ng_x[lane], p.hit.Ng_y[lane], p.hit.Ng_z[lane]).normalized();
+        if (ng.dot(dir) > 0.0f) ng = -ng;  // two-sided: open scans show their inside
+        const Eigen::Vector3f org = hit + eps * ng;
+        // The random numbers of the secondary rays: stratified over the pixel's samples.
+        const int j_light = s + light_shift >= spp ? s + light_shift - spp : s + light_shift;
+        const int j_sky = s + sky_shift >= spp ? s + sky_shift - spp : s + sky_shift;
+        const Eigen::Vector2f u_light = stratum(j_light, r.uniform(2), r.uniform(3));
+        const Eigen::Vector2f u_sky = stratum(j_sky, r.uniform(4), r.uniform(5));
+        const float u_choice = r.uniform(6);
+
+        auto add_ray = [&](const Eigen::Vector3f& d, float tfar) {
+          RTCRay ray;
+          ray.org_x = org.x();
+          ray.org_y = org.y();
+          ray.org_z = org.z();
+          ray.tnear = 0.0f;
+          ray.dir_x = d.x();
+          ray.dir_y = d.y();
+          ray.dir_z = d.z();
+          ray.time = 0.0f;
+          ray.tfar = tfar;
+          ray.mask = kModelMask | kGroundMask;
+          ray.id = 0;
+          ray.flags = 0;
+          scratch.secondary.push_back(ray);
+          return static_cast<std::int32_t>(scratch.secondary.size() - 1);
+        };
+        auto light_direction = [&](const FrameLight& l) {
+          // Uniform over the light's disc (a spherical cap).
+          const float cos_t = 1.0f - u_light.x() * (1.0f - l.cos_half_angle);
+          const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
+          const float phi = 2.0f * std::numbers::pi_v<float> * u_light.y();
+          return Eigen::Vector3f(cos_t * l.direction + sin_t * (std::cos(phi) * l.tangent + std::sin(phi) * l.bitangent));
+        };
+        auto sky_direction = [&](const Eigen::Vector3f& n) {
+          // Cosine-weighted over the hemisphere: the fraction of unblocked rays is then exactly
+          // the occlusion of a diffuse surface's sky light.
+          Eigen::Vector3f t1, t2;
+          basis(n, t1, t2);
+          const float rad = std::sqrt(u_sky.x()), phi = 2.0f * std::numbers::pi_v<float> * u_sky.y();
+          return Eigen::Vector3f(rad * std::cos(phi) * t1 + rad * std::sin(phi) * t2 + std::sqrt(std::max(0.0f, 1.0f - u_sky.x())) * n);
+        };
+        // Picks one light with probability proportional to `weights` (its unshadowed contribution).
+        auto choose = [&](const float* weights, float total) {
+          float acc = 0.0f;
+          const float target = u_choice * total;
+          std::size_t i = 0;
+          for (; i + 1 < lights.size(); ++i) {
+            acc += weights[i];
+            if (target < acc && weights[i] > 0.0f) break;
+          }
+          while (weights[i] <= 0.0f && i > 0) --i;
+          return i;
+        };
+
+        float weights[8] = {};
+        if (geom == kGroundGeometry) {
+          // Shadow catcher: the ground shows the background, darkened by the share of light and
+          // sky the model takes away from it; transparent frames get the shadow as alpha.
+          float light_total = 0.0f;
+          for (std::size_t i = 0; i < lights.size(); ++i) {
+            weights[i] = std::max(0.0f, up.dot(lights[i].direction)) * luminance(lights[i].radiance);
+            light_total += weights[i];
+          }
+          const float sky = sh.ambient_occlusion || !sh.shadows ? luminance(sh.ambient) : 0.0f;
+          const float total = light_total + sky;
+          const float g = sh.ground_shadow;
+          rec.base = Eigen::Vector4f(bg.x() * (1.0f - g), bg.y() * (1.0f - g), bg.z() * (1.0f - g), transparent ? g : 0.0f);
+          if (!(total > 0.0f)) {
+            rec.base = Eigen::Vector4f(bg.x(), bg.y(), bg.z(), 0.0f);
+            continue;
+          }
+          const auto term = [&](float share) {
+            const float f = g * share / total;
+            return Eigen::Vector4f(bg.x() * f, bg.y() * f, bg.z() * f, transparent ? -f : 0.0f);
+          };
+          // Only the model casts shadows on the ground: a ray that misses the model's bounding
+          // sphere is known to be unblocked and is not traced (most of the visible ground).
+          auto may_hit_model = [&](const Eigen::Vector3f& d) {
+            const float b = org.dot(d), c = org.squaredNorm() - model_radius * model_radius;
+            return c < 0.0f || (b < 0.0f && b * b >= c);
+          };
+          if (light_total > 0.0f) {
+            const Eigen::Vector3f d = sh.shadows ? light_direction(lights[choose(weights, light_total)]) : up;
+            if (sh.shadows && may_hit_model(d)) {
+              rec.with_light = term(light_total);
+              rec.shadow_ray = add_ray(d, std::numeric_limits<float>::infinity());
+            } else {
+              rec.base += term(light_total);
+            }
+          }
+          if (sky > 0.0f) {
+            if (sh.ambient_occlusion && org.norm() - model_radius < ao_length) {
+              rec.with_sky = term(sky);
+              rec.sky_ray = add_ray(sky_direction(up), ao_length);
+            } else {
+              rec.base += term(sky);
+            }
+          }
+          continue;
+        }
+
+        // The model.
+        const auto& tri = triangles[p.hit.primID[lane]];
+        const float bu = p.hit.u[lane], bv = p.hit.v[lane], bw = 1.0f - bu - bv;
+        Eigen::Vector3f n = bw * normals[tri[0]] + bu * normals[tri[1]] + bv * normals[tri[2]];
+        n = n.norm() > 0.0f ? n.normalized() : ng;
+        if (n.dot(dir) > 0.0f) n = -n;
+        Eigen::Vector3f albedo = mat.base_color;
+        if (!colors.empty()) albedo = bw * colors[tri[0]] + bu * colors[tri[1]] + bv * colors[tri[2]];
+        if (texture) {
+          const std::size_t prim = p.hit.primID[lane];
+          const Eigen::Vector2f uv = bw * corner_uvs[3 * prim] + bu * corner_uvs[3 * prim + 1] + bv * corner_uvs[3 * prim + 2];
+          // Isotropic footprint of one sample in texture space: the pixel's width at this
+          // distance, stretched by the slant, divided by sqrt(spp) because the samples already
+          // average over the pixel.
+          const float slant = std::max(0.2f, std::abs(ng.dot(dir)));
+          const float width_uv = uv_scale[prim] * t * pixel_angle / slant / std::sqrt(static_cast<float>(spp));
+          OIIO::TextureOpt opt;
+          float rgb[3] = {0, 0, 0};
+          // OBJ's v runs upwards; OpenImageIO's t runs down the image.
+          if (textures->texture(texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv, 3, rgb))
+            albedo = Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
+        }
+        const Eigen::Vector3f view = -dir;
+        Eigen::Vector3f direct = Eigen::Vector3f::Zero();
+        float light_total = 0.0f;
+        Eigen::Vector3f contribution[8];
+        for (std::size_t i = 0; i < lights.size(); ++i) {
+          const float cos_l = n.dot(lights[i].direction);
+          contribution[i].setZero();
+          if (cos_l <= 0.0f) continue;
+          const Eigen::Vector3f half = (lights[i].direction + view).normalized();
+          const float cos_h = n.dot(half);
+          const float spec = cos_h > spec_cutoff ? spec_scale * std::pow(cos_h, shininess) : 0.0f;
+          contribution[i] = lights[i].radiance.cwiseProduct(albedo + Eigen::Vector3f::Constant(spec)) * cos_l;
+          weights[i] = luminance(contribution[i]);
+          light_total += weights[i];
+          direct += contribution[i];
+        }
+        const Eigen::Vector3f sky = sh.ambient.cwiseProduct(albedo);
+        rec.base = Eigen::Vector4f(0.0f, 0.0f, 0.0f, 1.0f);
+        if (light_total > 0.0f) {
+          if (sh.shadows) {
+            // One shadow ray to one light, weighted by 1/probability: unbiased, and the light
+            // that matters most here gets most of the rays.
+            const std::size_t i = choose(weights, light_total);
+            const Eigen::Vector3f c = contribution[i] * (light_total / weights[i]);
+            rec.with_light = Eigen::Vector4f(c.x(), c.y(), c.z(), 0.0f);
+            rec.shadow_ray = add_ray(light_direction(lights[i]), std::numeric_limits<float>::infinity());
+          } else {
+            rec.base.head<3>() += direct;
+          }
+        }
+        if (sh.ambient_occlusion) {
+          rec.with_sky = Eigen::Vector4f(sky.x(), sky.y(), sky.z(), 0.0f);
+          rec.sky_ray = add_ray(sky_direction(n), ao_length);
+        } else {
+          rec.base.head<3>() += sky;
+        }
+        // Extra layers: averaged over the pixel's own samples (no filter: they are data, not light).
+        const std::size_t pi = static_cast<std::size_t>(y) * width + x;
+        if (!image.albedo.empty())
+          for (int c = 0; c < 3; ++c) image.albedo[pi * 3 + c] += albedo[c] / static_cast<float>(spp);
+        if (!image.normal.empty())
+          for (int c = 0; c < 3; ++c) image.normal[pi * 3 + c] += n[c];
+        if (!image.depth.empty()) image.depth[pi] = std::min(image.depth[pi], t * dir.dot(forward));
+      }
+      if (!image.normal.empty())
+        for (int py = y0; py < y1; ++py)
+          for (int px = x0; px < x1; ++px) {
+            float* nn = &image.normal[(static_cast<std::size_t>(py) * width + px) * 3];
+            const float len = std::sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+            if (len > 0.0f)
+              for (int c = 0; c < 3; ++c) nn[c] /= len;
+          }
+
+      // 3. All shadow and occlusion rays of the tile in one call: Embree stops at the first hit.
+      if (rec_tile) rec_tile->secondary = scratch.secondary;
+      if (!scratch.secondary.empty())
+        rtcOccluded1M(scene.get(), &incoherent, scratch.secondary.data(), static_cast<unsigned>(scratch.secondary.size()),
+                      sizeof(RTCRay));
+
+      // 4. Reconstruction filter: every sample is splatted onto the pixels within the radius.
+      for (k = 0; k < nsamples; ++k) {
+        const SampleRecord& rec = scratch.samples[k];
+        Eigen::Vector4f v = rec.base;
+        if (rec.shadow_ray >= 0 && scratch.secondary[rec.shadow_ray].tfar >= 0.0f) v += rec.with_light;
+        if (rec.sky_ray >= 0 && scratch.secondary[rec.sky_ray].tfar >= 0.0f) v += rec.with_sky;
+        filter.splat(rec.film_x - static_cast<float>(x0 - apron), rec.film_y - static_cast<float>(y0 - apron), v, sums.data(), buf_w);
+      }
+      tile_sums[tile] = std::move(sums);
+      primary_count += nsamples;
+      secondary_count += scratch.secondary.size();
+    }
   });
+
+  // Each pixel gathers the tile buffers that reach it, always in the same order.
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y != range.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        float acc[5] = {0, 0, 0, 0, 0};
+        for (int ty = std::max(0, (y - apron) / kTileSize); ty <= std::min(tiles_y - 1, (y + apron) / kTileSize); ++ty)
+          for (int tx = std::max(0, (x - apron) / kTileSize); tx <= std::min(tiles_x - 1, (x + apron) / kTileSize); ++tx) {
+            const int bx = x - (tx * kTileSize - apron), by = y - (ty * kTileSize - apron);
+            if (bx < 0 || by < 0 || bx >= buf_w || by >= buf_w) continue;
+            const float* src = &tile_sums[ty * tiles_x + tx][(static_cast<std::size_t>(by) * buf_w + bx) * 5];
+            for (int c = 0; c < 5; ++c) acc[c] += src[c];
+          }
+        float* dst = &image.rgba[(static_cast<std::size_t>(y) * width + x) * 4];
+        for (int c = 0; c < 4; ++c) dst[c] = acc[4] > 0.0f ? acc[c] / acc[4] : 0.0f;
+      }
+  });
+
+  if (stats) {
+    stats->primary_rays += primary_count;
+    stats->secondary_rays += secondary_count;
+  }
+  image.info.camera = camera;
+  image.info.frame_index = frame;
+  image.info.samples_per_pixel = spp;
+  image.info.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return image;
 }
 

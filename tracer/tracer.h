@@ -1,10 +1,12 @@
 #pragma once
 // The ray tracer: one Embree scene per job, frames rendered in parallel tiles, deterministic
-// (a pixel's value depends only on the scene, the camera and the pixel, never on threads).
+// (a pixel's value depends only on the scene, the camera, the frame index and the pixel, never
+// on threads, tile order or which process renders it).
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "mesh/mesh.h"
@@ -19,60 +21,155 @@ struct Camera {
   double vertical_fov_deg = 40.0;
 };
 
-/// How surfaces and the background look. Colours are linear RGB.
-struct Shading {
-  Eigen::Vector3f base_color{0.75f, 0.75f, 0.75f};  ///< used where the mesh has no vertex colours
+/// A distant disc light (like the sun, or a large softbox far away) placed relative to the
+/// camera, so that the lighting stays the same as the camera travels around the model. Its
+/// apparent size makes shadows soft: 0 gives hard shadows.
+struct Light {
+  /// Direction the light comes from, in camera space (x right, y up, z towards the viewer).
+  Eigen::Vector3f from_camera{-0.45f, 0.55f, 1.0f};
+  Eigen::Vector3f color{1.0f, 1.0f, 1.0f};  ///< linear RGB
+  float intensity = 1.0f;                   ///< irradiance on a surface facing the light
+  float angular_diameter_deg = 10.0f;       ///< apparent size seen from the model
+};
+
+/// The model's surface: a diffuse base with a glossy (Blinn-Phong) coat.
+struct Material {
+  Eigen::Vector3f base_color{0.75f, 0.75f, 0.75f};  ///< linear RGB, used where the mesh has no colours/texture
+  float roughness = 0.45f;  ///< 0 mirror-like highlight .. 1 no visible highlight
+  float specular = 0.5f;    ///< highlight strength; 0.5 is a dielectric's 4 % reflectance
   bool use_vertex_colors = true;
-  float ambient = 0.22f;         ///< uniform ambient term
-  float light_intensity = 0.95f; ///< the light attached to the camera
-  /// Direction the camera-attached light comes from, in camera space (x right, y up, z towards
-  /// the viewer): above and to the left of the camera, as photographers place a key light.
-  Eigen::Vector3f light_from_camera{-0.45f, 0.55f, 1.0f};
-  float specular = 0.12f;        ///< Blinn-Phong highlight strength
-  float shininess = 40.0f;
-  Eigen::Vector3f background_top{0.32f, 0.32f, 0.33f};
-  Eigen::Vector3f background_bottom{0.10f, 0.10f, 0.11f};
+  bool use_texture = true;  ///< the mesh's diffuse texture (OBJ map_Kd), when it has one
+};
+
+enum class BackgroundKind { gradient, transparent };
+enum class ToneMapping { clamp, filmic };
+
+/// How a frame looks: lights, shadows, ambient occlusion, ground, background, exposure.
+/// Presets: `look_preset("studio")` and `look_preset("plain")`.
+struct Shading {
+  std::string preset = "studio";  ///< the preset these values started from (informational)
+  Material material;
+  std::vector<Light> lights;     ///< at most 8
+  bool shadows = true;           ///< trace shadow rays (soft, from the lights' discs)
+  Eigen::Vector3f ambient{0.25f, 0.25f, 0.25f};  ///< sky light from every direction, linear RGB
+  bool ambient_occlusion = true;  ///< the sky light is occluded by nearby geometry
+  float ao_distance = 0.3f;       ///< AO ray length, fraction of the model's bounding-box diagonal
+  bool ground = true;             ///< a shadow-catching floor under the model (perpendicular to RenderOptions::world_up)
+  float ground_shadow = 0.85f;    ///< 0 = the floor shows nothing, 1 = full-strength shadows on it
+  BackgroundKind background = BackgroundKind::gradient;
+  Eigen::Vector3f background_top{0.50f, 0.51f, 0.53f};     ///< linear RGB, top of the frame
+  Eigen::Vector3f background_bottom{0.16f, 0.16f, 0.17f};  ///< linear RGB, bottom of the frame
+  float exposure = 0.0f;          ///< stops, applied for display outputs (PNG, video), not to EXR
+  ToneMapping tone_mapping = ToneMapping::filmic;  ///< display outputs only; EXR stays linear
+};
+
+/// The named looks. "studio": key, fill and rim lights around the camera with soft shadows,
+/// ambient occlusion, a shadow-catching ground and a soft gradient. Per camera sample it traces
+/// one camera ray and, where that ray hits the model or the ground, one shadow ray towards one
+/// light (chosen in proportion to its unshadowed contribution at that point) and one ambient-
+/// occlusion ray: at most 3 rays per sample. "plain": even light from the camera's side, no
+/// shadows, no occlusion, no ground, a light background, for catalogues; one camera ray per sample.
+/// \throw InputError for another name.
+Shading look_preset(const std::string& name);
+/// The preset names, for help texts: "studio, plain".
+std::string look_preset_names();
+
+/// Optional extra layers of EXR frames, for compositing.
+struct ExtraLayers {
+  bool albedo = false;  ///< surface colour before lighting (albedo.R/G/B)
+  bool normal = false;  ///< world-space shading normal (N.X/Y/Z)
+  bool depth = false;   ///< distance along the camera's axis, +inf where nothing was hit (Z)
+  bool any() const { return albedo || normal || depth; }
 };
 
 struct RenderOptions {
   int width = 1280;
   int height = 720;
-  int samples_per_pixel = 4;  ///< stratified over the pixel, box-filtered
-  Shading shading;
+  int samples_per_pixel = 16;  ///< stratified (jittered grid) over the pixel
+  /// Radius of the Blackman-Harris reconstruction filter in pixels: samples are weighted by
+  /// their distance to each pixel's centre, removing the jaggies a box filter leaves. 0.5..2.
+  float filter_radius = 1.5f;
+  /// The model's up axis (the ground plane is perpendicular to it). Need not be unit length.
+  Eigen::Vector3d world_up = Eigen::Vector3d::UnitY();
+  ExtraLayers layers;
+  Shading shading = look_preset("studio");
 };
 
-/// A linear-light RGBA image, rows top to bottom. Alpha is the model's pixel coverage.
+/// What a frame records about how it was made, written into EXR headers.
+struct FrameInfo {
+  Camera camera;
+  std::uint64_t frame_index = 0;
+  int samples_per_pixel = 0;
+  double render_seconds = 0.0;
+};
+
+/// A linear-light RGBA image, rows top to bottom.
+/// With a transparent background, RGB is premultiplied by alpha (alpha is the coverage of the
+/// model and of the shadows on the ground); otherwise RGB includes the background and alpha is
+/// the model's coverage.
 struct Image {
   int width = 0;
   int height = 0;
-  std::vector<float> rgba;  ///< width * height * 4
+  std::vector<float> rgba;    ///< width * height * 4
+  std::vector<float> albedo;  ///< width * height * 3, or empty (see ExtraLayers)
+  std::vector<float> normal;  ///< width * height * 3, or empty
+  std::vector<float> depth;   ///< width * height, or empty
+  bool transparent = false;   ///< PNGs get an alpha channel
+  // How display outputs (PNG, video) turn linear light into 8 bits.
+  float exposure = 0.0f;  ///< stops
+  ToneMapping tone_mapping = ToneMapping::clamp;
+  FrameInfo info;
 
-  /// 8-bit sRGB-encoded RGB, rows top to bottom: what PNG frames and the video receive.
+  /// The display value of one linear channel: exposure, tone curve, sRGB encoding, in [0,1].
+  float display(float linear) const;
+  /// 8-bit sRGB-encoded RGB, rows top to bottom: what PNG frames and the video receive. A
+  /// transparent image is shown over black here (premultiplied).
   std::vector<std::uint8_t> to_srgb8() const;
+  /// 8-bit sRGB RGBA with straight (unassociated) alpha, as PNG expects.
+  std::vector<std::uint8_t> to_srgba8() const;
+};
+
+/// Ray counts of one render (for benchmarks and the progress line).
+struct RenderStats {
+  std::uint64_t primary_rays = 0;
+  std::uint64_t secondary_rays = 0;  ///< shadow and ambient-occlusion rays
 };
 
 /// Renders one mesh. Building the Embree scene (the BVH) happens once, in the constructor;
 /// render() may then be called for any number of cameras, also concurrently.
 class Renderer {
 public:
-  /// \throw InputError for a mesh without triangles or bad options, RuntimeFailure if Embree fails.
+  /// \throw InputError for a mesh without triangles or bad options, IoError for an unreadable
+  ///        texture, RuntimeFailure if Embree fails.
   Renderer(const TriangleMesh& mesh, const RenderOptions& options);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Renders one frame, using the calling thread's TBB arena (limit threads with a task_arena
-  /// or tbb::global_control around the call).
-  Image render(const Camera& camera) const;
+  /// Renders frame `frame_index` of a job, using the calling thread's TBB arena (limit threads
+  /// with a task_arena or tbb::global_control around the call). The frame index seeds the
+  /// random numbers, so frame k is the same whether it is rendered alone or in a sequence.
+  Image render(const Camera& camera, std::uint64_t frame_index = 0, RenderStats* stats = nullptr) const;
 
   const RenderOptions& options() const;
 
-private:
   struct Impl;
+
+private:
+  friend struct RendererAccess;  // benchmarks: tracer/renderer_internal.h
   std::unique_ptr<Impl> impl_;
 };
 
-/// Writes `image` by extension: ".png" as 8-bit sRGB RGB, ".exr" as half-float linear RGBA.
+/// The vertical field of view (degrees) at which every vertex of `positions` stays inside the
+/// frame of every camera in `cameras` (their own fov is ignored), with `margin` of the half-frame
+/// left free on each side (0.05 = 5 %). Vertices behind a camera are ignored.
+/// \throw InputError if no vertex is in front of any camera or the model cannot fit in 170 degrees.
+double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Eigen::Vector3d>& positions,
+                        double aspect, double margin = 0.05);
+
+/// Writes `image` by extension: ".png" as 8-bit sRGB (RGBA when the image is transparent),
+/// tone mapped; ".exr" as half-float linear RGBA plus the image's extra layers (Z as float),
+/// with the camera and render settings in the header.
 /// The file is written under a temporary name and renamed, so it is either complete or absent.
 /// \throw InputError for an unknown extension, IoError if the file cannot be written.
 void write_image(const Image& image, const std::filesystem::path& file);

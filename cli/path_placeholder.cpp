@@ -1,2 +1,0 @@
-#include "cli/commands.h"
-namespace meshtour::cli { void add_path_command(CLI::App&) {} }

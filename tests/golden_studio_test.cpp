@@ -1,0 +1,270 @@
+// Golden-image tests of the looks: the studio preset on the bunny, a vertex-coloured model, the
+// transparent background, the plain preset, and an EXR with its extra layers read back.
+//
+// Metric (OpenImageIO's ImageBufAlgo::compare, the same as idiff) on 8-bit sRGB PNGs:
+//  - a pixel "fails" when any channel differs by more than 2/255. Within one machine renders are
+//    bit-identical (the random numbers come from (frame, pixel, sample)), but another CPU may make
+//    Embree pick another ISA kernel or libm round a sincos differently; then a grazing shadow or
+//    occlusion ray can flip, which moves that pixel by one sample's share (up to 1/4 of the light
+//    at the 4 spp used here);
+//  - the test fails when more than 1 % of the pixels fail: twice the default-scene tests'
+//    allowance, because at 4 spp every flipped secondary ray shows, while a real change of
+//    lighting, framing or material moves far more than 1 % of a frame;
+//  - or when any pixel differs by more than 0.25 (a missing or misplaced part, whatever its size).
+// On failure the actual image and a x16 difference image are written to build/golden-results/.
+//
+// To regenerate the references on purpose (after a deliberate change to the look):
+//   GOLDEN_UPDATE=1 ctest --test-dir build -L golden
+// then look at the new images and commit them.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <numbers>
+
+#include "core/error.h"
+#include "helpers.h"
+#include "scenes/scene.h"
+#include "tracer/tracer.h"
+
+namespace meshtour {
+namespace {
+
+constexpr float kPixelFail = 2.0f / 255.0f;
+constexpr double kFailFraction = 0.01;
+constexpr float kHardFail = 0.25f;
+
+bool updating() {
+  const char* v = std::getenv("GOLDEN_UPDATE");
+  return v && std::string(v) == "1";
+}
+
+void compare_with_golden(const Image& image, const std::string& name) {
+  const auto golden = test::source_dir() / "golden_images" / (name + ".png");
+  const auto out_dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "golden-results";
+  std::filesystem::create_directories(out_dir);
+  const auto actual_file = out_dir / (name + ".actual.png");
+  write_image(image, actual_file);
+  if (updating()) {
+    std::filesystem::create_directories(golden.parent_path());
+    std::filesystem::copy_file(actual_file, golden, std::filesystem::copy_options::overwrite_existing);
+    GTEST_SKIP() << "GOLDEN_UPDATE=1: rewrote " << golden;
+  }
+  ASSERT_TRUE(std::filesystem::exists(golden)) << golden << " is missing; create it with GOLDEN_UPDATE=1";
+  OIIO::ImageBuf actual(actual_file.string()), reference(golden.string());
+  ASSERT_TRUE(actual.read() && reference.read()) << actual.geterror() << reference.geterror();
+  ASSERT_EQ(actual.spec().width, reference.spec().width);
+  ASSERT_EQ(actual.spec().height, reference.spec().height);
+  ASSERT_EQ(actual.spec().nchannels, reference.spec().nchannels);
+  const auto result = OIIO::ImageBufAlgo::compare(actual, reference, kPixelFail, kPixelFail);
+  const double pixels = static_cast<double>(actual.spec().width) * actual.spec().height;
+  const double failing = static_cast<double>(result.nfail) / pixels;
+  const bool ok = failing <= kFailFraction && result.maxerror <= kHardFail;
+  if (!ok) {
+    OIIO::ImageBuf diff = OIIO::ImageBufAlgo::absdiff(actual, reference);
+    diff = OIIO::ImageBufAlgo::mul(diff, 16.0f);
+    diff.write((out_dir / (name + ".diff.png")).string());
+  }
+  EXPECT_TRUE(ok) << name << ": " << result.nfail << " pixels (" << 100 * failing << " %) differ by more than 2/255"
+                  << ", max error " << result.maxerror << " at (" << result.maxx << ", " << result.maxy << ")"
+                  << ", mean error " << result.meanerror << "; see " << out_dir / (name + ".diff.png")
+                  << " and " << actual_file;
+}
+
+// A UV sphere standing on y = -1, optionally coloured by latitude and longitude (sRGB values).
+TriangleMesh sphere(bool colored) {
+  TriangleMesh m;
+  const int segments = 64, rings = 32;
+  for (int j = 0; j <= rings; ++j)
+    for (int i = 0; i < segments; ++i) {
+      const double th = std::numbers::pi * j / rings, ph = 2 * std::numbers::pi * i / segments;
+      m.positions.emplace_back(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
+      if (colored)
+        m.colors.emplace_back(0.5f + 0.5f * static_cast<float>(std::cos(ph)), static_cast<float>(j) / rings,
+                              0.5f + 0.5f * static_cast<float>(std::sin(3 * ph)));
+    }
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < segments; ++i) {
+      const auto a = static_cast<std::uint32_t>(j * segments + i), b = static_cast<std::uint32_t>(j * segments + (i + 1) % segments);
+      const auto c = a + segments, d = b + segments;
+      m.triangles.push_back({a, c, b});
+      m.triangles.push_back({b, c, d});
+    }
+  return m;
+}
+
+RenderOptions small_options(const std::string& preset) {
+  RenderOptions o;
+  o.width = 160;
+  o.height = 120;
+  o.samples_per_pixel = 4;
+  o.shading = look_preset(preset);
+  return o;
+}
+
+const Camera kSphereCamera{{2.2, 1.6, 3.6}, {0, -0.2, 0}, {0, 1, 0}, 40.0};
+
+TEST(GoldenStudio, Bunny) {
+  MESHTOUR_SHARED_MESH(file, "bunny.ply");
+  const TriangleMesh bunny = load_mesh(file);
+  const Bounds b = bunny.bounds();
+  const double distance = 0.55 * b.diagonal() / std::tan(35.0 * std::numbers::pi / 360.0);
+  const double elevation = 18.0 * std::numbers::pi / 180.0;
+  const Camera camera{b.center() + distance * Eigen::Vector3d(0, std::sin(elevation), std::cos(elevation)), b.center(),
+                      {0, 1, 0}, 35.0};
+  compare_with_golden(Renderer(bunny, small_options("studio")).render(camera), "studio_bunny");
+}
+
+TEST(GoldenStudio, VertexColours) {
+  compare_with_golden(Renderer(sphere(true), small_options("studio")).render(kSphereCamera), "studio_vertex_colours");
+}
+
+TEST(GoldenStudio, TransparentBackground) {
+  RenderOptions o = small_options("studio");
+  o.shading.background = BackgroundKind::transparent;
+  const Image img = Renderer(sphere(false), o).render(kSphereCamera);
+  ASSERT_TRUE(img.transparent);
+  compare_with_golden(img, "studio_transparent");  // RGBA PNG: alpha is compared too
+}
+
+TEST(GoldenStudio, PlainPreset) {
+  compare_with_golden(Renderer(sphere(true), small_options("plain")).render(kSphereCamera), "plain_vertex_colours");
+}
+
+// A cube with one texture over each face (OBJ + MTL + an 8x8 checkerboard PNG with a red
+// corner, so that a flipped or rotated lookup shows), written by the test itself.
+std::filesystem::path write_textured_cube(const std::filesystem::path& dir) {
+  OIIO::ImageBuf tex(OIIO::ImageSpec(64, 64, 3, OIIO::TypeDesc::UINT8));
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const bool dark = ((x / 8) + (y / 8)) % 2 == 1;
+      float c[3] = {dark ? 0.1f : 0.9f, dark ? 0.1f : 0.85f, dark ? 0.15f : 0.7f};
+      if (x < 16 && y < 16) c[0] = 0.9f, c[1] = 0.1f, c[2] = 0.1f;  // top left of the image: v = 1
+      tex.setpixel(x, y, c);
+    }
+  EXPECT_TRUE(tex.write((dir / "checker.png").string())) << tex.geterror();
+  std::ofstream(dir / "cube.mtl") << "newmtl checker\nKd 1 1 1\nmap_Kd checker.png\n";
+  std::ofstream obj(dir / "cube.obj");
+  obj << "mtllib cube.mtl\n";
+  for (int i = 0; i < 8; ++i) obj << "v " << (i & 1 ? 1 : -1) << " " << (i & 2 ? 1 : -1) << " " << (i & 4 ? 1 : -1) << "\n";
+  obj << "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl checker\n";
+  // Faces counter-clockwise seen from outside (vertex index = 1 + x + 2y + 4z bits).
+  const int faces[6][4] = {{1, 2, 4, 3}, {5, 7, 8, 6}, {1, 5, 6, 2}, {3, 4, 8, 7}, {1, 3, 7, 5}, {2, 6, 8, 4}};
+  // As two triangles each: the loader keeps the UVs of triangles (OpenMesh's triangulation of
+  // polygons does not carry the corners' UVs over to the diagonal's halfedges).
+  for (const auto& f : faces) {
+    obj << "f " << f[0] << "/1 " << f[1] << "/2 " << f[2] << "/3\n";
+    obj << "f " << f[0] << "/1 " << f[2] << "/3 " << f[3] << "/4\n";
+  }
+  return dir / "cube.obj";
+}
+
+TEST(GoldenStudio, TexturedObj) {
+  const auto file = write_textured_cube(test::scratch_dir());
+  const TriangleMesh cube = load_mesh(file);
+  ASSERT_TRUE(cube.has_texture()) << "the loader kept no UVs or no map_Kd";
+  EXPECT_EQ(cube.texture_file.filename(), "checker.png");
+  EXPECT_EQ(cube.corner_uvs.size(), 3 * cube.triangles.size());
+  compare_with_golden(Renderer(cube, small_options("studio")).render(Camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0}),
+                      "studio_textured_obj");
+}
+
+TEST(GoldenStudio, MissingTextureIsAnIoError) {
+  const auto dir = test::scratch_dir();
+  const auto file = write_textured_cube(dir);
+  std::filesystem::remove(dir / "checker.png");
+  const TriangleMesh cube = load_mesh(file);
+  EXPECT_THROW(Renderer(cube, small_options("studio")), IoError);
+}
+
+TEST(GoldenStudio, ExrWithExtraLayers) {
+  RenderOptions o = small_options("studio");
+  o.layers = {true, true, true};
+  const Image img = Renderer(sphere(true), o).render(kSphereCamera, 5);
+  const auto file = test::scratch_dir() / "layers.exr";
+  write_image(img, file);
+
+  OIIO::ImageBuf exr(file.string());
+  ASSERT_TRUE(exr.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << exr.geterror();
+  const OIIO::ImageSpec& spec = exr.spec();
+  // OpenEXR sorts channels by name within a file; look each one up by its name.
+  ASSERT_EQ(spec.nchannels, 11);
+  for (const char* name : {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z"})
+    EXPECT_GE(spec.channelindex(name), 0) << name;
+  const int z = spec.channelindex("Z");
+  ASSERT_GE(z, 0);
+  EXPECT_EQ(spec.channelformat(z), OIIO::TypeDesc::FLOAT);
+  // Header metadata.
+  EXPECT_EQ(spec.get_int_attribute("meshtour:samplesPerPixel"), 4);
+  EXPECT_EQ(spec.get_int_attribute("meshtour:frame"), 5);
+  EXPECT_NEAR(spec.get_float_attribute("meshtour:verticalFovDegrees"), 40.0f, 1e-4f);
+  EXPECT_FALSE(spec.get_string_attribute("meshtour:version").empty());
+  const OIIO::ParamValue* eye = spec.find_attribute("meshtour:cameraPosition");
+  ASSERT_NE(eye, nullptr);
+  const double* e = static_cast<const double*>(eye->data());
+  EXPECT_DOUBLE_EQ(e[0], 2.2);
+  EXPECT_DOUBLE_EQ(e[2], 3.6);
+  EXPECT_GE(spec.get_float_attribute("meshtour:renderSeconds", -1.0f), 0.0f);
+
+  // Layers hold what the renderer computed (to half precision), and make sense: the centre
+  // pixel sees the sphere about 3.7 units away, with a unit normal facing the camera.
+  const int cx = 80, cy = 60;
+  const std::size_t p = static_cast<std::size_t>(cy) * 160 + cx;
+  EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("A")), 1.0f, 1e-3f);
+  EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("albedo.G")), img.albedo[p * 3 + 1], 2e-3f);
+  EXPECT_FLOAT_EQ(exr.getchannel(cx, cy, 0, z), img.depth[p]);
+  EXPECT_GT(img.depth[p], 2.5f);
+  EXPECT_LT(img.depth[p], 4.5f);
+  const Eigen::Vector3f n(exr.getchannel(cx, cy, 0, spec.channelindex("N.X")), exr.getchannel(cx, cy, 0, spec.channelindex("N.Y")),
+                          exr.getchannel(cx, cy, 0, spec.channelindex("N.Z")));
+  EXPECT_NEAR(n.norm(), 1.0f, 0.01f);
+  EXPECT_GT(n.dot(Eigen::Vector3f(2.2f, 1.8f, 3.6f).normalized()), 0.5f);
+  EXPECT_TRUE(std::isinf(exr.getchannel(0, 0, 0, z)));  // the sky: nothing hit
+
+  // The normal layer, seen as colours (n * 0.5 + 0.5), against its reference.
+  Image normals;
+  normals.width = img.width;
+  normals.height = img.height;
+  normals.rgba.resize(img.rgba.size());
+  for (std::size_t i = 0; i < img.normal.size() / 3; ++i) {
+    for (int c = 0; c < 3; ++c) normals.rgba[i * 4 + c] = img.normal[i * 3 + c] * 0.5f + 0.5f;
+    normals.rgba[i * 4 + 3] = 1.0f;
+  }
+  compare_with_golden(normals, "exr_layer_normals");
+}
+
+TEST(SceneLook, PresetAndOverridesFromTheFile) {
+  const Scene scene = parse_scene(R"({"model": {"procedural": "sculpture"},
+      "look": {"preset": "plain", "base_color": [0.2, 0.4, 0.6], "roughness": 0.3, "exposure": 0.5,
+               "background": "transparent", "lights": [{"from": [0, 1, 1], "intensity": 2, "size": 5}]},
+      "output": {"exr_layers": ["albedo", "depth"]}})", "test.json", ".");
+  const Shading& sh = scene.render.shading;
+  EXPECT_EQ(sh.preset, "plain");
+  EXPECT_FLOAT_EQ(sh.material.base_color.y(), 0.4f);
+  EXPECT_FLOAT_EQ(sh.material.roughness, 0.3f);
+  EXPECT_FLOAT_EQ(sh.exposure, 0.5f);
+  EXPECT_EQ(sh.background, BackgroundKind::transparent);
+  ASSERT_EQ(sh.lights.size(), 1u);
+  EXPECT_FLOAT_EQ(sh.lights[0].intensity, 2.0f);
+  EXPECT_FALSE(sh.shadows);  // from the plain preset
+  EXPECT_TRUE(scene.render.layers.albedo && scene.render.layers.depth && !scene.render.layers.normal);
+
+  // --preset studio on the command line: the studio preset under the file's own values.
+  Scene changed = scene;
+  set_look_preset(changed, "studio");
+  EXPECT_EQ(changed.render.shading.preset, "studio");
+  EXPECT_TRUE(changed.render.shading.shadows);
+  EXPECT_FLOAT_EQ(changed.render.shading.material.base_color.y(), 0.4f);
+
+  EXPECT_THROW(parse_scene(R"({"model": {"procedural": "sculpture"}, "look": {"preset": "moody"}})", "t.json", "."), InputError);
+  EXPECT_THROW(parse_scene(R"({"model": {"procedural": "sculpture"}, "look": {"lights": [{"from": [0, 0, 0]}]}})", "t.json", "."),
+               InputError);
+  EXPECT_THROW(parse_scene(R"({"model": {"procedural": "sculpture"}, "output": {"exr_layers": ["motion"]}})", "t.json", "."),
+               InputError);
+}
+
+}  // namespace
+}  // namespace meshtour

@@ -1,0 +1,43 @@
+// Automatic field of view: the narrowest lens that keeps every vertex in every frame.
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "tracer/tracer.h"
+
+namespace meshtour {
+
+double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Eigen::Vector3d>& positions, double aspect,
+                        double margin) {
+  if (!(aspect > 0.0)) throw InputError("the frame's aspect ratio must be positive");
+  if (!(margin >= 0.0 && margin < 1.0)) throw InputError("the framing margin must be between 0 and 1");
+  // The half-height tangent each vertex needs: |y|/z vertically, |x|/z / aspect horizontally.
+  double needed = 0.0;
+  bool any = false;
+  for (const Camera& c : cameras) {
+    const Eigen::Vector3d f = (c.target - c.eye).normalized();
+    Eigen::Vector3d r = f.cross(c.up);
+    if (!(r.norm() > 1e-9)) r = f.unitOrthogonal();
+    r.normalize();
+    const Eigen::Vector3d u = r.cross(f);
+    for (const auto& p : positions) {
+      const Eigen::Vector3d d = p - c.eye;
+      const double z = d.dot(f);
+      if (!(z > 0.0)) continue;
+      any = true;
+      needed = std::max({needed, std::abs(d.dot(u)) / z, std::abs(d.dot(r)) / z / aspect});
+    }
+  }
+  if (!any) throw InputError("no vertex of the model is in front of the camera; check the camera path");
+  // The margin is a share of the half-frame left free: the model fills (1 - margin) of it.
+  const double fov = 2.0 * std::atan(needed / (1.0 - margin)) * 180.0 / std::numbers::pi;
+  if (!(fov <= 170.0))
+    throw InputError("the model cannot be kept in frame (it would need a " + std::to_string(fov) +
+                     " degree field of view); move the camera further away or fix the field of view");
+  return std::max(fov, 1e-3);
+}
+
+}  // namespace meshtour

@@ -1,0 +1,38 @@
+#pragma once
+// Access to the renderer's Embree scene and rays, for the benchmark that compares the renderer's
+// ray throughput with bare Embree calls on the very same rays. Not part of the public API.
+#include <embree3/rtcore.h>
+
+#include <array>
+#include <vector>
+
+#include "tracer/tracer.h"
+
+namespace meshtour {
+
+/// Lanes of a 16-ray packet in use (-1) or not (0). Embree requires 64-byte alignment.
+struct alignas(64) ValidMask {
+  std::array<int, 16> lanes;
+  int* data() { return lanes.data(); }
+  int& operator[](std::size_t i) { return lanes[i]; }
+};
+
+/// Copies of the rays one render() traced, for the tiles whose index is a multiple of
+/// `tile_stride` (all tiles would need gigabytes at 16 spp), in the batches the renderer used.
+struct RayRecording {
+  int tile_stride = 8;
+  struct Tile {
+    std::vector<RTCRayHit16> packets;           ///< camera rays, as traced (before intersection)
+    std::vector<ValidMask> valid;  ///< the lanes in use of each packet
+    std::vector<RTCRay> secondary;              ///< shadow and occlusion rays, one rtcOccluded1M call
+  };
+  std::vector<Tile> tiles;  ///< one entry per recorded tile
+};
+
+struct RendererAccess {
+  static RTCScene scene(const Renderer& renderer);
+  static Image render(const Renderer& renderer, const Camera& camera, std::uint64_t frame_index, RenderStats* stats,
+                      RayRecording* recording);
+};
+
+}  // namespace meshtour
