@@ -28,7 +28,8 @@ struct TourArgs {
   std::string input;  // mesh or .json scene; empty = built-in default scene
   std::string output;
   std::optional<int> width, height, fps, frames, crf;
-  std::optional<double> seconds, fov, elevation;
+  std::optional<double> seconds, elevation;
+  std::optional<std::string> fov;  // degrees or "auto"
   std::optional<std::string> up, path_mode, path_file;
   PaperPathOptions paper;  // options of the toroidal-patch path (ALGORITHM.md §2)
   std::string frames_dir;
@@ -62,7 +63,12 @@ Scene resolve_scene(const TourArgs& a) {
     scene.frames = static_cast<int>(std::lround(frames));
   }
   if (a.crf) scene.crf = *a.crf;
-  if (a.fov) scene.vertical_fov_deg = *a.fov;
+  if (a.fov && *a.fov == "auto") {
+    scene.auto_fov = true;
+  } else if (a.fov) {
+    scene.vertical_fov_deg = std::stod(*a.fov);
+    scene.auto_fov = false;
+  }
   if (a.elevation) scene.elevation_deg = *a.elevation;
   if (a.path_mode) scene.path_mode = *a.path_mode;
   if (a.path_file) scene.path_file = *a.path_file;
@@ -88,6 +94,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
   if (scene.path_file) {
     auto path = read_path_file(*scene.path_file);
     if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
+    if (scene.auto_fov) return path;
     return std::make_unique<FramedPath>(std::move(path), mesh.positions, lens);
   }
   if (scene.path_mode == "turntable") {
@@ -107,10 +114,30 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
                  100.0 * result.metrics.amplitude_gaze, result.metrics.extreme_points, seconds);
     for (const auto& note : result.surface.cleanup_notes) std::fprintf(stderr, "  clean-up: %s\n", note.c_str());
   }
+  if (scene.auto_fov) return std::make_unique<PaperCameraPath>(result.camera_path());
   auto framed = std::make_unique<FramedPath>(std::make_unique<PaperCameraPath>(result.camera_path()), mesh.positions, lens);
   if (!quiet && framed->pullback() > 0.0)
     std::fprintf(stderr, "  camera moved back by %.4g model units to keep the whole model in frame\n", framed->pullback());
   return framed;
+}
+
+// The field of view to render with. With "auto", a geometry-driven path keeps the distances its
+// method chose and the lens is fitted to the model over every frame of the tour (one fov for the
+// whole tour, so the image does not pump); the turntable fitted its radius to the fixed lens.
+double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, const Lens& lens, bool quiet) {
+  if (!scene.auto_fov || (scene.path_mode == "turntable" && !scene.path_file)) return lens.vertical_fov_deg;
+  std::vector<Camera> cameras;
+  cameras.reserve(static_cast<std::size_t>(scene.frames));
+  for (int k = 0; k < scene.frames; ++k) {
+    const CameraPose pose = frame_pose(path, k, scene.frames);
+    cameras.push_back(Camera{pose.eye, pose.target, pose.up, lens.vertical_fov_deg});
+  }
+  const double fov = fit_vertical_fov(cameras, mesh.positions, lens.aspect, lens.margin);
+  if (fov > 120.0)
+    throw InputError("the camera path passes too close to the model to frame it (it would need a " +
+                     std::to_string(static_cast<int>(fov)) + " degree lens); give a fixed --fov to move the camera back instead");
+  if (!quiet) std::fprintf(stderr, "field of view: %.1f degrees (fitted to the model over all %d frames)\n", fov, scene.frames);
+  return fov;
 }
 
 void run_tour(const TourArgs& args) {
@@ -153,14 +180,15 @@ void run_tour(const TourArgs& args) {
   Lens lens;
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
-  const auto path = make_path(scene, mesh, lens, args.paper, args.quiet);
+  auto path = make_path(scene, mesh, lens, args.paper, args.quiet);
+  const double fov = choose_fov(scene, *path, mesh, lens, args.quiet);
   const Renderer renderer(mesh, scene.render);
 
   Progress progress("frame", scene.frames, args.quiet);
   for (int k = 0; k < scene.frames; ++k) {
     throw_if_interrupted();
     const CameraPose pose = frame_pose(*path, k, scene.frames);
-    const Image image = renderer.render(Camera{pose.eye, pose.target, pose.up, scene.vertical_fov_deg}, static_cast<std::uint64_t>(k));
+    const Image image = renderer.render(Camera{pose.eye, pose.target, pose.up, fov}, static_cast<std::uint64_t>(k));
     if (write_png) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "png"));
     if (write_exr) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "exr"));
     encoder.add_frame(image.to_srgb8());
@@ -198,7 +226,11 @@ void add_tour_command(CLI::App& app) {
       ->check(CLI::IsMember({"turntable", "paper"}));
   cmd->add_option("--path-file", args->path_file, "Use the camera path in this file, written by 'meshtour path -o' (overrides --path)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--fov", args->fov, "Vertical field of view in degrees (default 35)")->check(CLI::Range(5.0, 120.0));
+  cmd->add_option("--fov", args->fov,
+                  "Vertical field of view: degrees (5-120), or auto (default): the paper path keeps its camera distance\n"
+                  "and the fov is fitted so every vertex stays in frame at every frame; the turntable uses 35 degrees\n"
+                  "and fits its radius. A fixed fov moves the paper path's camera back where needed instead.")
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(5.0, 120.0));
   cmd->add_option("--elevation", args->elevation, "Turntable: camera elevation above the model's centre, degrees (default 18)")
       ->check(CLI::Range(-80.0, 80.0));
   add_render_options(*cmd, args->render);

@@ -236,7 +236,14 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
       const std::filesystem::path p(path_file);
       scene.path_file = p.is_absolute() ? p : base_dir / p;
     }
-    camera.read("fov", scene.vertical_fov_deg, 5.0, 120.0);
+    if (camera.has("fov") && camera.raw("fov").is_string()) {
+      if (camera.raw("fov").get<std::string>() != "auto")
+        camera.fail_key("fov", "must be \"auto\" or a number of degrees between 5 and 120");
+      scene.auto_fov = true;
+    } else if (camera.has("fov")) {
+      camera.read("fov", scene.vertical_fov_deg, 5.0, 120.0);
+      scene.auto_fov = false;
+    }
     camera.read("elevation", scene.elevation_deg, -80.0, 80.0);
     camera.finish();
   }

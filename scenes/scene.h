@@ -24,6 +24,10 @@ struct Scene {
   std::string path_mode = "paper";  ///< "paper" (toroidal patches, ALGORITHM.md) or "turntable"
   std::optional<std::filesystem::path> path_file;
   double vertical_fov_deg = 35.0;
+  /// "fov": "auto": geometry-driven paths keep their camera distance and the field of view is
+  /// fitted to the model over the whole tour; the turntable keeps vertical_fov_deg and fits its
+  /// radius instead.
+  bool auto_fov = true;
   double elevation_deg = 15.0;  ///< turntable only
   int fps = 30;
   int frames = 120;
