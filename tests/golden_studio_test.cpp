@@ -1,21 +1,6 @@
 // Golden-image tests of the looks: the studio preset on the bunny, a vertex-coloured model, the
-// transparent background, the plain preset, and an EXR with its extra layers read back.
-//
-// Metric (OpenImageIO's ImageBufAlgo::compare, the same as idiff) on 8-bit sRGB PNGs:
-//  - a pixel "fails" when any channel differs by more than 2/255. Within one machine renders are
-//    bit-identical (the random numbers come from (frame, pixel, sample)), but another CPU may make
-//    Embree pick another ISA kernel or libm round a sincos differently; then a grazing shadow or
-//    occlusion ray can flip, which moves that pixel by one sample's share (up to 1/4 of the light
-//    at the 4 spp used here);
-//  - the test fails when more than 1 % of the pixels fail: twice the default-scene tests'
-//    allowance, because at 4 spp every flipped secondary ray shows, while a real change of
-//    lighting, framing or material moves far more than 1 % of a frame;
-//  - or when any pixel differs by more than 0.25 (a missing or misplaced part, whatever its size).
-// On failure the actual image and a x16 difference image are written to build/golden-results/.
-//
-// To regenerate the references on purpose (after a deliberate change to the look):
-//   GOLDEN_UPDATE=1 ctest --test-dir build -L golden
-// then look at the new images and commit them.
+// transparent background, the plain preset, and an EXR with its extra layers read back
+// (metric, thresholds, diff images and the GOLDEN_UPDATE=1 switch: tests/golden.h).
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -26,75 +11,21 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "golden.h"
 #include "helpers.h"
+#include "test_meshes.h"
 #include "scenes/scene.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
 namespace {
 
-constexpr float kPixelFail = 2.0f / 255.0f;
-constexpr double kFailFraction = 0.01;
-constexpr float kHardFail = 0.25f;
+// Fraction of pixels allowed to fail (see tests/golden.h): 1 %, twice the default scene's, because at 4 spp
+// every flipped secondary ray shows.
+void golden(const Image& image, const std::string& name) { test::compare_with_golden(image, name, 0.01); }
 
-bool updating() {
-  const char* v = std::getenv("GOLDEN_UPDATE");
-  return v && std::string(v) == "1";
-}
 
-void compare_with_golden(const Image& image, const std::string& name) {
-  const auto golden = test::source_dir() / "golden_images" / (name + ".png");
-  const auto out_dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "golden-results";
-  std::filesystem::create_directories(out_dir);
-  const auto actual_file = out_dir / (name + ".actual.png");
-  write_image(image, actual_file);
-  if (updating()) {
-    std::filesystem::create_directories(golden.parent_path());
-    std::filesystem::copy_file(actual_file, golden, std::filesystem::copy_options::overwrite_existing);
-    GTEST_SKIP() << "GOLDEN_UPDATE=1: rewrote " << golden;
-  }
-  ASSERT_TRUE(std::filesystem::exists(golden)) << golden << " is missing; create it with GOLDEN_UPDATE=1";
-  OIIO::ImageBuf actual(actual_file.string()), reference(golden.string());
-  ASSERT_TRUE(actual.read() && reference.read()) << actual.geterror() << reference.geterror();
-  ASSERT_EQ(actual.spec().width, reference.spec().width);
-  ASSERT_EQ(actual.spec().height, reference.spec().height);
-  ASSERT_EQ(actual.spec().nchannels, reference.spec().nchannels);
-  const auto result = OIIO::ImageBufAlgo::compare(actual, reference, kPixelFail, kPixelFail);
-  const double pixels = static_cast<double>(actual.spec().width) * actual.spec().height;
-  const double failing = static_cast<double>(result.nfail) / pixels;
-  const bool ok = failing <= kFailFraction && result.maxerror <= kHardFail;
-  if (!ok) {
-    OIIO::ImageBuf diff = OIIO::ImageBufAlgo::absdiff(actual, reference);
-    diff = OIIO::ImageBufAlgo::mul(diff, 16.0f);
-    diff.write((out_dir / (name + ".diff.png")).string());
-  }
-  EXPECT_TRUE(ok) << name << ": " << result.nfail << " pixels (" << 100 * failing << " %) differ by more than 2/255"
-                  << ", max error " << result.maxerror << " at (" << result.maxx << ", " << result.maxy << ")"
-                  << ", mean error " << result.meanerror << "; see " << out_dir / (name + ".diff.png")
-                  << " and " << actual_file;
-}
-
-// A UV sphere standing on y = -1, optionally coloured by latitude and longitude (sRGB values).
-TriangleMesh sphere(bool colored) {
-  TriangleMesh m;
-  const int segments = 64, rings = 32;
-  for (int j = 0; j <= rings; ++j)
-    for (int i = 0; i < segments; ++i) {
-      const double th = std::numbers::pi * j / rings, ph = 2 * std::numbers::pi * i / segments;
-      m.positions.emplace_back(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
-      if (colored)
-        m.colors.emplace_back(0.5f + 0.5f * static_cast<float>(std::cos(ph)), static_cast<float>(j) / rings,
-                              0.5f + 0.5f * static_cast<float>(std::sin(3 * ph)));
-    }
-  for (int j = 0; j < rings; ++j)
-    for (int i = 0; i < segments; ++i) {
-      const auto a = static_cast<std::uint32_t>(j * segments + i), b = static_cast<std::uint32_t>(j * segments + (i + 1) % segments);
-      const auto c = a + segments, d = b + segments;
-      m.triangles.push_back({a, c, b});
-      m.triangles.push_back({b, c, d});
-    }
-  return m;
-}
+TriangleMesh sphere(bool colored) { return test_meshes::uv_sphere(1.0, 64, 32, colored); }
 
 RenderOptions small_options(const std::string& preset) {
   RenderOptions o;
@@ -115,11 +46,11 @@ TEST(GoldenStudio, Bunny) {
   const double elevation = 18.0 * std::numbers::pi / 180.0;
   const Camera camera{b.center() + distance * Eigen::Vector3d(0, std::sin(elevation), std::cos(elevation)), b.center(),
                       {0, 1, 0}, 35.0};
-  compare_with_golden(Renderer(bunny, small_options("studio")).render(camera), "studio_bunny");
+  golden(Renderer(bunny, small_options("studio")).render(camera), "studio_bunny");
 }
 
 TEST(GoldenStudio, VertexColours) {
-  compare_with_golden(Renderer(sphere(true), small_options("studio")).render(kSphereCamera), "studio_vertex_colours");
+  golden(Renderer(sphere(true), small_options("studio")).render(kSphereCamera), "studio_vertex_colours");
 }
 
 TEST(GoldenStudio, TransparentBackground) {
@@ -127,11 +58,11 @@ TEST(GoldenStudio, TransparentBackground) {
   o.shading.background = BackgroundKind::transparent;
   const Image img = Renderer(sphere(false), o).render(kSphereCamera);
   ASSERT_TRUE(img.transparent);
-  compare_with_golden(img, "studio_transparent");  // RGBA PNG: alpha is compared too
+  golden(img, "studio_transparent");  // RGBA PNG: alpha is compared too
 }
 
 TEST(GoldenStudio, PlainPreset) {
-  compare_with_golden(Renderer(sphere(true), small_options("plain")).render(kSphereCamera), "plain_vertex_colours");
+  golden(Renderer(sphere(true), small_options("plain")).render(kSphereCamera), "plain_vertex_colours");
 }
 
 // A cube with one texture over each face (OBJ + MTL + an 8x8 checkerboard PNG with a red
@@ -168,7 +99,7 @@ TEST(GoldenStudio, TexturedObj) {
   ASSERT_TRUE(cube.has_texture()) << "the loader kept no UVs or no map_Kd";
   EXPECT_EQ(cube.texture_file.filename(), "checker.png");
   EXPECT_EQ(cube.corner_uvs.size(), 3 * cube.triangles.size());
-  compare_with_golden(Renderer(cube, small_options("studio")).render(Camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0}),
+  golden(Renderer(cube, small_options("studio")).render(Camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0}),
                       "studio_textured_obj");
 }
 
@@ -233,7 +164,7 @@ TEST(GoldenStudio, ExrWithExtraLayers) {
     for (int c = 0; c < 3; ++c) normals.rgba[i * 4 + c] = img.normal[i * 3 + c] * 0.5f + 0.5f;
     normals.rgba[i * 4 + 3] = 1.0f;
   }
-  compare_with_golden(normals, "exr_layer_normals");
+  golden(normals, "exr_layer_normals");
 }
 
 TEST(SceneLook, PresetAndOverridesFromTheFile) {

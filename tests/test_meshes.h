@@ -207,4 +207,26 @@ inline Eigen::Matrix3d rotation(const Eigen::Vector3d& axis, double angle) {
   return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
 }
 
+/// A UV sphere of `radius` centred at the origin (poles on ±Y), for renderer tests; optionally
+/// with per-vertex colours (sRGB values) varying with latitude and longitude.
+inline TriangleMesh uv_sphere(double radius = 1.0, int segments = 64, int rings = 32, bool colored = false) {
+  TriangleMesh m;
+  for (int j = 0; j <= rings; ++j)
+    for (int i = 0; i < segments; ++i) {
+      const double th = std::numbers::pi * j / rings, ph = 2 * std::numbers::pi * i / segments;
+      m.positions.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::cos(th), radius * std::sin(th) * std::sin(ph));
+      if (colored)
+        m.colors.emplace_back(0.5f + 0.5f * static_cast<float>(std::cos(ph)), static_cast<float>(j) / rings,
+                              0.5f + 0.5f * static_cast<float>(std::sin(3 * ph)));
+    }
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < segments; ++i) {
+      const auto a = static_cast<std::uint32_t>(j * segments + i), b = static_cast<std::uint32_t>(j * segments + (i + 1) % segments);
+      const auto c = a + static_cast<std::uint32_t>(segments), d = b + static_cast<std::uint32_t>(segments);
+      m.triangles.push_back({a, c, b});
+      m.triangles.push_back({b, c, d});
+    }
+  return m;
+}
+
 }  // namespace meshtour::test_meshes

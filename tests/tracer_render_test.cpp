@@ -12,28 +12,14 @@
 
 #include "core/error.h"
 #include "helpers.h"
+#include "test_meshes.h"
 #include "tracer/color.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
 namespace {
 
-TriangleMesh uv_sphere(double radius, int segments, int rings) {
-  TriangleMesh m;
-  for (int j = 0; j <= rings; ++j)
-    for (int i = 0; i < segments; ++i) {
-      const double th = std::numbers::pi * j / rings, ph = 2 * std::numbers::pi * i / segments;
-      m.positions.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::cos(th), radius * std::sin(th) * std::sin(ph));
-    }
-  for (int j = 0; j < rings; ++j)
-    for (int i = 0; i < segments; ++i) {
-      const auto a = static_cast<std::uint32_t>(j * segments + i), b = static_cast<std::uint32_t>(j * segments + (i + 1) % segments);
-      const auto c = a + segments, d = b + segments;
-      m.triangles.push_back({a, c, b});
-      m.triangles.push_back({b, c, d});
-    }
-  return m;
-}
+using test_meshes::uv_sphere;
 
 const float* pixel(const Image& img, int x, int y) { return &img.rgba[(static_cast<std::size_t>(y) * img.width + x) * 4]; }
 

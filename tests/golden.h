@@ -1,0 +1,69 @@
+#pragma once
+// The golden-image comparison shared by tests/golden_*_test.cpp.
+//
+// Metric (OpenImageIO's ImageBufAlgo::compare, the same as idiff) on 8-bit sRGB PNGs:
+//  - a pixel "fails" when any channel differs by more than 2/255: within one machine renders are
+//    bit-identical, but another CPU may make Embree pick another ISA kernel or libm round
+//    differently, which moves a silhouette pixel or flips a grazing shadow ray;
+//  - the test fails when more than `fail_fraction` of the pixels fail (each test states its value
+//    and why: a real change of lighting, framing or geometry moves far more), or when any pixel
+//    differs by more than 0.25 (a missing or misplaced part, whatever its size).
+// On failure the actual image and a x16 difference image are written to build/golden-results/.
+//
+// To regenerate the references on purpose (after a deliberate change to the look):
+//   GOLDEN_UPDATE=1 ctest --test-dir build -L golden
+// then look at the new images and commit them.
+#include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "helpers.h"
+#include "tracer/tracer.h"
+
+namespace meshtour::test {
+
+inline bool golden_update_requested() {
+  const char* v = std::getenv("GOLDEN_UPDATE");
+  return v && std::string(v) == "1";
+}
+
+/// Compares `image` with golden_images/<name>.png (or rewrites it under GOLDEN_UPDATE=1).
+inline void compare_with_golden(const Image& image, const std::string& name, double fail_fraction) {
+  constexpr float kPixelFail = 2.0f / 255.0f;
+  constexpr float kHardFail = 0.25f;
+  const auto golden = source_dir() / "golden_images" / (name + ".png");
+  const auto out_dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "golden-results";
+  std::filesystem::create_directories(out_dir);
+  const auto actual_file = out_dir / (name + ".actual.png");
+  write_image(image, actual_file);
+  if (golden_update_requested()) {
+    std::filesystem::create_directories(golden.parent_path());
+    std::filesystem::copy_file(actual_file, golden, std::filesystem::copy_options::overwrite_existing);
+    GTEST_SKIP() << "GOLDEN_UPDATE=1: rewrote " << golden;
+  }
+  ASSERT_TRUE(std::filesystem::exists(golden)) << golden << " is missing; create it with GOLDEN_UPDATE=1";
+  OIIO::ImageBuf actual(actual_file.string()), reference(golden.string());
+  ASSERT_TRUE(actual.read() && reference.read()) << actual.geterror() << reference.geterror();
+  ASSERT_EQ(actual.spec().width, reference.spec().width);
+  ASSERT_EQ(actual.spec().height, reference.spec().height);
+  ASSERT_EQ(actual.spec().nchannels, reference.spec().nchannels);
+  const auto result = OIIO::ImageBufAlgo::compare(actual, reference, kPixelFail, kPixelFail);
+  const double pixels = static_cast<double>(actual.spec().width) * actual.spec().height;
+  const double failing = static_cast<double>(result.nfail) / pixels;
+  const bool ok = failing <= fail_fraction && result.maxerror <= kHardFail;
+  if (!ok) {
+    OIIO::ImageBuf diff = OIIO::ImageBufAlgo::absdiff(actual, reference);
+    diff = OIIO::ImageBufAlgo::mul(diff, 16.0f);
+    diff.write((out_dir / (name + ".diff.png")).string());
+  }
+  EXPECT_TRUE(ok) << name << ": " << result.nfail << " pixels (" << 100 * failing << " %) differ by more than 2/255"
+                  << ", max error " << result.maxerror << " at (" << result.maxx << ", " << result.maxy << ")"
+                  << ", mean error " << result.meanerror << "; see " << out_dir / (name + ".diff.png")
+                  << " and " << actual_file;
+}
+
+}  // namespace meshtour::test
