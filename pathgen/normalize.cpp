@@ -1,4 +1,9 @@
 // §3 and §1.2: clean-up of scanner meshes, the OpenMesh halfedge structure, normalization.
+
+// OpenMesh's PropertyT<VectorT>::push_back copies a default-constructed (deliberately
+// uninitialized) vector; GCC 12 reports that as maybe-uninitialized in optimized sanitizer builds.
+// The property is never read before it is written, so the false positive is silenced here.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <tbb/enumerable_thread_specific.h>
@@ -105,9 +110,7 @@ void compact_vertices(const std::vector<Eigen::Vector3d>& positions, std::vector
 std::vector<std::size_t> build_topology(TopologyMesh& om, std::size_t vertex_count,
                                         const std::vector<std::array<std::uint32_t, 3>>& faces) {
   om.reserve(vertex_count, faces.size() * 3 / 2 + 3, faces.size());
-  // Isolated vertices in one step (add_vertex per vertex pushes a default-constructed point,
-  // which GCC's sanitizer builds flag as maybe-uninitialized inside OpenMesh).
-  om.resize(vertex_count, 0, 0);
+  om.resize(vertex_count, 0, 0);  // isolated vertices; add_face connects them
   std::vector<std::size_t> refused;
   MutedOpenMeshErrors muted;
   for (std::size_t f = 0; f < faces.size(); ++f) {
@@ -300,9 +303,28 @@ SurfaceMesh prepare_mesh(const TriangleMesh& mesh, const SurfaceOptions& options
     throw InputError("the mesh has no usable face: all " + std::to_string(input_faces) +
                      " faces use a vertex twice or have non-finite coordinates");
 
-  // Compact numbering: used representatives in ascending input order (unreferenced ones go).
+  // Compact numbering: the used representatives (unreferenced ones go), renumbered along a
+  // Morton curve so that vertices close on the surface are close in memory. Every per-vertex
+  // stage gathers neighbour data, and files numbered by subdivision or by a scanner's merge
+  // scatter neighbours across the arrays; this order makes those gathers cache hits. (Face order
+  // is kept; input_vertex leads back to the file's numbering.)
   SurfaceMesh out;
-  compact_vertices(mesh.positions, faces, out.positions, out.input_vertex);
+  {
+    std::vector<Eigen::Vector3d> positions;
+    std::vector<std::uint32_t> origin;
+    compact_vertices(mesh.positions, faces, positions, origin);
+    const std::vector<std::uint32_t> order = morton_order(positions);
+    std::vector<std::uint32_t> rank(order.size());
+    out.positions.resize(order.size());
+    out.input_vertex.resize(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      rank[order[i]] = static_cast<std::uint32_t>(i);
+      out.positions[i] = positions[order[i]];
+      out.input_vertex[i] = origin[order[i]];
+    }
+    for (auto& t : faces)
+      for (auto& v : t) v = rank[v];
+  }
   std::size_t used_inputs = 0;  // input vertices represented in the output, merged ones included
   {
     std::vector<std::uint8_t> used(input_vertices, 0);
@@ -417,6 +439,38 @@ void finish_cleanup(SurfaceMesh& out, CleanupCounts& counts, std::vector<std::st
     notes.push_back("split off " + count_text(counts.split_faces, "non-manifold face", "non-manifold faces") +
                     " (edge used by more than two faces, vertex joining separate fans, or face oriented "
                     "against its neighbours): each keeps its own copies of its vertices");
+}
+
+// 21 bits per axis over the bounding box, interleaved; ties (same cell) by index, so the order is
+// a function of the geometry and of the input order only.
+std::vector<std::uint32_t> morton_order(const std::vector<Eigen::Vector3d>& positions) {
+  const auto spread = [](std::uint64_t x) {  // 21 bits → every third bit of 63
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+  };
+  Eigen::Vector3d lo = positions.front(), hi = positions.front();
+  for (const auto& p : positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Eigen::Vector3d extent = (hi - lo).cwiseMax(Eigen::Vector3d::Constant(1e-300));
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(positions.size());
+  parallel_ranges(keys.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      std::uint64_t code = 0;
+      for (int axis = 0; axis < 3; ++axis) {
+        const double t = std::clamp((positions[v](axis) - lo(axis)) / extent(axis), 0.0, 1.0);
+        code |= spread(static_cast<std::uint64_t>(t * 2097151.0)) << (2 - axis);
+      }
+      keys[v] = {code, static_cast<std::uint32_t>(v)};
+    }
+  });
+  tbb::parallel_sort(keys.begin(), keys.end());
+  std::vector<std::uint32_t> order(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) order[i] = keys[i].second;
+  return order;
 }
 
 std::pair<Eigen::Vector3d, double> normalize_positions(std::vector<Eigen::Vector3d>& positions) {

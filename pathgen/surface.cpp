@@ -98,11 +98,23 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
   // rare case that it refuses faces, they are repaired and everything after §3 step 1 is redone.
   SurfaceMesh mesh = prepare_mesh(input, options, result.cleanup);
   std::vector<std::size_t> refused;
+  // The check runs in an arena of its own, so that threads waiting inside the parallel loops of
+  // the main work cannot pick it up (that would stall those loops until it finishes).
+  // No slot is reserved for the calling thread, so a worker can take the check at once; if none
+  // is free (one thread allowed), the waiting thread runs it itself.
+  tbb::task_arena side_arena(1, 0);
   tbb::task_group openmesh_check;
-  openmesh_check.run([&] { refused = openmesh_refused_faces(mesh); });  // reads triangles only
+  side_arena.execute([&] { openmesh_check.run([&] { refused = openmesh_refused_faces(mesh); }); });  // reads triangles only
+  const auto wait_for_check = [&] { side_arena.execute([&] { openmesh_check.wait(); }); };
+  // Every exit, including an exception, first waits inside the side arena: the task group's own
+  // destructor would wait in the current arena, where nobody may be able to run the check.
+  struct WaitOnExit {
+    const decltype(wait_for_check)& wait;
+    ~WaitOnExit() { wait(); }
+  } wait_on_exit{wait_for_check};
   const bool adjacency_ok = build_adjacency(mesh);
   if (!adjacency_ok) {
-    openmesh_check.wait();
+    wait_for_check();
     if (refused.empty()) throw RuntimeFailure("internal: OpenMesh accepted a face list that uses an edge twice in one direction");
     repair_refused_faces(mesh, refused, result.cleanup);
     refused.clear();
@@ -130,7 +142,7 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
       result.smoothing_iterations = s.iterations;
       std::tie(center2, diagonal2) = normalize_positions(mesh.positions);
     }
-    openmesh_check.wait();
+    wait_for_check();
     if (!refused.empty()) {
       // Start again from the prepared mesh with the refused faces repaired (the stage times
       // then include both passes).
@@ -178,8 +190,11 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
   if (options.seed_order == SeedOrder::best_fit_first) {
     order = best_fit_first_order(mesh, seed_errors(mesh, result.vertex_torus));
   } else {
+    // The file's vertex order (vertices are stored in Morton order internally).
     order.resize(mesh.vertex_count());
     for (std::size_t v = 0; v < order.size(); ++v) order[v] = static_cast<std::uint32_t>(v);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return mesh.input_vertex[a] < mesh.input_vertex[b]; });
   }
   std::vector<std::uint32_t> forced_seeds;
   if (!options.seed_vertices.empty()) {

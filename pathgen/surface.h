@@ -31,7 +31,7 @@ enum class CurvatureFit {
 /// §7.2: order in which Phase A visits candidate seed vertices (I-10).
 enum class SeedOrder {
   best_fit_first,  ///< quantized (e_v, x, y, z, index) keys, ascending (default)
-  index,           ///< vertex index order (not permutation invariant)
+  index,           ///< the file's vertex order (not permutation invariant)
 };
 /// §7.4: what happens to faces Phase A left uncovered (I-13).
 enum class LeftoverMode {
@@ -125,7 +125,9 @@ struct PatchRecord {
 
 /// Result of §3–§8.
 struct SurfaceAnalysis {
-  /// The cleaned, normalized and smoothed mesh the later stages work on.
+  /// The cleaned, normalized and smoothed mesh the later stages work on. Faces keep the input's
+  /// order (minus dropped faces); vertices are renumbered along a Morton curve for cache locality
+  /// (input_vertex leads back to the file's numbering).
   std::vector<Eigen::Vector3d> positions;
   std::vector<std::array<std::uint32_t, 3>> triangles;
   /// Maps normalized points back to the input model's units: model = scale * p + offset.
@@ -152,7 +154,7 @@ struct SurfaceAnalysis {
   std::vector<std::uint32_t> input_face;
   double mean_edge_length = 0.0;  ///< ē of the normalized mesh before smoothing
   double smoothing_dt = 0.0;      ///< dt of the implicit step (0 for none/taubin)
-  int smoothing_iterations = 0;   ///< largest conjugate-gradient iteration count of the 3 columns
+  int smoothing_iterations = 0;   ///< conjugate-gradient iterations of the slowest coordinate column
   std::vector<VertexDifferential> differential;  ///< §5, per vertex
   std::vector<Torus> vertex_torus;               ///< T_v of §6.2, per vertex
   std::vector<PatchRecord> patches;              ///< indexed by patch id

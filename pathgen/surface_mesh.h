@@ -75,6 +75,9 @@ SurfaceMesh clean_and_build(const TriangleMesh& mesh, const SurfaceOptions& opti
 /// \throw InputError if the diagonal is 0 or not finite.
 std::pair<Eigen::Vector3d, double> normalize_positions(std::vector<Eigen::Vector3d>& positions);
 
+/// Vertices sorted along a Morton (Z-order) curve of their positions (ties by index).
+std::vector<std::uint32_t> morton_order(const std::vector<Eigen::Vector3d>& positions);
+
 /// Area of each face, ½|(p1 − p0) × (p2 − p0)| (parallel).
 std::vector<double> face_areas(const SurfaceMesh& mesh);
 

@@ -94,8 +94,9 @@ TEST(PathgenSurfaceCurvature, ExactNormalsHookOnAGridRecoversTheCubicAtTheOrigin
   SurfaceOptions o = no_smoothing();
   o.exact_normals = normals;
   const SurfaceAnalysis s = analyze_surface(m, o);
-  const auto origin = static_cast<std::size_t>((n / 2) * (n + 1) + n / 2);
-  ASSERT_EQ(s.input_vertex[origin], origin);
+  const auto input_origin = static_cast<std::uint32_t>((n / 2) * (n + 1) + n / 2);
+  const auto origin = static_cast<std::size_t>(std::find(s.input_vertex.begin(), s.input_vertex.end(), input_origin) - s.input_vertex.begin());
+  ASSERT_LT(origin, s.input_vertex.size());
   expect_weingarten(s.differential[origin], s.scale * (Eigen::Matrix2d() << c.A, c.B, c.B, c.C).finished(), 1e-9);
 }
 

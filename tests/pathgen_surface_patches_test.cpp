@@ -160,7 +160,7 @@ TEST(PathgenSurfacePatches, AnalyticSphereDataCoversTheSphereFromAnySeed) {
     const SurfaceAnalysis s = analyze_surface(m, o);
     EXPECT_EQ(s.patch_count, 1) << "seed " << seed;
     EXPECT_EQ(s.largest_patch, static_cast<int>(m.triangles.size()));
-    EXPECT_EQ(s.patches.at(0).seed_vertex, seed);
+    EXPECT_EQ(s.input_vertex[s.patches.at(0).seed_vertex], seed);
   }
 }
 
@@ -280,15 +280,16 @@ TEST(PathgenSurfacePatches, HandCheckedSeedRuleAndGrowthOnAStrip) {
   o.exact_differential[2].normal = Eigen::Vector3d::UnitX();
   o.exact_differential[2].t1 = Eigen::Vector3d::UnitY();
   o.exact_differential[2].t2 = Eigen::Vector3d::UnitZ();
-  // Seeding at the tilted vertex first: its faces (0,1 of quad 1 and the lower one of quad 2 ...)
-  // do not fit a sphere tangent to the plane x = 0.2 except at the vertex itself, so it starts no
-  // patch; the next seed, vertex 0, grows over the whole strip.
+  // Seeding at the tilted vertex first: its torus is a sphere tangent to the plane x = 0.2, which
+  // every face at vertex 2 leaves by ≥ 0.1 (model units) at its other corners, so it starts no
+  // patch; the next seed, vertex 0, grows over the whole strip (flat faces sag ≤ 10⁻⁶ from its
+  // sphere of radius 10⁶).
   o.seed_vertices = {2, 0};
   const SurfaceAnalysis s = analyze_surface(m, o);
   EXPECT_EQ(s.patch_count, 1);
   EXPECT_EQ(s.grown_patches, 1);
   EXPECT_EQ(s.largest_patch, 8);
-  EXPECT_EQ(s.patches[0].seed_vertex, 0u);
+  EXPECT_EQ(s.input_vertex[s.patches[0].seed_vertex], 0u);
   // A seed whose faces are already covered is skipped: seeds {0, 1} give one patch.
   o.seed_vertices = {0, 1};
   EXPECT_EQ(analyze_surface(m, o).patch_count, 1);
@@ -298,7 +299,7 @@ TEST(PathgenSurfacePatches, HandCheckedSeedRuleAndGrowthOnAStrip) {
   const SurfaceAnalysis b = analyze_surface(m, o);
   EXPECT_EQ(b.grown_patches, 0);
   EXPECT_EQ(b.single_face_patches, 8);
-  for (int f = 0; f < 8; ++f) EXPECT_NE(b.patches[b.face_patch[f]].seed_vertex, 2u);
+  for (int f = 0; f < 8; ++f) EXPECT_NE(b.input_vertex[b.patches[b.face_patch[f]].seed_vertex], 2u);
   // grow-leftovers: the first leftover face grows over everything.
   o.leftovers = LeftoverMode::grow;
   const SurfaceAnalysis g = analyze_surface(m, o);
