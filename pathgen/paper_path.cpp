@@ -1,5 +1,6 @@
 // §12–§14 glue: the gaze and position paths, the camera path, the metrics and the whole pipeline.
 #include "pathgen/paper_path.h"
+#include "pathgen/stage_timer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,20 +14,6 @@ namespace meshtour {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-class StageTimer {
-public:
-  explicit StageTimer(std::vector<std::pair<std::string, double>>& log) : log_(log) {}
-  void done(const std::string& stage) {
-    const auto now = std::chrono::steady_clock::now();
-    log_.emplace_back(stage, std::chrono::duration<double>(now - start_).count());
-    start_ = now;
-  }
-
-private:
-  std::vector<std::pair<std::string, double>>& log_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
 
 void require_finite_in(double value, double lo, double hi, const std::string& what) {
   if (!(value >= lo && value <= hi))

@@ -1,5 +1,6 @@
 // §3–§8 in order: clean-up and normalization, smoothing, curvature, tori and patches, weights.
 #include "pathgen/surface.h"
+#include "pathgen/stage_timer.h"
 
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
@@ -74,23 +75,9 @@ void validate(const SurfaceOptions& o, std::size_t input_vertices) {
     if (v >= input_vertices) throw InputError("seed vertex " + std::to_string(v) + " does not exist in the mesh");
 }
 
-class StageClock {
-public:
-  explicit StageClock(std::vector<std::pair<std::string, double>>& out) : out_(out) {}
-  void finish(const char* stage) {
-    const auto now = std::chrono::steady_clock::now();
-    out_.emplace_back(stage, std::chrono::duration<double>(now - start_).count());
-    start_ = now;
-  }
-
-private:
-  std::vector<std::pair<std::string, double>>& out_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
-
 SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
   SurfaceAnalysis result;
-  StageClock clock(result.stage_seconds);
+  StageTimer clock(result.stage_seconds);
 
   // §3: clean-up, topology, first normalization. OpenMesh's verdict on the faces (which ones it
   // refuses as non-manifold) takes a sequential pass over 1M faces; it runs beside the
@@ -133,7 +120,7 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
       throw InputError("the mesh has no face with non-zero area (all " + std::to_string(zero_area) +
                        " faces are degenerate: their corners are collinear or coincide)");
     result.mean_edge_length = mean_edge_length(mesh);
-    clock.finish("normalize");
+    clock.done("normalize");
 
     // §4: smoothing, then the second normalization (I-1). `none` leaves the positions untouched.
     if (options.smoothing != SmoothingMethod::none) {
@@ -156,7 +143,7 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
       result.stage_seconds.clear();
       continue;
     }
-    clock.finish("smooth");
+    clock.done("smooth");
   }
   finish_cleanup(mesh, result.cleanup, result.cleanup_notes);
   result.cleanup.zero_area_faces = zero_area;
@@ -182,7 +169,7 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
     }
     result.differential = principal_curvatures(mesh, normals, options.curvature_fit);
   }
-  clock.finish("curvature");
+  clock.done("curvature");
 
   // §6–§7: tori, seed order, decomposition.
   result.vertex_torus = vertex_tori(mesh, result.differential, options.kappa_min);
@@ -214,11 +201,11 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
   result.single_face_patches = d.single;
   result.orphans = d.orphans;
   result.largest_patch = d.largest;
-  clock.finish("patches");
+  clock.done("patches");
 
   // §8.
   result.face_weight = face_weights(mesh, result.face_patch, result.patch_count, options.weight_neighbourhood);
-  clock.finish("weights");
+  clock.done("weights");
 
   result.positions = std::move(mesh.positions);
   result.triangles = std::move(mesh.triangles);

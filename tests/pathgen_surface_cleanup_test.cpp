@@ -13,11 +13,6 @@ namespace {
 
 using namespace test_meshes;
 
-SurfaceOptions no_smoothing() {
-  SurfaceOptions o;
-  o.smoothing = SmoothingMethod::none;
-  return o;
-}
 
 Bounds bounds_of(const std::vector<Eigen::Vector3d>& points) {
   Bounds b{points.front(), points.front()};

@@ -17,11 +17,6 @@ namespace {
 using namespace test_meshes;
 using surface_detail::FitNeighbour;
 
-SurfaceOptions no_smoothing() {
-  SurfaceOptions o;
-  o.smoothing = SmoothingMethod::none;
-  return o;
-}
 
 // z(x, y) = A/2x² + Bxy + C/2y² + Dx³ + Ex²y + Fxy² + Gy³ and its unit normal (−z_x, −z_y, 1)/|·|.
 struct Cubic {

@@ -16,11 +16,6 @@ namespace {
 
 using namespace test_meshes;
 
-SurfaceOptions no_smoothing() {
-  SurfaceOptions o;
-  o.smoothing = SmoothingMethod::none;
-  return o;
-}
 
 // Faces sharing an edge, computed here independently of the library's halfedge structure.
 std::vector<std::vector<std::size_t>> edge_neighbours(const SurfaceAnalysis& s) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "mesh/mesh.h"
+#include "pathgen/surface.h"
 
 namespace meshtour::test_meshes {
 
@@ -227,6 +228,13 @@ inline TriangleMesh uv_sphere(double radius = 1.0, int segments = 64, int rings 
       m.triangles.push_back({b, c, d});
     }
   return m;
+}
+
+/// §3–§8 options with smoothing off, as most §17 checks are stated.
+inline SurfaceOptions no_smoothing() {
+  SurfaceOptions o;
+  o.smoothing = SmoothingMethod::none;
+  return o;
 }
 
 }  // namespace meshtour::test_meshes
