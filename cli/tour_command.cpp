@@ -15,6 +15,7 @@
 #include "cli/render_options.h"
 #include "core/error.h"
 #include "encoder/video_encoder.h"
+#include "jobs/frame_dir.h"
 #include "pathgen/paper_path.h"
 #include "pathgen/path_file.h"
 #include "pathgen/turntable.h"
@@ -79,12 +80,6 @@ Scene resolve_scene(const TourArgs& a) {
 std::filesystem::path default_output(const TourArgs& a) {
   if (a.input.empty()) return "meshtour-default.mp4";
   return std::filesystem::path(a.input).stem().string() + ".mp4";
-}
-
-std::string frame_name(int frame, const char* ext) {
-  char name[64];
-  std::snprintf(name, sizeof name, "frame_%06d.%s", frame, ext);
-  return name;
 }
 
 // The camera path of the scene. Geometry-driven paths are wrapped in FramedPath: the paper's
@@ -189,8 +184,8 @@ void run_tour(const TourArgs& args) {
     throw_if_interrupted();
     const CameraPose pose = frame_pose(*path, k, scene.frames);
     const Image image = renderer.render(Camera{pose.eye, pose.target, pose.up, fov}, static_cast<std::uint64_t>(k));
-    if (write_png) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "png"));
-    if (write_exr) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "exr"));
+    if (write_png) write_image(image, frame_file(args.frames_dir, k, "png"));
+    if (write_exr) write_image(image, frame_file(args.frames_dir, k, "exr"));
     encoder.add_frame(image.to_srgb8());
     progress.update(k + 1);
   }

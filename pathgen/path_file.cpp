@@ -238,28 +238,6 @@ std::string path_file_text(const PaperPathResult& r, const std::string& source) 
   return j.dump(2) + "\n";
 }
 
-void write_file_atomically(const std::filesystem::path& file,
-                           const std::function<void(const std::filesystem::path& temporary)>& write) {
-  const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
-  // Appending piece by piece (not "." + string) also avoids a GCC 12 -Wrestrict false positive.
-  std::string name = ".";
-  name += file.filename().string();
-  name += ".tmp";
-  name += std::to_string(::getpid());
-  name += file.extension().string();
-  const std::filesystem::path temporary = dir / name;
-  try {
-    write(temporary);
-    std::error_code ec;
-    std::filesystem::rename(temporary, file, ec);
-    if (ec) throw IoError("cannot write " + file.string() + ": " + ec.message());
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
-}
-
 void write_path_file(const PaperPathResult& result, const std::filesystem::path& file, const std::string& source) {
   const std::string text = path_file_text(result, source);
   write_file_atomically(file, [&](const std::filesystem::path& temporary) {

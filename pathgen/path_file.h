@@ -2,10 +2,10 @@
 // The path file: the JSON that `meshtour path` writes (results, metrics, options, timings) and
 // from which read_path_file() rebuilds the camera path without the mesh.
 #include <filesystem>
-#include <functional>
 #include <memory>
 #include <string>
 
+#include "core/atomic_file.h"  // write_file_atomically, used by every writer in pathgen
 #include "pathgen/camera_path.h"
 #include "pathgen/paper_path.h"
 
@@ -31,12 +31,5 @@ std::unique_ptr<CameraPath> read_path_file(const std::filesystem::path& file);
 /// Same, returning the concrete type (its geometry() exposes the curves).
 PaperCameraPath read_paper_path_file(const std::filesystem::path& file);
 
-/// Creates `file` all at once: `write` receives a temporary path in the same folder with the
-/// same extension (so that writers choosing a format by extension still work), and the temporary
-/// file is renamed over `file` only when `write` returns. On any exception the temporary file is
-/// removed and the exception propagates; `file` is then untouched.
-/// \throw IoError if the rename fails.
-void write_file_atomically(const std::filesystem::path& file,
-                           const std::function<void(const std::filesystem::path& temporary)>& write);
 
 }  // namespace meshtour

@@ -1,0 +1,107 @@
+#include "jobs/frame_dir.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace meshtour {
+
+bool FrameDirInfo::same_tour(const FrameDirInfo& other) const {
+  return frame_count == other.frame_count && fps == other.fps && width == other.width && height == other.height &&
+         image_formats == other.image_formats;
+}
+
+std::filesystem::path frame_file(const std::filesystem::path& dir, int frame, std::string_view extension) {
+  char name[64];
+  std::snprintf(name, sizeof name, "frame_%06d.", frame);
+  std::string file = name;
+  file += extension;
+  return dir / file;
+}
+
+void write_frame_dir_info(const std::filesystem::path& dir, const FrameDirInfo& info) {
+  nlohmann::ordered_json j;
+  j["format"] = "meshtour-frames";
+  j["version"] = kFrameDirFormatVersion;
+  j["frame_count"] = info.frame_count;
+  j["fps"] = info.fps;
+  j["width"] = info.width;
+  j["height"] = info.height;
+  j["image_formats"] = info.image_formats;
+  j["source"] = info.source;
+  j["path_file"] = info.path_file;
+  const std::string text = j.dump(2) + "\n";
+  const std::filesystem::path file = dir / kFrameDirManifestName;
+  write_file_atomically(file, [&](const std::filesystem::path& temporary) {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError(file.string() + ": cannot write: " + std::strerror(errno));
+    out << text;
+    out.flush();
+    if (!out) throw IoError(file.string() + ": cannot write: write failed (disk full?)");
+  });
+}
+
+bool has_frame_dir_info(const std::filesystem::path& dir) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(dir / kFrameDirManifestName, ec);
+}
+
+FrameDirInfo read_frame_dir_info(const std::filesystem::path& dir) {
+  const std::filesystem::path file = dir / kFrameDirManifestName;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) throw InputError(dir.string() + ": no such frames directory");
+  if (!std::filesystem::exists(file, ec))
+    throw InputError(dir.string() + ": no " + std::string(kFrameDirManifestName) +
+                     " (it is written by 'meshtour render --out-dir'); give the tour's frames with --frames instead");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw IoError(file.string() + ": cannot read: " + std::strerror(errno));
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto fail = [&](const std::string& why) -> InputError { return InputError(file.string() + ": " + why); };
+  nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) throw fail("not a JSON object (the manifest is damaged; re-run 'meshtour render')");
+  if (j.value("format", std::string()) != "meshtour-frames") throw fail("not a meshtour frames manifest");
+  const auto integer = [&](const char* key, int lo, int hi) {
+    const auto it = j.find(key);
+    if (it == j.end() || !it->is_number_integer()) throw fail(std::string("'") + key + "' is missing or not an integer");
+    const auto v = it->get<long long>();
+    if (v < lo || v > hi) throw fail(std::string("'") + key + "' is " + std::to_string(v) + ", outside " + std::to_string(lo) + ".." + std::to_string(hi));
+    return static_cast<int>(v);
+  };
+  const int version = integer("version", 1, 1'000'000);
+  if (version > kFrameDirFormatVersion)
+    throw fail("written by a newer meshtour (manifest version " + std::to_string(version) + ", this one reads " +
+               std::to_string(kFrameDirFormatVersion) + "); encode with that version");
+  FrameDirInfo info;
+  info.frame_count = integer("frame_count", 1, 1'000'000'000);
+  info.fps = integer("fps", 1, 1000);
+  info.width = integer("width", 1, 1 << 16);
+  info.height = integer("height", 1, 1 << 16);
+  const auto formats = j.find("image_formats");
+  if (formats == j.end() || !formats->is_array() || formats->empty()) throw fail("'image_formats' is missing or empty");
+  for (const auto& f : *formats) {
+    if (!f.is_string() || (f != "png" && f != "exr")) throw fail("'image_formats' may hold only \"png\" and \"exr\"");
+    info.image_formats.push_back(f.get<std::string>());
+  }
+  if (const auto s = j.find("source"); s != j.end() && s->is_string()) info.source = s->get<std::string>();
+  if (const auto p = j.find("path_file"); p != j.end() && p->is_string()) info.path_file = p->get<std::string>();
+  return info;
+}
+
+std::vector<int> missing_frames(const std::filesystem::path& dir, const std::vector<int>& frames,
+                                std::string_view extension) {
+  std::vector<int> missing;
+  for (const int k : frames) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(frame_file(dir, k, extension), ec)) missing.push_back(k);
+  }
+  return missing;
+}
+
+}  // namespace meshtour
