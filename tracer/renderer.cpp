@@ -120,6 +120,7 @@ struct FrameLight {
   Eigen::Vector3f radiance;   // colour * intensity
   float radiance_luminance;
   float one_minus_cos_half_angle;  // the disc's solid angle / 2 pi
+  float cos_half_angle, sin_half_angle;
 };
 
 // sin and cos of 2 pi u for u in [0, 1]: quadrant reduction and short Taylor polynomials on
@@ -128,13 +129,14 @@ struct FrameLight {
 // The quadrant is random, so it selects through tables rather than branches (which would be
 // mispredicted half of the time).
 inline void sincos_turns(float u, float& s, float& c) {
-  const float quadrant = std::nearbyint(4.0f * u);  // 0..4
-  const float x = (u - 0.25f * quadrant) * (2.0f * std::numbers::pi_v<float>);
+  // Rounded by truncation (u >= 0): std::nearbyint would save and restore the rounding mode.
+  const int quadrant = static_cast<int>(4.0f * u + 0.5f);  // 0..4
+  const float x = (u - 0.25f * static_cast<float>(quadrant)) * (2.0f * std::numbers::pi_v<float>);
   const float x2 = x * x;
   const float sin_x = x * (1.0f + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040))));
   const float cos_x = 1.0f + x2 * (-0.5f + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320))));
   static constexpr float kSinFromSin[4] = {1, 0, -1, 0}, kSinFromCos[4] = {0, 1, 0, -1};
-  const int q = static_cast<int>(quadrant) & 3;
+  const int q = quadrant & 3;
   s = kSinFromSin[q] * sin_x + kSinFromCos[q] * cos_x;
   c = kSinFromSin[q] * cos_x - kSinFromCos[q] * sin_x;
 }
@@ -200,7 +202,7 @@ struct Renderer::Impl {
           Eigen::Vector4f v = rec.base;
           if (rec.shadow_ray >= 0 && scratch.secondary[rec.shadow_ray].tfar >= 0.0f) v += rec.with_light;
           if (rec.sky_ray >= 0 && scratch.secondary[rec.sky_ray].tfar >= 0.0f) v += rec.with_sky;
-          pixel.add(filter, rec.offset_x, rec.offset_y, v.data());
+          pixel.add(filter, rec.offset_x, rec.offset_y, Float4{v[0], v[1], v[2], v[3]});
         }
         pixel.flush(sums, stride, x + apron, y + apron);
       }
@@ -356,8 +358,10 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
     basis(f.direction, f.tangent, f.bitangent);
     f.radiance = l.color * l.intensity;
     f.radiance_luminance = luminance(f.radiance);
-    f.one_minus_cos_half_angle =
-        1.0f - static_cast<float>(std::cos(std::clamp(l.angular_diameter_deg, 0.0f, 90.0f) * std::numbers::pi / 360.0));
+    const double half_angle = std::clamp(l.angular_diameter_deg, 0.0f, 90.0f) * std::numbers::pi / 360.0;
+    f.one_minus_cos_half_angle = 1.0f - static_cast<float>(std::cos(half_angle));
+    f.cos_half_angle = static_cast<float>(std::cos(half_angle));
+    f.sin_half_angle = static_cast<float>(std::sin(half_angle));
     lights.push_back(f);
   }
   const std::size_t nlights = lights.size();
@@ -393,6 +397,8 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   const float ground_shadow = ground_total > 0.0f ? sh.ground_shadow : 0.0f;
   const float ground_light_share = ground_total > 0.0f ? ground_shadow * ground_light_total / ground_total : 0.0f;
   const float ground_sky_share = ground_total > 0.0f ? ground_shadow * ground_sky / ground_total : 0.0f;
+  Eigen::Vector3f up_t1, up_t2;  // the ground's tangents, for its occlusion rays
+  basis(up, up_t1, up_t2);
 
   const int spp = options.samples_per_pixel;
   int rows = static_cast<int>(std::sqrt(static_cast<double>(spp)));
@@ -553,11 +559,9 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
               sincos_turns(u_light.y(), sin_phi, cos_phi);
               return Eigen::Vector3f(cos_t * l.direction + sin_t * (cos_phi * l.tangent + sin_phi * l.bitangent));
             };
-            auto sky_direction = [&](const Eigen::Vector3f& n) {
+            auto sky_direction = [&](const Eigen::Vector3f& n, const Eigen::Vector3f& t1, const Eigen::Vector3f& t2) {
               // Cosine-weighted over the hemisphere: the fraction of unblocked rays is then exactly
               // the occlusion of a diffuse surface's sky light.
-              Eigen::Vector3f t1, t2;
-              basis(n, t1, t2);
               const float rad = std::sqrt(u_sky.x());
               float sin_phi, cos_phi;
               sincos_turns(u_sky.y(), sin_phi, cos_phi);
@@ -576,10 +580,22 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
                 const float b = org.dot(d), c = org.squaredNorm() - model_radius * model_radius;
                 return c < 0.0f || (b < 0.0f && b * b >= c);
               };
+              // The same test for a light's whole disc, before sampling a direction in it: the cone
+              // around the light's centre misses the sphere when the angle between its axis and
+              // the sphere's centre exceeds the cone's half angle plus the sphere's angular radius.
+              auto disc_may_hit_model = [&](const FrameLight& l) {
+                const float dist2 = org.squaredNorm();
+                if (dist2 <= model_radius * model_radius) return true;
+                const float dist = std::sqrt(dist2);
+                const float sin_r = model_radius / dist, cos_r = std::sqrt(1.0f - sin_r * sin_r);
+                const float cos_limit = l.cos_half_angle * cos_r - l.sin_half_angle * sin_r;  // cos(half angle + radius)
+                const float cos_axis = -org.dot(l.direction) / dist;
+                return cos_limit <= -1.0f + 1e-6f || cos_axis >= cos_limit - 1e-4f;  // margin for rounding
+              };
               if (ground_light_share > 0.0f) {
-                const Eigen::Vector3f d =
-                    sh.shadows ? light_direction(lights[choose(ground_weights, nlights, ground_light_total, u_choice)]) : up;
-                if (sh.shadows && may_hit_model(d)) {
+                const FrameLight& l = lights[choose(ground_weights, nlights, ground_light_total, u_choice)];
+                Eigen::Vector3f d;
+                if (sh.shadows && disc_may_hit_model(l) && may_hit_model(d = light_direction(l))) {
                   rec.with_light = term(ground_light_share);
                   rec.shadow_ray = add_ray(org, d, std::numeric_limits<float>::infinity());
                 } else {
@@ -590,7 +606,7 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
                 // Beyond the AO length from the model's bounding sphere nothing can occlude the sky.
                 if (sh.ambient_occlusion && org.squaredNorm() < ground_ao_reach2) {
                   rec.with_sky = term(ground_sky_share);
-                  rec.sky_ray = add_ray(org, sky_direction(up), ao_length);
+                  rec.sky_ray = add_ray(org, sky_direction(up, up_t1, up_t2), ao_length);
                 } else {
                   rec.base += term(ground_sky_share);
                 }
@@ -653,7 +669,9 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
             const Eigen::Vector3f sky = sh.ambient.cwiseProduct(albedo);
             if (sh.ambient_occlusion) {
               rec.with_sky = Eigen::Vector4f(sky.x(), sky.y(), sky.z(), 0.0f);
-              rec.sky_ray = add_ray(org, sky_direction(n), ao_length);
+              Eigen::Vector3f t1, t2;
+              basis(n, t1, t2);
+              rec.sky_ray = add_ray(org, sky_direction(n, t1, t2), ao_length);
             } else {
               rec.base.head<3>() += sky;
             }
