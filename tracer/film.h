@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <numbers>
 
 namespace meshtour {
@@ -59,21 +60,22 @@ template <int Reach>
 class PixelSplat {
 public:
   static constexpr int kTaps = 2 * Reach + 1;
+  static constexpr int kWeightVectors = (kTaps + 3) / 4;
 
   /// A sample at offset (ox, oy) in [0, 1)^2 inside the pixel, with premultiplied RGBA `value`.
   void add(const FilterTable& filter, float ox, float oy, Float4 value) {
     Float4 weighted[kTaps];
-    float wx[kTaps];
+    float weights[kWeightVectors * 4] = {};
     for (int i = 0; i < kTaps; ++i) {
-      wx[i] = filter.weight(static_cast<float>(i - Reach) + 0.5f - ox);
-      weighted[i] = wx[i] * value;
+      weights[i] = filter.weight(static_cast<float>(i - Reach) + 0.5f - ox);
+      weighted[i] = weights[i] * value;
     }
+    Float4 wx[kWeightVectors];  // the horizontal weights, four taps per register
+    std::memcpy(wx, weights, sizeof wx);
     for (int j = 0; j < kTaps; ++j) {
       const float wy = filter.weight(static_cast<float>(j - Reach) + 0.5f - oy);
-      for (int i = 0; i < kTaps; ++i) {
-        rgba_[j][i] += wy * weighted[i];
-        weight_[j][i] += wy * wx[i];
-      }
+      for (int i = 0; i < kTaps; ++i) rgba_[j][i] += wy * weighted[i];
+      for (int v = 0; v < kWeightVectors; ++v) weight_[j][v] += wy * wx[v];
     }
   }
 
@@ -84,14 +86,14 @@ public:
       float* dst = buffer + (static_cast<std::size_t>(y + j - Reach) * stride + (x - Reach)) * 5;
       for (int i = 0; i < kTaps; ++i, dst += 5) {
         for (int c = 0; c < 4; ++c) dst[c] += rgba_[j][i][c];
-        dst[4] += weight_[j][i];
+        dst[4] += weight_[j][i / 4][i % 4];
       }
     }
   }
 
 private:
   Float4 rgba_[kTaps][kTaps] = {};
-  float weight_[kTaps][kTaps] = {};
+  Float4 weight_[kTaps][kWeightVectors] = {};
 };
 
 }  // namespace meshtour

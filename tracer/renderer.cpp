@@ -547,12 +547,10 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
             const rng::SampleStream r(pixel_key, static_cast<std::uint64_t>(s));
             const int j_light = s + light_shift >= spp ? s + light_shift - spp : s + light_shift;
             const int j_sky = s + sky_shift >= spp ? s + sky_shift - spp : s + sky_shift;
-            const Eigen::Vector2f u_light = stratum(j_light, r.pair(1));
-            const Eigen::Vector2f u_sky = stratum(j_sky, r.pair(2));
-            const float u_choice = r.pair(3).u;
-
+            // Each random number is drawn only where it is used (most of the ground needs none).
             auto light_direction = [&](const FrameLight& l) {
               // Uniform over the light's disc (a spherical cap).
+              const Eigen::Vector2f u_light = stratum(j_light, r.pair(1));
               const float cos_t = 1.0f - u_light.x() * l.one_minus_cos_half_angle;
               const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
               float sin_phi, cos_phi;
@@ -562,6 +560,7 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
             auto sky_direction = [&](const Eigen::Vector3f& n, const Eigen::Vector3f& t1, const Eigen::Vector3f& t2) {
               // Cosine-weighted over the hemisphere: the fraction of unblocked rays is then exactly
               // the occlusion of a diffuse surface's sky light.
+              const Eigen::Vector2f u_sky = stratum(j_sky, r.pair(2));
               const float rad = std::sqrt(u_sky.x());
               float sin_phi, cos_phi;
               sincos_turns(u_sky.y(), sin_phi, cos_phi);
@@ -583,19 +582,23 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
               // The same test for a light's whole disc, before sampling a direction in it: the cone
               // around the light's centre misses the sphere when the angle between its axis and
               // the sphere's centre exceeds the cone's half angle plus the sphere's angular radius.
+              const float dist2 = org.squaredNorm();
+              const float dist = std::sqrt(dist2);
+              const float sin_r = std::min(1.0f, model_radius / dist), cos_r = std::sqrt(1.0f - sin_r * sin_r);
               auto disc_may_hit_model = [&](const FrameLight& l) {
-                const float dist2 = org.squaredNorm();
                 if (dist2 <= model_radius * model_radius) return true;
-                const float dist = std::sqrt(dist2);
-                const float sin_r = model_radius / dist, cos_r = std::sqrt(1.0f - sin_r * sin_r);
                 const float cos_limit = l.cos_half_angle * cos_r - l.sin_half_angle * sin_r;  // cos(half angle + radius)
                 const float cos_axis = -org.dot(l.direction) / dist;
-                return cos_limit <= -1.0f + 1e-6f || cos_axis >= cos_limit - 1e-4f;  // margin for rounding
+                return cos_axis >= cos_limit - 1e-4f;  // margin for rounding
               };
+              bool shadow_possible = false;  // from some light with a share of the ground's light
+              if (sh.shadows)
+                for (std::size_t i = 0; i < nlights && !shadow_possible; ++i)
+                  shadow_possible = ground_weights[i] > 0.0f && disc_may_hit_model(lights[i]);
               if (ground_light_share > 0.0f) {
-                const FrameLight& l = lights[choose(ground_weights, nlights, ground_light_total, u_choice)];
+                const FrameLight* l = shadow_possible ? &lights[choose(ground_weights, nlights, ground_light_total, r.pair(3).u)] : nullptr;
                 Eigen::Vector3f d;
-                if (sh.shadows && disc_may_hit_model(l) && may_hit_model(d = light_direction(l))) {
+                if (l && disc_may_hit_model(*l) && may_hit_model(d = light_direction(*l))) {
                   rec.with_light = term(ground_light_share);
                   rec.shadow_ray = add_ray(org, d, std::numeric_limits<float>::infinity());
                 } else {
@@ -604,7 +607,7 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
               }
               if (ground_sky_share > 0.0f) {
                 // Beyond the AO length from the model's bounding sphere nothing can occlude the sky.
-                if (sh.ambient_occlusion && org.squaredNorm() < ground_ao_reach2) {
+                if (sh.ambient_occlusion && dist2 < ground_ao_reach2) {
                   rec.with_sky = term(ground_sky_share);
                   rec.sky_ray = add_ray(org, sky_direction(up, up_t1, up_t2), ao_length);
                 } else {
@@ -658,7 +661,7 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
               if (sh.shadows) {
                 // One shadow ray to one light, weighted by 1/probability: unbiased, and the light
                 // that matters most here gets most of the rays.
-                const std::size_t i = choose(weights, nlights, light_total, u_choice);
+                const std::size_t i = choose(weights, nlights, light_total, r.pair(3).u);
                 const Eigen::Vector3f c = contribution[i] * (light_total / weights[i]);
                 rec.with_light = Eigen::Vector4f(c.x(), c.y(), c.z(), 0.0f);
                 rec.shadow_ray = add_ray(org, light_direction(lights[i]), std::numeric_limits<float>::infinity());
