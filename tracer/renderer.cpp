@@ -483,8 +483,8 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
             p.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
           }
         }
-      for (std::size_t i = 0; i < npackets; ++i)
-        for (std::size_t lane = 0; lane < kPacket; ++lane) scratch.valid[i][lane] = i * kPacket + lane < nsamples ? -1 : 0;
+      for (std::size_t i = 0; i < npackets; ++i) scratch.valid[i].lanes.fill(-1);
+      for (std::size_t lane = nsamples - (npackets - 1) * kPacket; lane < kPacket; ++lane) scratch.valid[npackets - 1][lane] = 0;
       RayRecording::Tile* rec_tile = recording && tile % recording->tile_stride == 0 ? &recording->tiles[tile / recording->tile_stride] : nullptr;
       if (rec_tile) {
         rec_tile->packets = scratch.packets;
@@ -568,8 +568,9 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
             };
 
             if (geom == kGroundGeometry) {
-              const float g = ground_shadow;
-              rec.base = Eigen::Vector4f(bg.x() * (1.0f - g), bg.y() * (1.0f - g), bg.z() * (1.0f - g), transparent ? g : 0.0f);
+              // The background's share that reaches the camera without a ray's help (and, as alpha,
+              // the shadow that is certain); the shares whose rays are traced come back if unblocked.
+              float unshadowed = 1.0f - ground_shadow;
               const auto term = [&](float f) {
                 return Eigen::Vector4f(bg.x() * f, bg.y() * f, bg.z() * f, transparent ? -f : 0.0f);
               };
@@ -602,7 +603,7 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
                   rec.with_light = term(ground_light_share);
                   rec.shadow_ray = add_ray(org, d, std::numeric_limits<float>::infinity());
                 } else {
-                  rec.base += term(ground_light_share);
+                  unshadowed += ground_light_share;
                 }
               }
               if (ground_sky_share > 0.0f) {
@@ -611,9 +612,11 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
                   rec.with_sky = term(ground_sky_share);
                   rec.sky_ray = add_ray(org, sky_direction(up, up_t1, up_t2), ao_length);
                 } else {
-                  rec.base += term(ground_sky_share);
+                  unshadowed += ground_sky_share;
                 }
               }
+              rec.base = Eigen::Vector4f(bg.x() * unshadowed, bg.y() * unshadowed, bg.z() * unshadowed,
+                                         transparent ? 1.0f - unshadowed : 0.0f);
               continue;
             }
 
@@ -641,33 +644,36 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
                 albedo = Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
             }
             const Eigen::Vector3f view = -dir;
-            Eigen::Vector3f direct = Eigen::Vector3f::Zero();
-            float weights[8] = {};
-            float light_total = 0.0f;
-            Eigen::Vector3f contribution[8];
-            for (std::size_t i = 0; i < nlights; ++i) {
-              const float cos_l = n.dot(lights[i].direction);
-              if (cos_l <= 0.0f) continue;
+            // Unshadowed Blinn-Phong light from light i (cos_l = cosine of its incidence, > 0).
+            auto reflected = [&](std::size_t i, float cos_l) {
               const Eigen::Vector3f half = lights[i].direction + view;
               const float cos_h = n.dot(half) / std::sqrt(half.squaredNorm());
               const float spec = cos_h > spec_cutoff ? spec_scale * std::pow(cos_h, shininess) : 0.0f;
-              contribution[i] = lights[i].radiance.cwiseProduct(albedo + Eigen::Vector3f::Constant(spec)) * cos_l;
-              weights[i] = luminance(contribution[i]);
-              light_total += weights[i];
-              direct += contribution[i];
-            }
+              return Eigen::Vector3f(lights[i].radiance.cwiseProduct(albedo + Eigen::Vector3f::Constant(spec)) * cos_l);
+            };
             rec.base = Eigen::Vector4f(0.0f, 0.0f, 0.0f, 1.0f);
-            if (light_total > 0.0f) {
-              if (sh.shadows) {
-                // One shadow ray to one light, weighted by 1/probability: unbiased, and the light
-                // that matters most here gets most of the rays.
+            float cosines[8];
+            for (std::size_t i = 0; i < nlights; ++i) cosines[i] = n.dot(lights[i].direction);
+            if (sh.shadows) {
+              // One shadow ray to one light, chosen in proportion to the light it brings here
+              // unshadowed (its irradiance's luminance) and weighted by 1/probability: unbiased,
+              // and the light that matters most here gets most of the rays. Only the chosen
+              // light's reflection is evaluated.
+              float weights[8] = {};
+              float light_total = 0.0f;
+              for (std::size_t i = 0; i < nlights; ++i) {
+                weights[i] = cosines[i] > 0.0f ? cosines[i] * lights[i].radiance_luminance : 0.0f;
+                light_total += weights[i];
+              }
+              if (light_total > 0.0f) {
                 const std::size_t i = choose(weights, nlights, light_total, r.pair(3).u);
-                const Eigen::Vector3f c = contribution[i] * (light_total / weights[i]);
+                const Eigen::Vector3f c = reflected(i, cosines[i]) * (light_total / weights[i]);
                 rec.with_light = Eigen::Vector4f(c.x(), c.y(), c.z(), 0.0f);
                 rec.shadow_ray = add_ray(org, light_direction(lights[i]), std::numeric_limits<float>::infinity());
-              } else {
-                rec.base.head<3>() += direct;
               }
+            } else {
+              for (std::size_t i = 0; i < nlights; ++i)
+                if (cosines[i] > 0.0f) rec.base.head<3>() += reflected(i, cosines[i]);
             }
             const Eigen::Vector3f sky = sh.ambient.cwiseProduct(albedo);
             if (sh.ambient_occlusion) {
