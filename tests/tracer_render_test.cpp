@@ -53,6 +53,41 @@ TEST(Renderer, SphereAppearsWhereThePinholeModelPutsIt) {
   EXPECT_NEAR(pixel(img, 50, 50)[0], expected_center, 0.01f);
 }
 
+// One shadow ray per sample, to one light chosen at random and weighted by 1/probability, must
+// average to the sum of all the lights: on a lone convex sphere nothing casts a shadow, so the
+// studio look with shadow rays must match, pixel for pixel up to noise, the same look with every
+// light evaluated unshadowed. A wrong probability weight would shift the mean by the ratio of
+// the lights' intensities (tens of percent); 256 spp leaves about 0.3 % of noise in the mean.
+TEST(Renderer, OneShadowRayToOneLightAveragesToAllLights) {
+  RenderOptions options;
+  options.width = 48;
+  options.height = 48;
+  options.samples_per_pixel = 256;
+  options.shading = look_preset("studio");
+  options.shading.ground = false;
+  options.shading.ambient_occlusion = false;
+  const Camera camera{{0.8, 0.6, 4.5}, {0, 0, 0}, {0, 1, 0}, 30.0};
+  const TriangleMesh sphere = uv_sphere(1.0, 192, 96);
+  const Image sampled = Renderer(sphere, options).render(camera);
+  options.shading.shadows = false;
+  const Image exact = Renderer(sphere, options).render(camera);
+  double sum_sampled = 0, sum_exact = 0;
+  int covered = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      if (pixel(exact, x, y)[3] < 1.0f) continue;  // the sphere's interior only
+      ++covered;
+      for (int c = 0; c < 3; ++c) {
+        sum_sampled += pixel(sampled, x, y)[c];
+        sum_exact += pixel(exact, x, y)[c];
+      }
+    }
+  ASSERT_GT(covered, 300);
+  EXPECT_NEAR(sum_sampled / sum_exact, 1.0, 0.01);
+  // Both are the same image up to noise: no region is systematically darker or brighter.
+  EXPECT_NEAR(pixel(sampled, 24, 24)[0], pixel(exact, 24, 24)[0], 0.05f * pixel(exact, 24, 24)[0] + 0.01f);
+}
+
 Camera studio_camera(int k) {
   const double a = 0.4 * k;
   return Camera{{4 * std::sin(a), 1.5, 4 * std::cos(a)}, {0, 0, 0}, {0, 1, 0}, 35.0};

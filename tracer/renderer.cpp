@@ -99,11 +99,12 @@ std::vector<Eigen::Vector3f> angle_weighted_normals(const std::vector<Eigen::Vec
 // Folding the shading into these three terms lets all secondary rays of a tile be traced in one
 // Embree call between shading and filtering.
 struct SampleRecord {
-  float film_x, film_y;  // position on the film, in pixels
+  float offset_x, offset_y;  // position inside its pixel, in [0, 1)
   Eigen::Vector4f base, with_light, with_sky;
   std::int32_t shadow_ray, sky_ray;  // index into the tile's secondary rays, or -1
 };
 
+// Per-thread buffers, reused from tile to tile: no allocation once the first tiles have run.
 struct Scratch {
   std::vector<RTCRayHit16> packets;
   std::vector<ValidMask> valid;
@@ -117,8 +118,42 @@ struct FrameLight {
   Eigen::Vector3f direction;  // towards the light
   Eigen::Vector3f tangent, bitangent;
   Eigen::Vector3f radiance;   // colour * intensity
-  float cos_half_angle;
+  float radiance_luminance;
+  float one_minus_cos_half_angle;  // the disc's solid angle / 2 pi
+  float cos_half_angle, sin_half_angle;
 };
+
+// sin and cos of 2 pi u for u in [0, 1]: quadrant reduction and short Taylor polynomials on
+// [-pi/4, pi/4] (error < 4e-7, far below what a 24-bit random number resolves). Cheaper than
+// libm's sincosf, and plain arithmetic, so every CPU and libm give the same bits.
+// The quadrant is random, so it selects through tables rather than branches (which would be
+// mispredicted half of the time).
+inline void sincos_turns(float u, float& s, float& c) {
+  // Rounded by truncation (u >= 0): std::nearbyint would save and restore the rounding mode.
+  const int quadrant = static_cast<int>(4.0f * u + 0.5f);  // 0..4
+  const float x = (u - 0.25f * static_cast<float>(quadrant)) * (2.0f * std::numbers::pi_v<float>);
+  const float x2 = x * x;
+  const float sin_x = x * (1.0f + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040))));
+  const float cos_x = 1.0f + x2 * (-0.5f + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320))));
+  static constexpr float kSinFromSin[4] = {1, 0, -1, 0}, kSinFromCos[4] = {0, 1, 0, -1};
+  const int q = quadrant & 3;
+  s = kSinFromSin[q] * sin_x + kSinFromCos[q] * cos_x;
+  c = kSinFromSin[q] * cos_x - kSinFromCos[q] * sin_x;
+}
+
+// Picks index i with probability weights[i] / total (total = the sum of the weights, > 0).
+std::size_t choose(const float* weights, std::size_t n, float total, float u) {
+  const float target = u * total;
+  float acc = 0.0f;
+  std::size_t last = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(weights[i] > 0.0f)) continue;
+    last = i;
+    acc += weights[i];
+    if (target < acc) return i;
+  }
+  return last;  // rounding left the target at the very top: the last light with a weight
+}
 
 }  // namespace
 
@@ -152,6 +187,26 @@ struct Renderer::Impl {
     if (!errors.message.empty()) throw RuntimeFailure(std::string(what) + ": " + errors.message);
   }
   Image render(const Camera& camera, std::uint64_t frame, RenderStats* stats, RayRecording* recording) const;
+
+  // Splats a tile's samples (stored pixel by pixel, rows of the tile) into its buffer, whose
+  // pixel (apron, apron) is the tile's first pixel.
+  template <int Reach>
+  void splat_tile(const Scratch& scratch, float* sums, int stride, int tile_w, int tile_h, int apron) const {
+    const int spp = options.samples_per_pixel;
+    std::size_t k = 0;
+    for (int y = 0; y < tile_h; ++y)
+      for (int x = 0; x < tile_w; ++x) {
+        PixelSplat<Reach> pixel;
+        for (int s = 0; s < spp; ++s, ++k) {
+          const SampleRecord& rec = scratch.samples[k];
+          Eigen::Vector4f v = rec.base;
+          if (rec.shadow_ray >= 0 && scratch.secondary[rec.shadow_ray].tfar >= 0.0f) v += rec.with_light;
+          if (rec.sky_ray >= 0 && scratch.secondary[rec.sky_ray].tfar >= 0.0f) v += rec.with_sky;
+          pixel.add(filter, rec.offset_x, rec.offset_y, Float4{v[0], v[1], v[2], v[3]});
+        }
+        pixel.flush(sums, stride, x + apron, y + apron);
+      }
+  }
 };
 
 Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -302,21 +357,48 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
     f.direction = d.normalized();
     basis(f.direction, f.tangent, f.bitangent);
     f.radiance = l.color * l.intensity;
-    f.cos_half_angle = static_cast<float>(std::cos(std::clamp(l.angular_diameter_deg, 0.0f, 90.0f) * std::numbers::pi / 360.0));
+    f.radiance_luminance = luminance(f.radiance);
+    const double half_angle = std::clamp(l.angular_diameter_deg, 0.0f, 90.0f) * std::numbers::pi / 360.0;
+    f.one_minus_cos_half_angle = 1.0f - static_cast<float>(std::cos(half_angle));
+    f.cos_half_angle = static_cast<float>(std::cos(half_angle));
+    f.sin_half_angle = static_cast<float>(std::sin(half_angle));
     lights.push_back(f);
   }
+  const std::size_t nlights = lights.size();
   // Blinn-Phong exponent from roughness (alpha = roughness^2, Walter et al.'s mapping n = 2/alpha^2 - 2),
   // normalised so that the highlight's energy stays the same as it widens.
   const float alpha = std::max(0.02f, mat.roughness * mat.roughness);
   const float shininess = std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f);
   const float spec_scale = 0.08f * mat.specular * (shininess + 8.0f) / 8.0f;
+  // Below this cosine the highlight is under 1e-4 of its peak: skip the pow().
+  const float spec_cutoff = std::pow(1e-4f, 1.0f / shininess);
   const bool has_ground = !ground_vertices.empty();
   // From below the ground the camera must see the model, not the ground's underside.
   const unsigned camera_mask = has_ground && eye.dot(up) > ground_height ? (kModelMask | kGroundMask) : kModelMask;
   const float eps = 1e-4f * scale;
   const float ao_length = sh.ao_distance * scale;
   const float model_radius = 0.5f * scale * 1.001f;  // bounding sphere around the box's centre (the origin)
+  const float ground_ao_reach2 = (model_radius + ao_length) * (model_radius + ao_length);
   const float pixel_angle = 2.0f * tan_half / static_cast<float>(height);  // texture filter footprint
+  const float inv_height = 1.0f / static_cast<float>(height);
+
+  // The ground is flat and the lights are fixed for the frame, so everything about its shading
+  // but the background colour and the visibility of the chosen light and the sky is known here:
+  // the ground shows the background, darkened by the share of light and sky the model takes
+  // away from it (a shadow catcher); transparent frames get the shadow as alpha.
+  float ground_weights[8] = {};
+  float ground_light_total = 0.0f;
+  for (std::size_t i = 0; i < nlights; ++i) {
+    ground_weights[i] = std::max(0.0f, up.dot(lights[i].direction)) * lights[i].radiance_luminance;
+    ground_light_total += ground_weights[i];
+  }
+  const float ground_sky = sh.ambient_occlusion || !sh.shadows ? luminance(sh.ambient) : 0.0f;
+  const float ground_total = ground_light_total + ground_sky;
+  const float ground_shadow = ground_total > 0.0f ? sh.ground_shadow : 0.0f;
+  const float ground_light_share = ground_total > 0.0f ? ground_shadow * ground_light_total / ground_total : 0.0f;
+  const float ground_sky_share = ground_total > 0.0f ? ground_shadow * ground_sky / ground_total : 0.0f;
+  Eigen::Vector3f up_t1, up_t2;  // the ground's tangents, for its occlusion rays
+  basis(up, up_t1, up_t2);
 
   const int spp = options.samples_per_pixel;
   int rows = static_cast<int>(std::sqrt(static_cast<double>(spp)));
@@ -328,17 +410,21 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   for (int j = 0; j < spp; ++j)
     strata[j] = Eigen::Vector2f(static_cast<float>(j % cols) / static_cast<float>(cols), static_cast<float>(j / cols) / static_cast<float>(rows));
   const Eigen::Vector2f stratum_size(1.0f / static_cast<float>(cols), 1.0f / static_cast<float>(rows));
-  auto stratum = [&](int j, float u, float v) { return Eigen::Vector2f(strata[j] + Eigen::Vector2f(u, v).cwiseProduct(stratum_size)); };
-  // Below this cosine the highlight is under 1e-4 of its peak: skip the pow().
-  const float spec_cutoff = std::pow(1e-4f, 1.0f / shininess);
+  auto stratum = [&](int j, rng::Uniform2 u) { return Eigen::Vector2f(strata[j] + Eigen::Vector2f(u.u, u.v).cwiseProduct(stratum_size)); };
+  // Camera ray through film position (fx, fy): corner + fx * step_x + fy * step_y, normalised.
+  const Eigen::Vector3f step_x = (2.0f * tan_half * aspect / static_cast<float>(width)) * right;
+  const Eigen::Vector3f step_y = (-2.0f * tan_half / static_cast<float>(height)) * cam_up;
+  const Eigen::Vector3f corner = forward - tan_half * aspect * right + tan_half * cam_up;
 
   const int tiles_x = (width + kTileSize - 1) / kTileSize, tiles_y = (height + kTileSize - 1) / kTileSize;
   const int ntiles = tiles_x * tiles_y;
   const int apron = filter.apron();
   const int buf_w = kTileSize + 2 * apron;
+  const std::size_t buf_floats = static_cast<std::size_t>(buf_w) * buf_w * 5;
   // Each tile splats its samples into its own buffer (with an apron for the filter's reach);
   // the buffers are summed afterwards in a fixed order, so no sum depends on thread timing.
-  std::vector<std::vector<float>> tile_sums(ntiles);
+  // One allocation for the frame; each tile clears its own part (in parallel, while it is hot).
+  const std::unique_ptr<float[]> tile_sums(new float[buf_floats * static_cast<std::size_t>(ntiles)]);
   if (recording) recording->tiles.assign((ntiles + recording->tile_stride - 1) / recording->tile_stride, {});
   std::atomic<std::uint64_t> primary_count{0}, secondary_count{0};
   tbb::enumerable_thread_specific<Scratch> scratch_per_thread;
@@ -369,16 +455,16 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
       std::size_t k = 0;
       for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
-          const std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
+          const std::uint64_t pixel_key = rng::pixel_key(frame, static_cast<std::uint64_t>(y) * width + x);
           for (int s = 0; s < spp; ++s, ++k) {
-            const rng::SampleStream r(frame, pixel, static_cast<std::uint64_t>(s));
-            const Eigen::Vector2f jitter = stratum(s, r.uniform(0), r.uniform(1));
+            const rng::SampleStream r(pixel_key, static_cast<std::uint64_t>(s));
+            const Eigen::Vector2f jitter = stratum(s, r.pair(0));
             const float fx = static_cast<float>(x) + jitter.x(), fy = static_cast<float>(y) + jitter.y();
-            const Eigen::Vector3f dir = (forward + (2.0f * fx / width - 1.0f) * tan_half * aspect * right +
-                                         (1.0f - 2.0f * fy / height) * tan_half * cam_up).normalized();
+            Eigen::Vector3f dir = corner + fx * step_x + fy * step_y;
+            dir *= 1.0f / std::sqrt(dir.squaredNorm());
             SampleRecord& rec = scratch.samples[k];
-            rec.film_x = fx;
-            rec.film_y = fy;
+            rec.offset_x = jitter.x();
+            rec.offset_y = jitter.y();
             RTCRayHit16& p = scratch.packets[k / kPacket];
             const std::size_t lane = k % kPacket;
             p.ray.org_x[lane] = eye.x();
@@ -397,8 +483,8 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
             p.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
           }
         }
-      for (std::size_t i = 0; i < npackets; ++i)
-        for (std::size_t lane = 0; lane < kPacket; ++lane) scratch.valid[i][lane] = i * kPacket + lane < nsamples ? -1 : 0;
+      for (std::size_t i = 0; i < npackets; ++i) scratch.valid[i].lanes.fill(-1);
+      for (std::size_t lane = nsamples - (npackets - 1) * kPacket; lane < kPacket; ++lane) scratch.valid[npackets - 1][lane] = 0;
       RayRecording::Tile* rec_tile = recording && tile % recording->tile_stride == 0 ? &recording->tiles[tile / recording->tile_stride] : nullptr;
       if (rec_tile) {
         rec_tile->packets = scratch.packets;
@@ -408,209 +494,204 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
         rtcIntersect16(scratch.valid[i].data(), scene.get(), &coherent, &scratch.packets[i]);
 
       // 2. Shading: everything but the visibility of the chosen light and of the sky.
-      std::vector<float> sums(static_cast<std::size_t>(buf_w) * buf_w * 5, 0.0f);
-      int x = x0, y = y0, s = 0;
-      std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
-      int light_shift = 0, sky_shift = 0;
-      for (k = 0; k < nsamples; ++k, ++s) {
-        if (s == spp) {  // next pixel (samples are stored pixel by pixel, rows of the tile)
-          s = 0;
-          if (++x == x1) x = x0, ++y;
-          pixel = static_cast<std::uint64_t>(y) * width + x;
-        }
-        if (s == 0) {
+      auto add_ray = [&](const Eigen::Vector3f& org, const Eigen::Vector3f& d, float tfar) {
+        RTCRay& ray = scratch.secondary.emplace_back();
+        ray.org_x = org.x();
+        ray.org_y = org.y();
+        ray.org_z = org.z();
+        ray.tnear = 0.0f;
+        ray.dir_x = d.x();
+        ray.dir_y = d.y();
+        ray.dir_z = d.z();
+        ray.time = 0.0f;
+        ray.tfar = tfar;
+        ray.mask = kModelMask | kGroundMask;
+        ray.id = 0;
+        ray.flags = 0;
+        return static_cast<std::int32_t>(scratch.secondary.size() - 1);
+      };
+      k = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
+          const std::uint64_t pixel_key = rng::pixel_key(frame, pixel);
           // The secondary rays' strata are shifted per pixel, so that they do not line up with
           // the camera-ray strata (a sample in the top row would always test the same light area).
-          const rng::SampleStream pr = rng::pixel_stream(frame, pixel);
-          light_shift = static_cast<int>(pr.bits(0) % static_cast<std::uint32_t>(spp));
-          sky_shift = static_cast<int>(pr.bits(1) % static_cast<std::uint32_t>(spp));
-        }
-        SampleRecord& rec = scratch.samples[k];
-        const RTCRayHit16& p = scratch.packets[k / kPacket];
-        const std::size_t lane = k % kPacket;
-        const rng::SampleStream r(frame, pixel, static_cast<std::uint64_t>(s));
-        rec.shadow_ray = rec.sky_ray = -1;
-        rec.with_light.setZero();
-        rec.with_sky.setZero();
-        const float t_bg = std::clamp(rec.film_y / height, 0.0f, 1.0f);
-        const Eigen::Vector3f bg = transparent ? Eigen::Vector3f::Zero()
-                                               : Eigen::Vector3f((1.0f - t_bg) * sh.background_top + t_bg * sh.background_bottom);
-        const unsigned geom = p.hit.geomID[lane];
-        if (geom == RTC_INVALID_GEOMETRY_ID) {
-          rec.base = Eigen::Vector4f(bg.x(), bg.y(), bg.z(), 0.0f);
-          continue;
-        }
-        const Eigen::Vector3f dir(p.ray.dir_x[lane], p.ray.dir_y[lane], p.ray.dir_z[lane]);
-        const float t = p.ray.tfar[lane];
-        const Eigen::Vector3f hit = eye + t * dir;
-        Eigen::Vector3f ng = Eigen::Vector3f(p.hit.Ng_x[lane], p.hit.Ng_y[lane], p.hit.Ng_z[lane]).normalized();
-        if (ng.dot(dir) > 0.0f) ng = -ng;  // two-sided: open scans show their inside
-        const Eigen::Vector3f org = hit + eps * ng;
-        // The random numbers of the secondary rays: stratified over the pixel's samples.
-        const int j_light = s + light_shift >= spp ? s + light_shift - spp : s + light_shift;
-        const int j_sky = s + sky_shift >= spp ? s + sky_shift - spp : s + sky_shift;
-        const Eigen::Vector2f u_light = stratum(j_light, r.uniform(2), r.uniform(3));
-        const Eigen::Vector2f u_sky = stratum(j_sky, r.uniform(4), r.uniform(5));
-        const float u_choice = r.uniform(6);
-
-        auto add_ray = [&](const Eigen::Vector3f& d, float tfar) {
-          RTCRay ray;
-          ray.org_x = org.x();
-          ray.org_y = org.y();
-          ray.org_z = org.z();
-          ray.tnear = 0.0f;
-          ray.dir_x = d.x();
-          ray.dir_y = d.y();
-          ray.dir_z = d.z();
-          ray.time = 0.0f;
-          ray.tfar = tfar;
-          ray.mask = kModelMask | kGroundMask;
-          ray.id = 0;
-          ray.flags = 0;
-          scratch.secondary.push_back(ray);
-          return static_cast<std::int32_t>(scratch.secondary.size() - 1);
-        };
-        auto light_direction = [&](const FrameLight& l) {
-          // Uniform over the light's disc (a spherical cap).
-          const float cos_t = 1.0f - u_light.x() * (1.0f - l.cos_half_angle);
-          const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
-          const float phi = 2.0f * std::numbers::pi_v<float> * u_light.y();
-          return Eigen::Vector3f(cos_t * l.direction + sin_t * (std::cos(phi) * l.tangent + std::sin(phi) * l.bitangent));
-        };
-        auto sky_direction = [&](const Eigen::Vector3f& n) {
-          // Cosine-weighted over the hemisphere: the fraction of unblocked rays is then exactly
-          // the occlusion of a diffuse surface's sky light.
-          Eigen::Vector3f t1, t2;
-          basis(n, t1, t2);
-          const float rad = std::sqrt(u_sky.x()), phi = 2.0f * std::numbers::pi_v<float> * u_sky.y();
-          return Eigen::Vector3f(rad * std::cos(phi) * t1 + rad * std::sin(phi) * t2 + std::sqrt(std::max(0.0f, 1.0f - u_sky.x())) * n);
-        };
-        // Picks one light with probability proportional to `weights` (its unshadowed contribution).
-        auto choose = [&](const float* weights, float total) {
-          float acc = 0.0f;
-          const float target = u_choice * total;
-          std::size_t i = 0;
-          for (; i + 1 < lights.size(); ++i) {
-            acc += weights[i];
-            if (target < acc && weights[i] > 0.0f) break;
-          }
-          while (weights[i] <= 0.0f && i > 0) --i;
-          return i;
-        };
-
-        float weights[8] = {};
-        if (geom == kGroundGeometry) {
-          // Shadow catcher: the ground shows the background, darkened by the share of light and
-          // sky the model takes away from it; transparent frames get the shadow as alpha.
-          float light_total = 0.0f;
-          for (std::size_t i = 0; i < lights.size(); ++i) {
-            weights[i] = std::max(0.0f, up.dot(lights[i].direction)) * luminance(lights[i].radiance);
-            light_total += weights[i];
-          }
-          const float sky = sh.ambient_occlusion || !sh.shadows ? luminance(sh.ambient) : 0.0f;
-          const float total = light_total + sky;
-          const float g = sh.ground_shadow;
-          rec.base = Eigen::Vector4f(bg.x() * (1.0f - g), bg.y() * (1.0f - g), bg.z() * (1.0f - g), transparent ? g : 0.0f);
-          if (!(total > 0.0f)) {
-            rec.base = Eigen::Vector4f(bg.x(), bg.y(), bg.z(), 0.0f);
-            continue;
-          }
-          const auto term = [&](float share) {
-            const float f = g * share / total;
-            return Eigen::Vector4f(bg.x() * f, bg.y() * f, bg.z() * f, transparent ? -f : 0.0f);
-          };
-          // Only the model casts shadows on the ground: a ray that misses the model's bounding
-          // sphere is known to be unblocked and is not traced (most of the visible ground).
-          auto may_hit_model = [&](const Eigen::Vector3f& d) {
-            const float b = org.dot(d), c = org.squaredNorm() - model_radius * model_radius;
-            return c < 0.0f || (b < 0.0f && b * b >= c);
-          };
-          if (light_total > 0.0f) {
-            const Eigen::Vector3f d = sh.shadows ? light_direction(lights[choose(weights, light_total)]) : up;
-            if (sh.shadows && may_hit_model(d)) {
-              rec.with_light = term(light_total);
-              rec.shadow_ray = add_ray(d, std::numeric_limits<float>::infinity());
-            } else {
-              rec.base += term(light_total);
+          const rng::SampleStream pr(pixel_key, ~0ULL);
+          const int light_shift = static_cast<int>(pr.bits(0) % static_cast<std::uint32_t>(spp));
+          const int sky_shift = static_cast<int>(pr.bits(1) % static_cast<std::uint32_t>(spp));
+          for (int s = 0; s < spp; ++s, ++k) {
+            SampleRecord& rec = scratch.samples[k];
+            const RTCRayHit16& p = scratch.packets[k / kPacket];
+            const std::size_t lane = k % kPacket;
+            rec.shadow_ray = rec.sky_ray = -1;
+            rec.with_light.setZero();
+            rec.with_sky.setZero();
+            const float t_bg = std::clamp((static_cast<float>(y) + rec.offset_y) * inv_height, 0.0f, 1.0f);
+            const Eigen::Vector3f bg = transparent ? Eigen::Vector3f::Zero()
+                                                   : Eigen::Vector3f((1.0f - t_bg) * sh.background_top + t_bg * sh.background_bottom);
+            const unsigned geom = p.hit.geomID[lane];
+            if (geom == RTC_INVALID_GEOMETRY_ID) {
+              rec.base = Eigen::Vector4f(bg.x(), bg.y(), bg.z(), 0.0f);
+              continue;
             }
-          }
-          if (sky > 0.0f) {
-            if (sh.ambient_occlusion && org.norm() - model_radius < ao_length) {
-              rec.with_sky = term(sky);
-              rec.sky_ray = add_ray(sky_direction(up), ao_length);
-            } else {
-              rec.base += term(sky);
-            }
-          }
-          continue;
-        }
+            const Eigen::Vector3f dir(p.ray.dir_x[lane], p.ray.dir_y[lane], p.ray.dir_z[lane]);  // unit length
+            const float t = p.ray.tfar[lane];
+            const Eigen::Vector3f hit = eye + t * dir;
+            Eigen::Vector3f ng(p.hit.Ng_x[lane], p.hit.Ng_y[lane], p.hit.Ng_z[lane]);
+            const float ng_len2 = ng.squaredNorm();
+            // Two-sided: open scans show their inside.
+            ng *= (ng.dot(dir) > 0.0f ? -1.0f : 1.0f) / (ng_len2 > 0.0f ? std::sqrt(ng_len2) : 1.0f);
+            const Eigen::Vector3f org = hit + eps * ng;
+            // The random numbers of the secondary rays: stratified over the pixel's samples.
+            const rng::SampleStream r(pixel_key, static_cast<std::uint64_t>(s));
+            const int j_light = s + light_shift >= spp ? s + light_shift - spp : s + light_shift;
+            const int j_sky = s + sky_shift >= spp ? s + sky_shift - spp : s + sky_shift;
+            // Each random number is drawn only where it is used (most of the ground needs none).
+            auto light_direction = [&](const FrameLight& l) {
+              // Uniform over the light's disc (a spherical cap).
+              const Eigen::Vector2f u_light = stratum(j_light, r.pair(1));
+              const float cos_t = 1.0f - u_light.x() * l.one_minus_cos_half_angle;
+              const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
+              float sin_phi, cos_phi;
+              sincos_turns(u_light.y(), sin_phi, cos_phi);
+              return Eigen::Vector3f(cos_t * l.direction + sin_t * (cos_phi * l.tangent + sin_phi * l.bitangent));
+            };
+            auto sky_direction = [&](const Eigen::Vector3f& n, const Eigen::Vector3f& t1, const Eigen::Vector3f& t2) {
+              // Cosine-weighted over the hemisphere: the fraction of unblocked rays is then exactly
+              // the occlusion of a diffuse surface's sky light.
+              const Eigen::Vector2f u_sky = stratum(j_sky, r.pair(2));
+              const float rad = std::sqrt(u_sky.x());
+              float sin_phi, cos_phi;
+              sincos_turns(u_sky.y(), sin_phi, cos_phi);
+              return Eigen::Vector3f(rad * cos_phi * t1 + rad * sin_phi * t2 + std::sqrt(std::max(0.0f, 1.0f - u_sky.x())) * n);
+            };
 
-        // The model.
-        const auto& tri = triangles[p.hit.primID[lane]];
-        const float bu = p.hit.u[lane], bv = p.hit.v[lane], bw = 1.0f - bu - bv;
-        Eigen::Vector3f n = bw * normals[tri[0]] + bu * normals[tri[1]] + bv * normals[tri[2]];
-        n = n.norm() > 0.0f ? n.normalized() : ng;
-        if (n.dot(dir) > 0.0f) n = -n;
-        Eigen::Vector3f albedo = mat.base_color;
-        if (!colors.empty()) albedo = bw * colors[tri[0]] + bu * colors[tri[1]] + bv * colors[tri[2]];
-        if (texture) {
-          const std::size_t prim = p.hit.primID[lane];
-          const Eigen::Vector2f uv = bw * corner_uvs[3 * prim] + bu * corner_uvs[3 * prim + 1] + bv * corner_uvs[3 * prim + 2];
-          // Isotropic footprint of one sample in texture space: the pixel's width at this
-          // distance, stretched by the slant, divided by sqrt(spp) because the samples already
-          // average over the pixel.
-          const float slant = std::max(0.2f, std::abs(ng.dot(dir)));
-          const float width_uv = uv_scale[prim] * t * pixel_angle / slant / std::sqrt(static_cast<float>(spp));
-          OIIO::TextureOpt opt;
-          float rgb[3] = {0, 0, 0};
-          // OBJ's v runs upwards; OpenImageIO's t runs down the image.
-          if (textures->texture(texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv, 3, rgb))
-            albedo = Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
-        }
-        const Eigen::Vector3f view = -dir;
-        Eigen::Vector3f direct = Eigen::Vector3f::Zero();
-        float light_total = 0.0f;
-        Eigen::Vector3f contribution[8];
-        for (std::size_t i = 0; i < lights.size(); ++i) {
-          const float cos_l = n.dot(lights[i].direction);
-          contribution[i].setZero();
-          if (cos_l <= 0.0f) continue;
-          const Eigen::Vector3f half = (lights[i].direction + view).normalized();
-          const float cos_h = n.dot(half);
-          const float spec = cos_h > spec_cutoff ? spec_scale * std::pow(cos_h, shininess) : 0.0f;
-          contribution[i] = lights[i].radiance.cwiseProduct(albedo + Eigen::Vector3f::Constant(spec)) * cos_l;
-          weights[i] = luminance(contribution[i]);
-          light_total += weights[i];
-          direct += contribution[i];
-        }
-        const Eigen::Vector3f sky = sh.ambient.cwiseProduct(albedo);
-        rec.base = Eigen::Vector4f(0.0f, 0.0f, 0.0f, 1.0f);
-        if (light_total > 0.0f) {
-          if (sh.shadows) {
-            // One shadow ray to one light, weighted by 1/probability: unbiased, and the light
-            // that matters most here gets most of the rays.
-            const std::size_t i = choose(weights, light_total);
-            const Eigen::Vector3f c = contribution[i] * (light_total / weights[i]);
-            rec.with_light = Eigen::Vector4f(c.x(), c.y(), c.z(), 0.0f);
-            rec.shadow_ray = add_ray(light_direction(lights[i]), std::numeric_limits<float>::infinity());
-          } else {
-            rec.base.head<3>() += direct;
+            if (geom == kGroundGeometry) {
+              // The background's share that reaches the camera without a ray's help (and, as alpha,
+              // the shadow that is certain); the shares whose rays are traced come back if unblocked.
+              float unshadowed = 1.0f - ground_shadow;
+              const auto term = [&](float f) {
+                return Eigen::Vector4f(bg.x() * f, bg.y() * f, bg.z() * f, transparent ? -f : 0.0f);
+              };
+              // Only the model casts shadows on the ground: a ray that misses the model's bounding
+              // sphere is known to be unblocked and is not traced (most of the visible ground).
+              auto may_hit_model = [&](const Eigen::Vector3f& d) {
+                const float b = org.dot(d), c = org.squaredNorm() - model_radius * model_radius;
+                return c < 0.0f || (b < 0.0f && b * b >= c);
+              };
+              // The same test for a light's whole disc, before sampling a direction in it: the cone
+              // around the light's centre misses the sphere when the angle between its axis and
+              // the sphere's centre exceeds the cone's half angle plus the sphere's angular radius.
+              const float dist2 = org.squaredNorm();
+              const float dist = std::sqrt(dist2);
+              const float sin_r = std::min(1.0f, model_radius / dist), cos_r = std::sqrt(1.0f - sin_r * sin_r);
+              auto disc_may_hit_model = [&](const FrameLight& l) {
+                if (dist2 <= model_radius * model_radius) return true;
+                const float cos_limit = l.cos_half_angle * cos_r - l.sin_half_angle * sin_r;  // cos(half angle + radius)
+                const float cos_axis = -org.dot(l.direction) / dist;
+                return cos_axis >= cos_limit - 1e-4f;  // margin for rounding
+              };
+              bool shadow_possible = false;  // from some light with a share of the ground's light
+              if (sh.shadows)
+                for (std::size_t i = 0; i < nlights && !shadow_possible; ++i)
+                  shadow_possible = ground_weights[i] > 0.0f && disc_may_hit_model(lights[i]);
+              if (ground_light_share > 0.0f) {
+                const FrameLight* l = shadow_possible ? &lights[choose(ground_weights, nlights, ground_light_total, r.pair(3).u)] : nullptr;
+                Eigen::Vector3f d;
+                if (l && disc_may_hit_model(*l) && may_hit_model(d = light_direction(*l))) {
+                  rec.with_light = term(ground_light_share);
+                  rec.shadow_ray = add_ray(org, d, std::numeric_limits<float>::infinity());
+                } else {
+                  unshadowed += ground_light_share;
+                }
+              }
+              if (ground_sky_share > 0.0f) {
+                // Beyond the AO length from the model's bounding sphere nothing can occlude the sky.
+                if (sh.ambient_occlusion && dist2 < ground_ao_reach2) {
+                  rec.with_sky = term(ground_sky_share);
+                  rec.sky_ray = add_ray(org, sky_direction(up, up_t1, up_t2), ao_length);
+                } else {
+                  unshadowed += ground_sky_share;
+                }
+              }
+              rec.base = Eigen::Vector4f(bg.x() * unshadowed, bg.y() * unshadowed, bg.z() * unshadowed,
+                                         transparent ? 1.0f - unshadowed : 0.0f);
+              continue;
+            }
+
+            // The model.
+            const std::size_t prim = p.hit.primID[lane];
+            const auto& tri = triangles[prim];
+            const float bu = p.hit.u[lane], bv = p.hit.v[lane], bw = 1.0f - bu - bv;
+            Eigen::Vector3f n = bw * normals[tri[0]] + bu * normals[tri[1]] + bv * normals[tri[2]];
+            const float n_len2 = n.squaredNorm();
+            n = n_len2 > 0.0f ? Eigen::Vector3f(n * (1.0f / std::sqrt(n_len2))) : ng;
+            if (n.dot(dir) > 0.0f) n = -n;
+            Eigen::Vector3f albedo = mat.base_color;
+            if (!colors.empty()) albedo = bw * colors[tri[0]] + bu * colors[tri[1]] + bv * colors[tri[2]];
+            if (texture) {
+              const Eigen::Vector2f uv = bw * corner_uvs[3 * prim] + bu * corner_uvs[3 * prim + 1] + bv * corner_uvs[3 * prim + 2];
+              // Isotropic footprint of one sample in texture space: the pixel's width at this
+              // distance, stretched by the slant, divided by sqrt(spp) because the samples already
+              // average over the pixel.
+              const float slant = std::max(0.2f, std::abs(ng.dot(dir)));
+              const float width_uv = uv_scale[prim] * t * pixel_angle / slant / std::sqrt(static_cast<float>(spp));
+              OIIO::TextureOpt opt;
+              float rgb[3] = {0, 0, 0};
+              // OBJ's v runs upwards; OpenImageIO's t runs down the image.
+              if (textures->texture(texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv, 3, rgb))
+                albedo = Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
+            }
+            const Eigen::Vector3f view = -dir;
+            // Unshadowed Blinn-Phong light from light i (cos_l = cosine of its incidence, > 0).
+            auto reflected = [&](std::size_t i, float cos_l) {
+              const Eigen::Vector3f half = lights[i].direction + view;
+              const float cos_h = n.dot(half) / std::sqrt(half.squaredNorm());
+              const float spec = cos_h > spec_cutoff ? spec_scale * std::pow(cos_h, shininess) : 0.0f;
+              return Eigen::Vector3f(lights[i].radiance.cwiseProduct(albedo + Eigen::Vector3f::Constant(spec)) * cos_l);
+            };
+            rec.base = Eigen::Vector4f(0.0f, 0.0f, 0.0f, 1.0f);
+            float cosines[8];
+            for (std::size_t i = 0; i < nlights; ++i) cosines[i] = n.dot(lights[i].direction);
+            if (sh.shadows) {
+              // One shadow ray to one light, chosen in proportion to the light it brings here
+              // unshadowed (its irradiance's luminance) and weighted by 1/probability: unbiased,
+              // and the light that matters most here gets most of the rays. Only the chosen
+              // light's reflection is evaluated.
+              float weights[8] = {};
+              float light_total = 0.0f;
+              for (std::size_t i = 0; i < nlights; ++i) {
+                weights[i] = cosines[i] > 0.0f ? cosines[i] * lights[i].radiance_luminance : 0.0f;
+                light_total += weights[i];
+              }
+              if (light_total > 0.0f) {
+                const std::size_t i = choose(weights, nlights, light_total, r.pair(3).u);
+                const Eigen::Vector3f c = reflected(i, cosines[i]) * (light_total / weights[i]);
+                rec.with_light = Eigen::Vector4f(c.x(), c.y(), c.z(), 0.0f);
+                rec.shadow_ray = add_ray(org, light_direction(lights[i]), std::numeric_limits<float>::infinity());
+              }
+            } else {
+              for (std::size_t i = 0; i < nlights; ++i)
+                if (cosines[i] > 0.0f) rec.base.head<3>() += reflected(i, cosines[i]);
+            }
+            const Eigen::Vector3f sky = sh.ambient.cwiseProduct(albedo);
+            if (sh.ambient_occlusion) {
+              rec.with_sky = Eigen::Vector4f(sky.x(), sky.y(), sky.z(), 0.0f);
+              Eigen::Vector3f t1, t2;
+              basis(n, t1, t2);
+              rec.sky_ray = add_ray(org, sky_direction(n, t1, t2), ao_length);
+            } else {
+              rec.base.head<3>() += sky;
+            }
+            // Extra layers: averaged over the pixel's own samples (no filter: they are data, not light).
+            if (!image.albedo.empty())
+              for (int c = 0; c < 3; ++c) image.albedo[pixel * 3 + c] += albedo[c] / static_cast<float>(spp);
+            if (!image.normal.empty())
+              for (int c = 0; c < 3; ++c) image.normal[pixel * 3 + c] += n[c];
+            if (!image.depth.empty()) image.depth[pixel] = std::min(image.depth[pixel], t * dir.dot(forward));
           }
         }
-        if (sh.ambient_occlusion) {
-          rec.with_sky = Eigen::Vector4f(sky.x(), sky.y(), sky.z(), 0.0f);
-          rec.sky_ray = add_ray(sky_direction(n), ao_length);
-        } else {
-          rec.base.head<3>() += sky;
-        }
-        // Extra layers: averaged over the pixel's own samples (no filter: they are data, not light).
-        const std::size_t pi = static_cast<std::size_t>(y) * width + x;
-        if (!image.albedo.empty())
-          for (int c = 0; c < 3; ++c) image.albedo[pi * 3 + c] += albedo[c] / static_cast<float>(spp);
-        if (!image.normal.empty())
-          for (int c = 0; c < 3; ++c) image.normal[pi * 3 + c] += n[c];
-        if (!image.depth.empty()) image.depth[pi] = std::min(image.depth[pi], t * dir.dot(forward));
-      }
       if (!image.normal.empty())
         for (int py = y0; py < y1; ++py)
           for (int px = x0; px < x1; ++px) {
@@ -627,14 +708,13 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
                       sizeof(RTCRay));
 
       // 4. Reconstruction filter: every sample is splatted onto the pixels within the radius.
-      for (k = 0; k < nsamples; ++k) {
-        const SampleRecord& rec = scratch.samples[k];
-        Eigen::Vector4f v = rec.base;
-        if (rec.shadow_ray >= 0 && scratch.secondary[rec.shadow_ray].tfar >= 0.0f) v += rec.with_light;
-        if (rec.sky_ray >= 0 && scratch.secondary[rec.sky_ray].tfar >= 0.0f) v += rec.with_sky;
-        filter.splat(rec.film_x - static_cast<float>(x0 - apron), rec.film_y - static_cast<float>(y0 - apron), v, sums.data(), buf_w);
+      float* sums = tile_sums.get() + buf_floats * static_cast<std::size_t>(tile);
+      std::fill(sums, sums + buf_floats, 0.0f);
+      switch (filter.reach()) {
+        case 0: splat_tile<0>(scratch, sums, buf_w, x1 - x0, y1 - y0, apron); break;
+        case 1: splat_tile<1>(scratch, sums, buf_w, x1 - x0, y1 - y0, apron); break;
+        default: splat_tile<2>(scratch, sums, buf_w, x1 - x0, y1 - y0, apron); break;
       }
-      tile_sums[tile] = std::move(sums);
       primary_count += nsamples;
       secondary_count += scratch.secondary.size();
     }
@@ -649,7 +729,8 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
           for (int tx = std::max(0, (x - apron) / kTileSize); tx <= std::min(tiles_x - 1, (x + apron) / kTileSize); ++tx) {
             const int bx = x - (tx * kTileSize - apron), by = y - (ty * kTileSize - apron);
             if (bx < 0 || by < 0 || bx >= buf_w || by >= buf_w) continue;
-            const float* src = &tile_sums[ty * tiles_x + tx][(static_cast<std::size_t>(by) * buf_w + bx) * 5];
+            const float* src = tile_sums.get() + buf_floats * static_cast<std::size_t>(ty * tiles_x + tx) +
+                               (static_cast<std::size_t>(by) * buf_w + bx) * 5;
             for (int c = 0; c < 5; ++c) acc[c] += src[c];
           }
         float* dst = &image.rgba[(static_cast<std::size_t>(y) * width + x) * 4];

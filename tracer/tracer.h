@@ -65,9 +65,9 @@ struct Shading {
 
 /// The named looks. "studio": key, fill and rim lights around the camera with soft shadows,
 /// ambient occlusion, a shadow-catching ground and a soft gradient. Per camera sample it traces
-/// one camera ray and, where that ray hits the model or the ground, one shadow ray towards one
-/// light (chosen in proportion to its unshadowed contribution at that point) and one ambient-
-/// occlusion ray: at most 3 rays per sample. "plain": even light from the camera's side, no
+/// one camera ray and, where that ray hits the model or the ground, at most one shadow ray towards
+/// one light (chosen in proportion to its unshadowed irradiance at that point) and at most one
+/// ambient-occlusion ray: at most 3 rays per sample (scenes/README.md has the details). "plain": even light from the camera's side, no
 /// shadows, no occlusion, no ground, a light background, for catalogues; one camera ray per sample.
 /// \throw InputError for another name.
 Shading look_preset(const std::string& name);
