@@ -279,7 +279,9 @@ AVPixelFormat encoder_pixel_format(VideoCodec codec) {
   switch (codec) {
     case VideoCodec::h264: return AV_PIX_FMT_YUV420P;
     case VideoCodec::prores: return AV_PIX_FMT_YUV422P10LE;
-    case VideoCodec::ffv1: return AV_PIX_FMT_GBRP;  // planar RGB: no colour conversion, so lossless
+    // Packed 8-bit RGB (bytes B, G, R, unused): FFV1's only 8-bit RGB layout. No colour
+    // conversion, so the archive is lossless.
+    case VideoCodec::ffv1: return AV_PIX_FMT_BGR0;
     case VideoCodec::vp9: return AV_PIX_FMT_YUV420P;
     case VideoCodec::gif: return AV_PIX_FMT_PAL8;
   }
@@ -612,17 +614,16 @@ struct VideoEncoder::Impl {
     int ret = av_frame_make_writable(frame.get());
     if (ret < 0) fail_libav("preparing frame " + std::to_string(frames), ret);
     if (options.codec == VideoCodec::ffv1) {
-      // GBRP planes: G, B, R. A plain copy, so the archive holds exactly the given pixels.
+      // A plain copy into B, G, R, 0 order, so the archive holds exactly the given pixels.
       const std::size_t width = static_cast<std::size_t>(options.width);
       for (int y = 0; y < options.height; ++y) {
         const std::uint8_t* src = rgb.data() + y * width * 3;
-        std::uint8_t* g = frame->data[0] + static_cast<std::ptrdiff_t>(y) * frame->linesize[0];
-        std::uint8_t* b = frame->data[1] + static_cast<std::ptrdiff_t>(y) * frame->linesize[1];
-        std::uint8_t* r = frame->data[2] + static_cast<std::ptrdiff_t>(y) * frame->linesize[2];
+        std::uint8_t* dst = frame->data[0] + static_cast<std::ptrdiff_t>(y) * frame->linesize[0];
         for (std::size_t x = 0; x < width; ++x) {
-          r[x] = src[3 * x];
-          g[x] = src[3 * x + 1];
-          b[x] = src[3 * x + 2];
+          dst[4 * x] = src[3 * x + 2];
+          dst[4 * x + 1] = src[3 * x + 1];
+          dst[4 * x + 2] = src[3 * x];
+          dst[4 * x + 3] = 0;
         }
       }
       return;
