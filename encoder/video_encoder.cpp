@@ -8,6 +8,7 @@ extern "C" {
 #include <libavfilter/buffersink.h>
 #include <libavfilter/buffersrc.h>
 #include <libavformat/avformat.h>
+#include <libavutil/cpu.h>
 #include <libavutil/dict.h>
 #include <libavutil/error.h>
 #include <libavutil/log.h>
@@ -252,6 +253,28 @@ void validate(const fs::path& output, const VideoOptions& o) {
     throw IoError("output directory " + quoted(dir) + " is not writable; cannot write " + quoted(output));
 }
 
+// The SIMD code x264 may use, named as its "asm" option expects. Left to itself x264 picks every
+// extension the CPU has, and its output is not the same for all of them: measured with x264
+// 0.164 (Debian 12), plain SSE2 gives other bytes than SSSE3 .. AVX2 (which all agree), and its
+// AVX-512 code reads memory it never wrote, so on an AVX-512 CPU the same frames gave different
+// files from run to run (MALLOC_PERTURB_ changed them). Capping at AVX2 gives the same bytes on
+// every x86-64 CPU with SSSE3 (all since about 2011). Empty on other architectures: x264 decides.
+std::string x264_cpu_features() {
+#if defined(__x86_64__) || defined(__i386__)
+  const int cpu = av_get_cpu_flags();
+  std::string list = "MMX2,SSE2,SSE2Fast";
+  const std::pair<int, const char*> extensions[] = {
+      {AV_CPU_FLAG_SSE3, "SSE3"}, {AV_CPU_FLAG_SSSE3, "SSSE3"}, {AV_CPU_FLAG_SSE4, "SSE4.1"},
+      {AV_CPU_FLAG_SSE42, "SSE4.2"}, {AV_CPU_FLAG_AVX, "AVX"}, {AV_CPU_FLAG_FMA3, "FMA3"},
+      {AV_CPU_FLAG_AVX2, "AVX2"}, {AV_CPU_FLAG_BMI1, "BMI1"}, {AV_CPU_FLAG_BMI2, "BMI2"}};
+  for (const auto& [flag, name] : extensions)
+    if (cpu & flag) (list += ",") += name;
+  return list;
+#else
+  return {};
+#endif
+}
+
 const AVCodec* find_h264_encoder() {
   if (const AVCodec* c = avcodec_find_encoder_by_name("libx264")) return c;
   // Some FFmpeg builds leave out libx264 (GPL); any other H.264 encoder still gives a valid file.
@@ -319,6 +342,7 @@ struct VideoEncoder::Impl {
   FramePtr frame;
   PacketPtr packet;
   SwsPtr sws;
+  FramePtr rgb_input;  // padded copy of the caller's RGB, what swscale reads
   // GIF only: RGB frames -> palettegen/paletteuse -> PAL8 frames for the encoder.
   FilterGraphPtr graph;
   AVFilterContext* source = nullptr;  // owned by `graph`
@@ -384,6 +408,8 @@ struct VideoEncoder::Impl {
         if (std::string_view(encoder->name) == "libx264") {
           set_private("crf", std::to_string(crf));
           set_private("preset", options.preset);
+          if (const std::string features = x264_cpu_features(); !features.empty())
+            set_private("x264-params", "asm=" + features);
         }
         // Other H.264 encoders (fallback only) have their own rate control options; their
         // defaults are used rather than guessing at option names.
@@ -491,7 +517,20 @@ struct VideoEncoder::Impl {
     frame->color_range = codec->color_range;
     ret = av_frame_get_buffer(frame.get(), 0);
     if (ret < 0) fail_libav("allocating the encoder's frame", ret);
+    zero_buffers(*frame);
     if (options.codec == VideoCodec::ffv1) return;  // RGB is copied into planes, no conversion
+
+    // swscale's SIMD code reads up to 16 bytes past the end of its input rows (valgrind shows
+    // it). Reading past the caller's vector would make the output depend on whatever lies
+    // there, so frames are copied into a padded, zeroed buffer first.
+    rgb_input.reset(av_frame_alloc());
+    if (!rgb_input) fail_libav("allocating frame buffers", AVERROR(ENOMEM));
+    rgb_input->format = AV_PIX_FMT_RGB24;
+    rgb_input->width = options.width;
+    rgb_input->height = options.height;
+    ret = av_frame_get_buffer(rgb_input.get(), 64);
+    if (ret < 0) fail_libav("allocating the RGB input frame", ret);
+    zero_buffers(*rgb_input);
 
     // SWS_ACCURATE_RND | SWS_BITEXACT: exact rounding, and the same result with or without SIMD,
     // so the output bytes do not depend on the CPU.
@@ -542,6 +581,18 @@ struct VideoEncoder::Impl {
     if (ret < 0) fail_libav("configuring the GIF palette filter", ret);
     filtered.reset(av_frame_alloc());
     if (!filtered) fail_libav("allocating frame buffers", AVERROR(ENOMEM));
+  }
+
+  // Packed RGB rows into a frame whose rows may be longer (aligned).
+  void copy_rows(std::span<const std::uint8_t> rgb, AVFrame& dst) const {
+    const std::size_t row = static_cast<std::size_t>(options.width) * 3;
+    for (int y = 0; y < options.height; ++y)
+      std::memcpy(dst.data[0] + static_cast<std::ptrdiff_t>(y) * dst.linesize[0], rgb.data() + y * row, row);
+  }
+
+  static void zero_buffers(AVFrame& f) {
+    for (int plane = 0; plane < AV_NUM_DATA_POINTERS && f.buf[plane]; ++plane)
+      std::memset(f.buf[plane]->data, 0, f.buf[plane]->size);
   }
 
   void require_open(const char* call) const {
@@ -600,9 +651,8 @@ struct VideoEncoder::Impl {
     input->height = options.height;
     int ret = av_frame_get_buffer(input.get(), 0);
     if (ret < 0) fail_libav("allocating frame " + std::to_string(frames), ret);
-    const std::size_t row = static_cast<std::size_t>(options.width) * 3;
-    for (int y = 0; y < options.height; ++y)
-      std::memcpy(input->data[0] + static_cast<std::ptrdiff_t>(y) * input->linesize[0], rgb.data() + y * row, row);
+    zero_buffers(*input);  // the filters' own pixel conversion reads into the row padding too
+    copy_rows(rgb, *input);
     input->pts = frames;
     ret = av_buffersrc_add_frame_flags(source, input.get(), 0);  // takes over the buffer
     if (ret < 0) fail_libav("sending frame " + std::to_string(frames) + " to the GIF palette filter", ret);
@@ -628,9 +678,8 @@ struct VideoEncoder::Impl {
       }
       return;
     }
-    const std::uint8_t* src[1] = {rgb.data()};
-    const int src_stride[1] = {options.width * 3};
-    sws_scale(sws.get(), src, src_stride, 0, options.height, frame->data, frame->linesize);
+    copy_rows(rgb, *rgb_input);
+    sws_scale(sws.get(), rgb_input->data, rgb_input->linesize, 0, options.height, frame->data, frame->linesize);
   }
 
   void add_frame(std::span<const std::uint8_t> rgb) {

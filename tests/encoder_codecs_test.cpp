@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <thread>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -228,6 +230,34 @@ TEST(EncoderCodecOptions, NamesParse) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("h264, prores, ffv1, vp9, gif"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace meshtour
+
+namespace meshtour {
+namespace {
+
+// The frames of a farm encode or a tour arrive slowly (each one is read or rendered first), those
+// of the tests above all at once; encoder threads must not make the bytes depend on that timing.
+TEST_P(EncoderCodecs, SlowlyFedFramesGiveSameBytes) {
+  const Expected& expected = GetParam();
+  const fs::path dir = scratch_dir();
+  // Large enough for x264 to use all its threads (it drops to fewer on frames a few macroblock rows high).
+  VideoOptions o = options_for(expected.codec);
+  o.width = 320;
+  o.height = 240;
+  const auto fast = read_bytes(encode(dir, "fast", o, 16));
+  const fs::path slow = dir / ("slow" + std::string(video_codec_info(o.codec).extension));
+  {
+    VideoEncoder encoder(slow, o);
+    for (int i = 0; i < 16; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(i % 3 == 0 ? 40 : 1));
+      encoder.add_frame(make_frame(i, o.width, o.height));
+    }
+    encoder.finish();
+  }
+  EXPECT_TRUE(fast == read_bytes(slow)) << expected.decoder_name << ": bytes depend on how fast frames arrive";
 }
 
 }  // namespace
