@@ -4,7 +4,8 @@
 // appears under its final name only when finish() succeeds, so a crash or an error never leaves a
 // half-written video behind. Every encoder setting, its thread count included, follows from
 // VideoOptions alone: the same frames and options give the same file bytes on any machine with
-// the same libraries.
+// the same libraries (for H.264, any x86-64 CPU with SSSE3: x264's SIMD is capped at AVX2, since
+// its output differs below SSSE3 and its AVX-512 code reads uninitialised memory).
 #include <cstdint>
 #include <filesystem>
 #include <memory>
