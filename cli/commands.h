@@ -9,6 +9,7 @@ namespace meshtour::cli {
 
 void add_tour_command(CLI::App& app);  // mesh or scene in, video out
 void add_path_command(CLI::App& app);  // the camera path of a mesh, as JSON (+ plot, debug PLYs)
+void add_encode_command(CLI::App& app);  // a frames directory in, video out (H.264, ProRes, FFV1, VP9, GIF)
 
 /// Thrown by throw_if_interrupted() after SIGINT or SIGTERM, so that destructors remove partial
 /// outputs on the way out; main() exits with 130.

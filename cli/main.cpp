@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   meshtour::cli::add_tour_command(app);
   meshtour::cli::add_path_command(app);
+  meshtour::cli::add_encode_command(app);
 
   try {
     app.parse(argc, argv);

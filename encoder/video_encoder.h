@@ -1,28 +1,61 @@
 #pragma once
-// H.264/MP4 video writer on libavcodec/libavformat/libswscale (no ffmpeg subprocess).
-// Frames go in as 8-bit sRGB RGB; the file appears under its final name only when finish()
-// succeeds, so a crash or an error never leaves a half-written video behind.
+// Video writer on libavcodec/libavformat/libswscale/libavfilter (no ffmpeg subprocess): H.264
+// MP4, ProRes MOV, FFV1 MKV, VP9 WebM or animated GIF. Frames go in as 8-bit sRGB RGB; the file
+// appears under its final name only when finish() succeeds, so a crash or an error never leaves a
+// half-written video behind. Every encoder setting, its thread count included, follows from
+// VideoOptions alone: the same frames and options give the same file bytes on any machine with
+// the same libraries (for H.264, any x86-64 CPU with SSSE3: x264's SIMD is capped at AVX2, since
+// its output differs below SSSE3 and its AVX-512 code reads uninitialised memory).
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 
 namespace meshtour {
 
-struct VideoOptions {
-  int width = 0;               ///< pixels; must be even (yuv420p)
-  int height = 0;              ///< pixels; must be even (yuv420p)
-  int fps = 30;                ///< constant frame rate, frames per second
-  int crf = 18;                ///< x264 constant rate factor: 0 lossless .. 51 worst; 18 is visually lossless
-  std::string preset = "medium";  ///< x264 speed preset (ultrafast .. veryslow)
+enum class VideoCodec { h264, prores, ffv1, vp9, gif };
+
+/// What a codec is for and how it is stored; one row per codec, for option checks and help texts.
+struct VideoCodecInfo {
+  VideoCodec codec;
+  std::string_view name;         ///< option value: "h264", "prores", ...
+  std::string_view extension;    ///< the output file's extension, with the dot: ".mp4"
+  std::string_view container;    ///< for people: "MP4", "QuickTime MOV", ...
+  std::string_view format;       ///< what is stored: "H.264 High, yuv420p BT.709, crf"
+  std::string_view use;          ///< what it is good for
+  bool lossless;                 ///< decodes to exactly the frames given
+  bool takes_crf;                ///< whether VideoOptions::crf applies
+  int crf_min, crf_max, crf_default;  ///< when takes_crf
+  bool needs_even_size;          ///< chroma subsampling: width and height must be even
 };
 
-/// Writes one MP4 file. Not copyable; the destructor discards an unfinished file.
+/// The codecs, in help-text order (h264 first: the default).
+std::span<const VideoCodecInfo> video_codecs();
+const VideoCodecInfo& video_codec_info(VideoCodec codec);
+/// \throw InputError for an unknown name, listing the known ones.
+VideoCodec parse_video_codec(std::string_view name);
+
+struct VideoOptions {
+  int width = 0;               ///< pixels; even for h264, prores, vp9 (chroma subsampling)
+  int height = 0;              ///< pixels; even for h264, prores, vp9
+  int fps = 30;                ///< constant frame rate, frames per second
+  VideoCodec codec = VideoCodec::h264;
+  /// Constant rate factor, lower is better: h264 0..51 (default 18, visually lossless), vp9
+  /// 0..63 (default 31). Unset: the codec's default. Setting it for prores, ffv1 or gif is an
+  /// InputError (ProRes has a fixed profile, FFV1 is lossless, GIF is palette-limited).
+  std::optional<int> crf;
+  std::string preset = "medium";  ///< x264 speed preset (ultrafast .. veryslow); h264 only
+};
+
+/// Writes one video file. Not copyable; the destructor discards an unfinished file.
 class VideoEncoder {
 public:
   /// Opens the encoder and a temporary file next to `output`.
-  /// \throw InputError for bad options (odd size, fps or crf out of range, unknown preset),
+  /// \throw InputError for bad options (odd size where the codec needs even sizes, fps or crf out
+  ///        of range, unknown preset, an output extension that does not match the codec),
   ///        IoError if the output directory is not writable, RuntimeFailure if libav fails.
   VideoEncoder(const std::filesystem::path& output, const VideoOptions& options);
   ~VideoEncoder();
@@ -32,6 +65,7 @@ public:
   /// Appends one frame: width*height*3 bytes, rows top to bottom, RGB order, sRGB-encoded.
   /// \throw InputError if the size is wrong, RuntimeFailure if encoding fails, IoError if writing
   ///        fails. After a RuntimeFailure/IoError the file is discarded and the encoder is unusable.
+  /// GIF keeps every frame until finish() (its palette is computed over the whole clip).
   void add_frame(std::span<const std::uint8_t> rgb);
 
   /// Flushes the encoder, writes the trailer and moves the file to its final name.

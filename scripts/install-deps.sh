@@ -10,6 +10,7 @@ packages=(
   openimageio-tools                         # OpenImageIO's CMake config refers to its tools (iconvert, ...)
   libopenmesh-dev libeigen3-dev             # pathgen: mesh I/O and linear algebra
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video encoder
+  libavfilter-dev                           # video encoder: the GIF palette (palettegen, paletteuse)
   nlohmann-json3-dev libcli11-dev           # scene/path files, command line
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   ffmpeg                                    # ffprobe, used by tests as an independent reader

@@ -37,18 +37,37 @@ struct SwsDeleter {
   throw std::runtime_error("probe_video('" + file.string() + "'): " + what + ": " + buf.data());
 }
 
-// Converts one decoded frame to packed RGB24, reading it as BT.709 limited range (what the encoder
-// writes) and producing full-range RGB.
+// Converts one decoded frame to packed RGB24, reading YUV as BT.709 limited range (what the encoder
+// writes) and producing full-range RGB; RGB and palette frames are only repacked.
 std::vector<std::uint8_t> to_rgb(const std::filesystem::path& file, const AVFrame& frame) {
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(frame.width) * frame.height * 3);
+  if (frame.format == AV_PIX_FMT_BGR0 || frame.format == AV_PIX_FMT_GBRP) {
+    // RGB from a lossless codec (FFV1): repacked by hand, so its pixels come back exactly.
+    const bool planar = frame.format == AV_PIX_FMT_GBRP;
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x) {
+        std::uint8_t* p = &rgb[(static_cast<std::size_t>(y) * frame.width + x) * 3];
+        if (planar) {
+          p[0] = frame.data[2][y * frame.linesize[2] + x];
+          p[1] = frame.data[0][y * frame.linesize[0] + x];
+          p[2] = frame.data[1][y * frame.linesize[1] + x];
+        } else {
+          const std::uint8_t* q = frame.data[0] + y * frame.linesize[0] + 4 * x;
+          p[0] = q[2], p[1] = q[1], p[2] = q[0];
+        }
+      }
+    return rgb;
+  }
   std::unique_ptr<SwsContext, SwsDeleter> sws(sws_getContext(
       frame.width, frame.height, static_cast<AVPixelFormat>(frame.format), frame.width, frame.height,
       AV_PIX_FMT_RGB24, SWS_BICUBIC | SWS_ACCURATE_RND | SWS_BITEXACT | SWS_FULL_CHR_H_INT, nullptr,
       nullptr, nullptr));
   if (!sws) fail(file, "no converter from the decoded pixel format to RGB", AVERROR(EINVAL));
   const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
-  if (sws_setColorspaceDetails(sws.get(), bt709, 0, bt709, 1, 0, 1 << 16, 1 << 16) < 0)
+  const AVPixFmtDescriptor* desc = av_pix_fmt_desc_get(static_cast<AVPixelFormat>(frame.format));
+  const bool yuv = desc && !(desc->flags & (AV_PIX_FMT_FLAG_RGB | AV_PIX_FMT_FLAG_PAL));
+  if (yuv && sws_setColorspaceDetails(sws.get(), bt709, 0, bt709, 1, 0, 1 << 16, 1 << 16) < 0)
     fail(file, "BT.709 conversion unsupported", AVERROR(ENOSYS));
-  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(frame.width) * frame.height * 3);
   std::uint8_t* dst[1] = {rgb.data()};
   const int dst_stride[1] = {frame.width * 3};
   sws_scale(sws.get(), frame.data, frame.linesize, 0, frame.height, dst, dst_stride);

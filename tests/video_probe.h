@@ -1,5 +1,5 @@
 #pragma once
-// An MP4 reader for tests, written directly on libavformat/libavcodec, independent of the encoder.
+// A video reader for tests (MP4, MOV, MKV, WebM, GIF), written directly on libavformat/libavcodec, independent of the encoder.
 #include <cstdint>
 #include <filesystem>
 #include <string>

@@ -169,7 +169,8 @@ double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Ei
 
 /// Writes `image` by extension: ".png" as 8-bit sRGB (RGBA when the image is transparent),
 /// tone mapped; ".exr" as half-float linear RGBA plus the image's extra layers (Z as float),
-/// with the camera and render settings in the header.
+/// with the camera and render settings in the header, and the display transform of the PNG
+/// (meshtour:exposure, meshtour:toneMapping "filmic" or "clamp") for turning it into video.
 /// The file is written under a temporary name and renamed, so it is either complete or absent.
 /// \throw InputError for an unknown extension, IoError if the file cannot be written.
 void write_image(const Image& image, const std::filesystem::path& file);

@@ -1,0 +1,277 @@
+// Tests for `meshtour encode`: a frames directory written here (small PNG/EXR frames and the
+// manifest) is encoded by the real executable and the video read back with the test decoder.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "helpers.h"
+#include "jobs/frame_dir.h"
+#include "tracer/tracer.h"
+#include "video_probe.h"
+
+namespace meshtour {
+namespace {
+
+namespace fs = std::filesystem;
+using test::probe_video;
+using test::run_meshtour;
+using test::scratch_dir;
+
+constexpr int kWidth = 64;
+constexpr int kHeight = 48;
+constexpr int kFrames = 10;
+constexpr int kFps = 25;
+
+// Distinct, smooth frames: a wave sliding 3 px per frame over vertical and diagonal ramps.
+std::vector<std::uint8_t> make_frame(int index, int width = kWidth, int height = kHeight) {
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * height * 3);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      std::uint8_t* p = &rgb[(static_cast<std::size_t>(y) * width + x) * 3];
+      p[0] = static_cast<std::uint8_t>(std::lround(120 + 80 * std::sin(2 * 3.14159265358979 * (x + 3.0 * index) / width)));
+      p[1] = static_cast<std::uint8_t>(50 + 120 * y / height);
+      p[2] = static_cast<std::uint8_t>(200 - 100 * (x + y) / (width + height));
+    }
+  return rgb;
+}
+
+void write_png(const fs::path& file, const std::vector<std::uint8_t>& rgb, int width = kWidth, int height = kHeight) {
+  auto out = OIIO::ImageOutput::create(file.string());
+  ASSERT_TRUE(out);
+  const OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  ASSERT_TRUE(out->open(file.string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb.data()));
+  ASSERT_TRUE(out->close());
+}
+
+// kFrames PNG frames and, unless `manifest` is false, the manifest `render` would write.
+fs::path make_frames_dir(const fs::path& dir, bool manifest = true) {
+  fs::create_directories(dir);
+  for (int k = 0; k < kFrames; ++k) write_png(frame_file(dir, k, "png"), make_frame(k));
+  if (manifest) {
+    FrameDirInfo info;
+    info.frame_count = kFrames;
+    info.fps = kFps;
+    info.width = kWidth;
+    info.height = kHeight;
+    info.image_formats = {"png"};
+    info.source = "test";
+    write_frame_dir_info(dir, info);
+  }
+  return dir;
+}
+
+std::vector<char> read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::string> entries(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  return names;
+}
+
+// Quoted for the shell. (Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "'" + std::string.)
+std::string q(const fs::path& p) {
+  std::string quoted = "'";
+  quoted += p.string();
+  quoted += "'";
+  return quoted;
+}
+
+TEST(CliEncode, EncodesTheManifestsRangeAtItsRate) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = make_frames_dir(root / "frames");
+  const fs::path out = root / "out";
+  fs::create_directory(out);
+  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.mp4"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Progress on stderr, frames done of total, then a summary.
+  EXPECT_NE(r.output.find("encoded frame 10/10"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wrote"), std::string::npos) << r.output;
+  const auto probe = probe_video(out / "tour.mp4");
+  EXPECT_EQ(probe.codec, "h264");
+  EXPECT_EQ(probe.decoded_frames, kFrames);
+  EXPECT_EQ(probe.width, kWidth);
+  EXPECT_EQ(probe.height, kHeight);
+  EXPECT_NEAR(probe.fps, kFps, 1e-9);
+  EXPECT_EQ(entries(out), std::vector<std::string>{"tour.mp4"});
+}
+
+TEST(CliEncode, LosslessArchiveHoldsTheFramesExactly) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = make_frames_dir(root / "frames");
+  // The codec follows from the extension; --frames picks a stepped sub-range.
+  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(root / "a.mkv") + " --frames 1-9:2 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(r.output.empty()) << "-q printed: " << r.output;
+  const auto probe = probe_video(root / "a.mkv", {0, 4});
+  EXPECT_EQ(probe.codec, "ffv1");
+  EXPECT_EQ(probe.decoded_frames, 5);
+  EXPECT_TRUE(probe.rgb_frames[0] == make_frame(1));
+  EXPECT_TRUE(probe.rgb_frames[1] == make_frame(9));
+}
+
+TEST(CliEncode, MissingFramesAreAllNamedAndNothingIsWritten) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = make_frames_dir(root / "frames");
+  for (int k : {3, 4, 7}) fs::remove(frame_file(frames, k, "png"));
+  const fs::path out = root / "out";
+  fs::create_directory(out);
+  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.mp4"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("3 of 10 missing (3-4,7"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frame_000003.png"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--frames 3-4,7"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one error line expected: " << r.output;
+  EXPECT_TRUE(fs::is_empty(out));
+
+  // A range without the missing frames encodes.
+  const auto ok = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.mp4") + " --frames 0-2,5-6,8-9 -q");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_EQ(probe_video(out / "tour.mp4").decoded_frames, 7);
+}
+
+TEST(CliEncode, CorruptAndWronglySizedFramesAreNamed) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = make_frames_dir(root / "frames");
+  std::ofstream(frame_file(frames, 5, "png"), std::ios::binary) << "this is not a PNG";
+  write_png(frame_file(frames, 8, "png"), make_frame(8, 32, 24), 32, 24);
+  const fs::path out = root / "out";
+  fs::create_directory(out);
+  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.webm"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("1 unreadable (5; frame_000005.png"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1 not 64x48 (8; frame_000008.png is 32x24)"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_empty(out));
+}
+
+TEST(CliEncode, ExtensionMustMatchTheCodec) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = make_frames_dir(root / "frames");
+  auto r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.mp4") + " --codec ffv1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("name the file *.mkv"), std::string::npos) << r.output;
+  r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.avi"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(".webm (vp9)"), std::string::npos) << r.output;
+  r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.gif") + " --crf 20");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("crf does not apply to gif"), std::string::npos) << r.output;
+  EXPECT_EQ(entries(root), std::vector<std::string>{"frames"});
+}
+
+TEST(CliEncode, WithoutManifestTheRangeMustBeGiven) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = make_frames_dir(root / "frames", /*manifest=*/false);
+  auto r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.mp4"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("give it with --frames"), std::string::npos) << r.output;
+  r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.mp4") + " --frames 0-9 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto probe = probe_video(root / "tour.mp4");
+  EXPECT_EQ(probe.decoded_frames, kFrames);
+  EXPECT_NEAR(probe.fps, 30, 1e-9);  // the default rate without a manifest
+  // A range past the frames on disk names them as missing.
+  r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.mp4") + " --frames 0-11");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("2 of 12 missing (10-11"), std::string::npos) << r.output;
+}
+
+// EXR frames get the tracer's display transform (from their header): the lossless video of the
+// EXR frames matches that of the PNG frames of the same images to within half-float rounding.
+TEST(CliEncode, ExrFramesLookLikeThePngFrames) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = root / "frames";
+  fs::create_directory(frames);
+  for (int k = 0; k < 3; ++k) {
+    Image image;
+    image.width = kWidth;
+    image.height = kHeight;
+    image.exposure = 0.5f;
+    image.tone_mapping = ToneMapping::filmic;
+    image.rgba.resize(static_cast<std::size_t>(kWidth) * kHeight * 4);
+    for (int p = 0; p < kWidth * kHeight; ++p) {
+      const float x = static_cast<float>(p % kWidth) / kWidth, y = static_cast<float>(p / kWidth) / kHeight;
+      image.rgba[p * 4 + 0] = 3.0f * x * x + 0.1f * k;  // up to 3: the filmic shoulder matters
+      image.rgba[p * 4 + 1] = 0.5f * y;
+      image.rgba[p * 4 + 2] = 0.02f + 0.2f * x * y;
+      image.rgba[p * 4 + 3] = 1.0f;
+    }
+    write_image(image, frame_file(frames, k, "png"));
+    write_image(image, frame_file(frames, k, "exr"));
+  }
+  FrameDirInfo info;
+  info.frame_count = 3;
+  info.fps = kFps;
+  info.width = kWidth;
+  info.height = kHeight;
+  info.image_formats = {"png", "exr"};
+  write_frame_dir_info(frames, info);
+
+  ASSERT_EQ(run_meshtour("encode " + q(frames) + " -o " + q(root / "png.mkv") + " -q").exit_code, 0);
+  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(root / "exr.mkv") + " --input-format exr -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto png = probe_video(root / "png.mkv", {0, 2});
+  const auto exr = probe_video(root / "exr.mkv", {0, 2});
+  for (int f = 0; f < 2; ++f) {
+    int max_diff = 0;
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < png.rgb_frames[f].size(); ++i) {
+      const int d = std::abs(png.rgb_frames[f][i] - exr.rgb_frames[f][i]);
+      max_diff = std::max(max_diff, d);
+      differing += d != 0;
+    }
+    EXPECT_LE(max_diff, 1) << "frame " << f;
+    EXPECT_LT(differing, png.rgb_frames[f].size() / 10) << "frame " << f;
+  }
+  // Overriding the header's exposure changes the picture, so the header was read.
+  ASSERT_EQ(run_meshtour("encode " + q(frames) + " -o " + q(root / "dark.mkv") + " --input-format exr --exposure 0 -q").exit_code, 0);
+  EXPECT_FALSE(probe_video(root / "dark.mkv", {0}).rgb_frames[0] == exr.rgb_frames[0]);
+}
+
+// What `tour` encodes as it renders and what `encode` makes of the frames `tour` kept are the
+// same file: a farm's frames give the single machine's video. (This caught x264's AVX-512 code
+// reading memory it never wrote: the bytes then depended on the process's heap. 160x120 and 10
+// frames were needed to show it; 64x48 did not.)
+TEST(CliEncode, SameBytesAsTheTourThatRenderedTheFrames) {
+  const fs::path root = scratch_dir();
+  const auto tour = run_meshtour("tour -q --frames 10 --width 160 --height 120 --spp 1 --path turntable --frames-dir " +
+                                 q(root / "frames") + " -o " + q(root / "tour.mp4"));
+  ASSERT_EQ(tour.exit_code, 0) << tour.output;
+  const auto r = run_meshtour("encode " + q(root / "frames") + " --frames 0-9 -o " + q(root / "encode.mp4") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto a = read_bytes(root / "tour.mp4"), b = read_bytes(root / "encode.mp4");
+  ASSERT_FALSE(a.empty());
+  EXPECT_TRUE(a == b) << "tour and encode of the same frames differ (" << a.size() << " vs " << b.size() << " bytes)";
+}
+
+TEST(CliEncode, SigtermRemovesThePartialVideo) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = root / "frames";
+  fs::create_directory(frames);
+  // Enough work (VP9, 256x192) that the signal arrives while frames are being encoded.
+  constexpr int kMany = 150;
+  for (int k = 0; k < kMany; ++k) write_png(frame_file(frames, k, "png"), make_frame(k, 256, 192), 256, 192);
+  const fs::path out = root / "out";
+  fs::create_directory(out);
+  // Starts the encode in the background, waits for its temporary file, sends SIGTERM.
+  const auto r = run_meshtour("encode " + q(frames) + " --frames 0-" + std::to_string(kMany - 1) + " -o " +
+                              q(out / "tour.webm") + " -q & pid=$!; for i in $(seq 400); do ls " + q(out) +
+                              "/.tour.webm.partial-* >/dev/null 2>&1 && break; sleep 0.02; done; kill -TERM $pid; wait $pid; "
+                              "echo exit=$?");
+  EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_empty(out)) << "left behind: " << (fs::is_empty(out) ? "" : entries(out).front());
+}
+
+}  // namespace
+}  // namespace meshtour
