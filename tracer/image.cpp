@@ -110,7 +110,10 @@ void write_image(const Image& image, const std::filesystem::path& file) {
     spec.attribute("meshtour:verticalFovDegrees", static_cast<float>(info.camera.vertical_fov_deg));
     spec.attribute("meshtour:samplesPerPixel", info.samples_per_pixel);
     spec.attribute("meshtour:frame", static_cast<int>(info.frame_index));
-    spec.attribute("meshtour:renderSeconds", static_cast<float>(info.render_seconds));
+    // Nothing that changes from run to run in the header (no render time; OpenImageIO's own
+    // timestamp, capDate, suppressed by an empty DateTime): the same frame must be the same
+    // bytes in any run or farm chunk. Render times are in the progress log instead.
+    spec.attribute("DateTime", "");
     std::vector<float> pixels(npix * channels);
     for (std::size_t p = 0; p < npix; ++p) {
       float* dst = &pixels[p * channels];
