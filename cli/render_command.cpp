@@ -65,9 +65,9 @@ void run_render(const RenderCommandArgs& args) {
   if (!args.quiet)
     std::fprintf(stderr, "frames %s of %d: %zu to render, %d already there\n",
                  selected.empty() ? "(none)" : format_frame_range(selected).c_str(), scene.frames, todo.size(), skipped);
-  Progress progress("frame", static_cast<int>(todo.size()), args.quiet ? ProgressMode::none : parse_progress_mode(args.progress));
+  const ProgressMode mode = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
   if (todo.empty()) {  // nothing to do: not even the model is loaded
-    progress.finish(skipped);
+    Progress("frame", 0, mode).finish(skipped);
     return;
   }
 
@@ -75,6 +75,8 @@ void run_render(const RenderCommandArgs& args) {
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", threads);
   const PreparedTour tour = prepare_tour(scene, args.scene.paper, args.quiet);
+
+  Progress progress("frame", static_cast<int>(todo.size()), mode);  // from here: frames/s are rendering only
 
   int done = 0;
   for (const int k : todo) {
