@@ -10,6 +10,17 @@ namespace meshtour::cli {
 void add_tour_command(CLI::App& app);  // mesh or scene in, video out
 void add_path_command(CLI::App& app);  // the camera path of a mesh, as JSON (+ plot, debug PLYs)
 void add_encode_command(CLI::App& app);  // a frames directory in, video out (H.264, ProRes, FFV1, VP9, GIF)
+void add_render_command(CLI::App& app);  // frames (all or a chunk) into a frames directory, resumable
+void add_batch_command(CLI::App& app);   // a manifest of meshes in, one video per item
+void add_farm_command(CLI::App& app);    // sbatch scripts for a Slurm job array + dependent encode
+
+/// Exit code of `batch` when some items failed (the others were done): main() returns it.
+inline constexpr int kSomeItemsFailedExitCode = 5;
+/// Thrown by `batch` after all items ran, when some of them failed; main() exits with
+/// kSomeItemsFailedExitCode.
+struct SomeItemsFailed : std::exception {
+  const char* what() const noexcept override { return "some batch items failed"; }
+};
 
 /// Thrown by throw_if_interrupted() after SIGINT or SIGTERM, so that destructors remove partial
 /// outputs on the way out; main() exits with 130.

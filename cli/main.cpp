@@ -11,11 +11,15 @@ namespace {
 
 constexpr const char* kFooter = R"(
 Exit codes: 0 success, 1 unexpected failure, 2 bad input or options, 3 file could not be read or
-written, 4 rendering or encoding failed, 130 interrupted.
+written, 4 rendering or encoding failed, 5 some items of a batch failed (the others were done),
+130 interrupted.
 
 Examples:
   meshtour tour                                  # the built-in default scene -> meshtour-default.mp4
   meshtour tour bunny.ply --up y -o bunny.mp4    # a mesh file, 4 s at 30 fps
+  meshtour render bunny.ply --out-dir frames --frames 0-59   # a chunk of frames, resumable
+  meshtour batch catalogue.csv --out-dir videos  # one video per manifest item
+  meshtour farm slurm bunny.ply --out-dir /shared/bunny --chunk-size 10 --submit
   meshtour tour scenes/default.json --frames 48 --width 640 --height 360
   meshtour path bunny.ply -o bunny.path.json --plot bunny.png
 Run 'meshtour <command> --help' for the options of a command.)";
@@ -30,6 +34,9 @@ int main(int argc, char** argv) {
   meshtour::cli::add_tour_command(app);
   meshtour::cli::add_path_command(app);
   meshtour::cli::add_encode_command(app);
+  meshtour::cli::add_render_command(app);
+  meshtour::cli::add_batch_command(app);
+  meshtour::cli::add_farm_command(app);
 
   try {
     app.parse(argc, argv);
@@ -51,6 +58,9 @@ int main(int argc, char** argv) {
   } catch (const meshtour::RuntimeFailure& e) {
     std::cerr << "meshtour: error: " << e.what() << "\n";
     return 4;
+  } catch (const meshtour::cli::SomeItemsFailed& e) {
+    std::cerr << "meshtour: " << e.what() << " (see the summary above)\n";
+    return meshtour::cli::kSomeItemsFailedExitCode;
   } catch (const meshtour::cli::Interrupted&) {
     std::cerr << "meshtour: interrupted; partial outputs removed\n";
     return 130;

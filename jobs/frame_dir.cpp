@@ -94,6 +94,29 @@ FrameDirInfo read_frame_dir_info(const std::filesystem::path& dir) {
   return info;
 }
 
+namespace {
+std::string describe(const FrameDirInfo& i) {
+  std::string formats;
+  for (const auto& f : i.image_formats) formats += (formats.empty() ? "" : "+") + f;
+  return std::to_string(i.frame_count) + " frames of " + std::to_string(i.width) + "x" + std::to_string(i.height) + " at " +
+         std::to_string(i.fps) + " fps as " + formats;
+}
+}  // namespace
+
+void prepare_frame_dir(const std::filesystem::path& dir, const FrameDirInfo& info) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw IoError(dir.string() + ": cannot create the frames directory: " + ec.message());
+  if (has_frame_dir_info(dir)) {
+    const FrameDirInfo existing = read_frame_dir_info(dir);
+    if (!existing.same_tour(info))
+      throw InputError(dir.string() + " holds another tour (" + describe(existing) + "; this one is " + describe(info) +
+                       "); use another --out-dir, or delete the directory's frames and " + std::string(kFrameDirManifestName));
+    return;
+  }
+  write_frame_dir_info(dir, info);
+}
+
 std::vector<int> missing_frames(const std::filesystem::path& dir, const std::vector<int>& frames,
                                 std::string_view extension) {
   std::vector<int> missing;

@@ -43,6 +43,13 @@ bool has_frame_dir_info(const std::filesystem::path& dir);
 ///        from a newer meshtour; IoError if it cannot be read.
 FrameDirInfo read_frame_dir_info(const std::filesystem::path& dir);
 
+/// Makes `dir` ready to receive frames of the tour `info`: creates it, writes the manifest when
+/// there is none, and refuses a directory whose manifest describes another tour (so that two
+/// tours never mix their frames in one directory).
+/// \throw InputError if the manifest describes another tour (or is damaged), IoError if the
+///        directory or the manifest cannot be written.
+void prepare_frame_dir(const std::filesystem::path& dir, const FrameDirInfo& info);
+
 /// The frames of `frames` whose file `frame_file(dir, k, extension)` does not exist.
 std::vector<int> missing_frames(const std::filesystem::path& dir, const std::vector<int>& frames,
                                 std::string_view extension);

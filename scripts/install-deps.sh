@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev           # scene/path files, command line
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   ffmpeg                                    # ffprobe, used by tests as an independent reader
+  slurmctld slurmd slurm-client munge       # farm: the single-node Slurm cluster of tests/slurm/
 )
 
 missing=()
@@ -31,5 +32,16 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# Without systemd, package scripts fall back to /etc/init.d and would start a system munged (and
+# try slurmctld/slurmd); a temporary policy-rc.d (exit 101) stops that. The tests start their own.
+added_policy=0
+if [ ! -e /usr/sbin/policy-rc.d ]; then
+  printf '#!/bin/sh\nexit 101\n' | $sudo tee /usr/sbin/policy-rc.d >/dev/null
+  $sudo chmod 755 /usr/sbin/policy-rc.d
+  added_policy=1
+fi
+status=0
+$sudo apt-get -o DPkg::Lock::Timeout=600 update -qq &&
+  $sudo apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${missing[@]}" >/dev/null || status=$?
+[ "$added_policy" = 1 ] && $sudo rm -f /usr/sbin/policy-rc.d
+exit "$status"

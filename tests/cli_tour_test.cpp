@@ -42,7 +42,7 @@ TEST(TourCommand, DefaultSceneVideoHasEveryFrameAndMatchesThePngs) {
   const auto r = run_meshtour("tour -o " + q(video) + " --frames 12 --fps 24 --width 160 --height 120 --spp 1 --frames-dir " +
                               q(frames) + " --format png+exr --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(count_files(frames), 24u);  // 12 PNG + 12 EXR
+  EXPECT_EQ(count_files(frames), 25u);  // 12 PNG + 12 EXR + the manifest (meshtour-frames.json)
   const auto probe = test::probe_video(video, {0, 7});
   EXPECT_EQ(probe.codec, "h264");
   EXPECT_EQ(probe.pixel_format, "yuv420p");

@@ -30,6 +30,8 @@ bool shared_required() {
   return v && std::string(v) == "1";
 }
 
+std::filesystem::path meshtour_executable() { return MESHTOUR_EXECUTABLE; }
+
 CommandResult run_meshtour(const std::string& args) {
   const std::string cmd = "cd '" + source_dir().string() + "' && '" + MESHTOUR_EXECUTABLE + "' " + args + " 2>&1";
   CommandResult result;

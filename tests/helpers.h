@@ -23,6 +23,8 @@ struct CommandResult {
 };
 /// Runs `meshtour <args>` through the shell from the repository root.
 CommandResult run_meshtour(const std::string& args);
+/// The meshtour executable under test (absolute), for tests that start it themselves.
+std::filesystem::path meshtour_executable();
 
 }  // namespace meshtour::test
 

@@ -110,11 +110,15 @@ void write_image(const Image& image, const std::filesystem::path& file) {
     spec.attribute("meshtour:verticalFovDegrees", static_cast<float>(info.camera.vertical_fov_deg));
     spec.attribute("meshtour:samplesPerPixel", info.samples_per_pixel);
     spec.attribute("meshtour:frame", static_cast<int>(info.frame_index));
+    // The render time is the one run-dependent attribute (the issue asks for it in the header);
+    // tools comparing frames across runs or farm chunks compare pixels and every other attribute.
     spec.attribute("meshtour:renderSeconds", static_cast<float>(info.render_seconds));
     // The display transform of the PNG frames and the video, so that 'meshtour encode' turns
     // these linear frames into the same 8-bit pixels.
     spec.attribute("meshtour:exposure", image.exposure);
     spec.attribute("meshtour:toneMapping", image.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp");
+    // No OpenImageIO timestamp (capDate): an empty DateTime suppresses it.
+    spec.attribute("DateTime", "");
     std::vector<float> pixels(npix * channels);
     for (std::size_t p = 0; p < npix; ++p) {
       float* dst = &pixels[p * channels];

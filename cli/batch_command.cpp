@@ -1,0 +1,189 @@
+// meshtour batch: a catalogue job. One video per manifest item, each made by the tour pipeline in
+// this process; a bad item is reported and skipped without stopping the others, items whose video
+// exists are skipped (so a re-run does only what is missing), and a summary table (stdout) and
+// batch-summary.json say what succeeded and failed.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli/commands.h"
+#include "cli/tour_setup.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "jobs/batch_manifest.h"
+
+namespace meshtour::cli {
+namespace {
+
+struct BatchArgs {
+  std::string manifest;
+  std::string out_dir;
+  SceneArgs defaults;  // scene options for every item; the manifest's columns override them
+  std::optional<int> item;
+  std::string progress = "auto";
+  int threads = 0;
+  bool quiet = false;
+};
+
+struct ItemResult {
+  const BatchItem* item = nullptr;
+  std::string status;  // "rendered", "skipped" (video already there) or "failed"
+  double seconds = 0.0;
+  std::string error;
+};
+
+SceneArgs item_scene_args(const SceneArgs& defaults, const BatchItem& item) {
+  SceneArgs a = defaults;
+  a.input = item.mesh.string();
+  if (item.up) a.up = item.up;
+  if (item.preset) a.render.preset = item.preset;
+  if (item.path) a.path_mode = item.path;
+  if (item.frames) {
+    a.frames = item.frames;
+    a.seconds.reset();
+  }
+  if (item.seconds) {
+    a.seconds = item.seconds;
+    a.frames.reset();
+  }
+  if (item.width) a.width = item.width;
+  if (item.height) a.height = item.height;
+  if (item.fps) a.fps = item.fps;
+  if (item.spp) a.render.spp = item.spp;
+  return a;
+}
+
+ItemResult run_item(const BatchArgs& args, const BatchItem& item) {
+  ItemResult r;
+  r.item = &item;
+  const auto start = std::chrono::steady_clock::now();
+  const std::filesystem::path video = std::filesystem::path(args.out_dir) / item.output;
+  std::error_code ec;
+  if (item.error.empty() && std::filesystem::is_regular_file(video, ec)) {
+    r.status = "skipped";
+    return r;
+  }
+  try {
+    if (!item.error.empty()) throw InputError(item.error);
+    if (!args.quiet) std::fprintf(stderr, "== item %d: %s -> %s\n", item.index, item.mesh.string().c_str(), video.string().c_str());
+    const Scene scene = resolve_scene(item_scene_args(args.defaults, item));
+    TourVideoJob job;
+    job.output = video;
+    job.threads = args.threads;
+    job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
+    job.quiet = args.quiet;
+    render_tour_video(scene, args.defaults.paper, job);
+    r.status = "rendered";
+  } catch (const Interrupted&) {
+    throw;  // Ctrl-C stops the whole batch
+  } catch (const std::exception& e) {
+    r.status = "failed";
+    r.error = e.what();
+    std::fprintf(stderr, "meshtour batch: item %d (%s, line %d) failed: %s\n", item.index, item.mesh.string().c_str(), item.line,
+                 e.what());
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+void write_summary(const BatchArgs& args, const std::vector<ItemResult>& results, const std::filesystem::path& file) {
+  nlohmann::ordered_json j;
+  j["manifest"] = std::filesystem::absolute(args.manifest).string();
+  j["out_dir"] = std::filesystem::absolute(args.out_dir).string();
+  int counts[3] = {0, 0, 0};
+  nlohmann::ordered_json items = nlohmann::json::array();
+  for (const auto& r : results) {
+    nlohmann::ordered_json i;
+    i["index"] = r.item->index;
+    i["line"] = r.item->line;
+    i["mesh"] = r.item->mesh.string();
+    i["output"] = r.item->output;
+    i["status"] = r.status;
+    i["seconds"] = r.seconds;
+    if (!r.error.empty()) i["error"] = r.error;
+    items.push_back(std::move(i));
+    counts[r.status == "rendered" ? 0 : r.status == "skipped" ? 1 : 2]++;
+  }
+  j["rendered"] = counts[0];
+  j["skipped"] = counts[1];
+  j["failed"] = counts[2];
+  j["items"] = std::move(items);
+  const std::string text = j.dump(2) + "\n";
+  write_file_atomically(file, [&](const std::filesystem::path& temporary) {
+    std::ofstream out(temporary, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw IoError(file.string() + ": cannot write the batch summary");
+  });
+}
+
+void print_table(const std::vector<ItemResult>& results) {
+  std::printf("%-5s %-9s %8s  %-28s %s\n", "item", "status", "seconds", "output", "mesh / error");
+  int failed = 0, rendered = 0, skipped = 0;
+  for (const auto& r : results) {
+    std::printf("%-5d %-9s %8.1f  %-28s %s\n", r.item->index, r.status == "failed" ? "FAILED" : r.status.c_str(), r.seconds,
+                r.item->output.c_str(), r.error.empty() ? r.item->mesh.string().c_str() : r.error.c_str());
+    failed += r.status == "failed";
+    rendered += r.status == "rendered";
+    skipped += r.status == "skipped";
+  }
+  std::printf("%zu items: %d rendered, %d skipped (video already there), %d failed\n", results.size(), rendered, skipped, failed);
+  std::fflush(stdout);
+}
+
+void run_batch(const BatchArgs& args) {
+  install_interrupt_handlers();
+  const std::vector<BatchItem> items = read_batch_manifest(args.manifest);
+  if (args.item && (*args.item < 0 || *args.item >= static_cast<int>(items.size())))
+    throw InputError("--item " + std::to_string(*args.item) + ": the manifest has items 0.." + std::to_string(items.size() - 1));
+  std::error_code ec;
+  std::filesystem::create_directories(args.out_dir, ec);
+  if (ec) throw IoError(args.out_dir + ": cannot create the output directory: " + ec.message());
+
+  std::vector<ItemResult> results;
+  for (const auto& item : items) {
+    if (args.item && item.index != *args.item) continue;
+    results.push_back(run_item(args, item));
+  }
+  print_table(results);
+  // One summary per farm task (--item), so that concurrent tasks never write the same file.
+  const std::string name = args.item ? "batch-summary-" + std::to_string(*args.item) + ".json" : "batch-summary.json";
+  write_summary(args, results, std::filesystem::path(args.out_dir) / name);
+  for (const auto& r : results)
+    if (r.status == "failed") throw SomeItemsFailed();
+}
+
+}  // namespace
+
+void add_batch_command(CLI::App& app) {
+  auto args = std::make_shared<BatchArgs>();
+  CLI::App* cmd = app.add_subcommand("batch", "Render one video per item of a manifest (CSV or JSON); for catalogues.");
+  cmd->description(
+      "Render one tour video per item of MANIFEST into --out-dir, each by the tour pipeline.\n"
+      "CSV: a header row naming the columns, then one item per line; JSON: an array of objects (or\n"
+      "{\"items\": [...]}) with the same keys. Columns: mesh (required; relative to the manifest),\n"
+      "output (default <mesh name>.mp4), up, preset, path, frames, seconds, width, height, fps, spp.\n"
+      "The options below apply to every item; the manifest's columns override them. A bad item is\n"
+      "reported and skipped; items whose video exists are skipped, so a re-run does only what is\n"
+      "missing. Prints a summary table and writes DIR/batch-summary.json.\n"
+      "Exit code 5 when some items failed (the others are done), 0 when none did.\n"
+      "Example CSV:\n  mesh,up,output,preset\n  bunny.ply,y,bunny.mp4,studio\n  dragon.stl,z,,plain");
+  cmd->add_option("manifest", args->manifest, "Manifest: .csv with a header row, or .json")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--out-dir", args->out_dir, "Directory for the videos and batch-summary.json (created if needed)")->required();
+  cmd->add_option("--item", args->item, "Run only the item with this 0-based index (one farm array task per item)")
+      ->check(CLI::NonNegativeNumber);
+  add_scene_options(*cmd, args->defaults, "--frames", /*with_input=*/false);
+  cmd->add_option("--crf", args->defaults.crf, "H.264 quality (x264 CRF), 0-51 (default 18)")->check(CLI::Range(0, 51));
+  cmd->add_option("--threads", args->threads,
+                  "Threads to render with (default: SLURM_CPUS_PER_TASK when set, else all cores); results do not depend on it")
+      ->check(CLI::Range(1, 1024));
+  add_progress_option(*cmd, args->progress);
+  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors and the summary table");
+  cmd->callback([args] { run_batch(*args); });
+}
+
+}  // namespace meshtour::cli

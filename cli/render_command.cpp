@@ -1,0 +1,127 @@
+// meshtour render: the frames of a tour (all, or a farm chunk of them) into a frames directory,
+// resumable. Every process that renders part of a tour computes the same camera path and the same
+// field of view (fitted over every frame of the tour), so frame k is the same bytes whichever
+// process renders it; `meshtour encode` turns the directory into a video.
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "cli/commands.h"
+#include "cli/progress.h"
+#include "cli/tour_setup.h"
+#include "core/error.h"
+#include "jobs/frame_dir.h"
+#include "jobs/frame_range.h"
+
+namespace meshtour::cli {
+namespace {
+
+struct RenderCommandArgs {
+  SceneArgs scene;
+  std::string out_dir;
+  std::string frames = "all";
+  std::string format = "png";
+  std::string progress = "auto";
+  int threads = 0;
+  bool overwrite = false;
+  bool quiet = false;
+};
+
+std::vector<std::string> formats_of(const std::string& format) {
+  if (format == "png+exr") return {"png", "exr"};
+  return {format};
+}
+
+void run_render(const RenderCommandArgs& args) {
+  install_interrupt_handlers();
+  const Scene scene = resolve_scene(args.scene);
+  const std::filesystem::path dir = args.out_dir;
+  const std::vector<int> selected = parse_frame_range(args.frames, scene.frames);
+  const std::vector<std::string> formats = formats_of(args.format);
+
+  FrameDirInfo info;
+  info.frame_count = scene.frames;
+  info.fps = scene.fps;
+  info.width = scene.render.width;
+  info.height = scene.render.height;
+  info.image_formats = formats;
+  info.source = scene.source;
+  if (scene.path_file) info.path_file = std::filesystem::absolute(*scene.path_file).string();
+  prepare_frame_dir(dir, info);
+
+  // A frame is done when every format of it exists: files appear under a frame name only when
+  // complete (written under a temporary name, then renamed), so existing means complete.
+  std::vector<int> todo;
+  for (const int k : selected) {
+    bool done = !args.overwrite;
+    for (const auto& f : formats) done = done && !missing_frames(dir, {k}, f).size();
+    if (!done) todo.push_back(k);
+  }
+  const int skipped = static_cast<int>(selected.size() - todo.size());
+  if (!args.quiet)
+    std::fprintf(stderr, "frames %s of %d: %zu to render, %d already there\n",
+                 selected.empty() ? "(none)" : format_frame_range(selected).c_str(), scene.frames, todo.size(), skipped);
+  const ProgressMode mode = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
+  if (todo.empty()) {  // nothing to do: not even the model is loaded
+    Progress("frame", 0, mode).finish(skipped);
+    return;
+  }
+
+  const int threads = render_threads(args.threads);
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", threads);
+  const PreparedTour tour = prepare_tour(scene, args.scene.paper, args.quiet);
+
+  Progress progress("frame", static_cast<int>(todo.size()), mode);  // from here: frames/s are rendering only
+
+  int done = 0;
+  for (const int k : todo) {
+    throw_if_interrupted();  // SIGINT/SIGTERM: stop between frames; write_image never leaves a temporary
+    const auto start = std::chrono::steady_clock::now();
+    const Image image = tour.render_frame(k);
+    for (const auto& f : formats) write_image(image, frame_file(dir, k, f));
+    progress.step_done(k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ++done);
+  }
+  progress.finish(skipped);
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app) {
+  auto args = std::make_shared<RenderCommandArgs>();
+  CLI::App* cmd = app.add_subcommand("render", "Render frames of a tour into a directory (all, or a farm chunk); resumable.");
+  cmd->description(
+      "Render the frames of a tour (or the ones --frames names) into --out-dir as frame_000123.png/.exr,\n"
+      "with the tour's manifest (meshtour-frames.json) beside them for 'meshtour encode'. Frames that\n"
+      "already exist are skipped (each file appears only when complete), so a killed job is resumed by\n"
+      "running it again. Any split of the frames over processes gives the same bytes as one run.\n"
+      "SIGINT/SIGTERM stop after the current frame (exit 130).");
+  add_scene_options(*cmd, args->scene, "--frame-count");
+  cmd->add_option("--out-dir", args->out_dir, "Directory for the frames and the manifest (created if needed)")->required();
+  cmd->add_option("--frames", args->frames,
+                  "Frames to render, numbered from 0: all (default), A, A-B, A-B:S (every S-th), or a comma-separated\n"
+                  "list of these, e.g. 0-9,20,30-40:2; clamped to the tour's frame count")
+      ->check([](const std::string& s) {
+        try {
+          (void)parse_frame_range(s, 1'000'000'000);
+          return std::string();
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+      });
+  cmd->add_option("--format", args->format, "Frame image format: png (8-bit sRGB), exr (half float, linear) or png+exr")
+      ->check(CLI::IsMember({"png", "exr", "png+exr"}));
+  cmd->add_flag("--overwrite", args->overwrite, "Render the selected frames again even if they exist");
+  cmd->add_option("--threads", args->threads,
+                  "Threads to render with (default: SLURM_CPUS_PER_TASK when set, else all cores); results do not depend on it")
+      ->check(CLI::Range(1, 1024));
+  add_progress_option(*cmd, args->progress);
+  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
+  cmd->callback([args] { run_render(*args); });
+}
+
+}  // namespace meshtour::cli

@@ -1,0 +1,209 @@
+#include "cli/tour_setup.h"
+
+#include <tbb/info.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "cli/path_options.h"
+#include "core/error.h"
+#include "pathgen/path_file.h"
+#include "pathgen/turntable.h"
+
+namespace meshtour::cli {
+
+void add_scene_options(CLI::App& cmd, SceneArgs& args, const std::string& frame_count_option, bool with_input) {
+  if (with_input)
+    cmd.add_option("input", args.input, "Mesh (" + supported_mesh_formats() + ") or scene file (.json); default: built-in scene");
+  cmd.add_option("--width", args.width, "Frame width in pixels, even (default 1280)")->check(CLI::Range(2, 16384));
+  cmd.add_option("--height", args.height, "Frame height in pixels, even (default 720)")->check(CLI::Range(2, 16384));
+  cmd.add_option("--fps", args.fps, "Frames per second (default 30)")->check(CLI::Range(1, 240));
+  auto* frames = cmd.add_option(frame_count_option, args.frames, "Frames in one loop of the path (default 120)")->check(CLI::Range(1, 1000000));
+  cmd.add_option("--seconds", args.seconds, "Length of the video in seconds (sets " + frame_count_option + " = seconds x fps)")
+      ->check(CLI::PositiveNumber)->excludes(frames);
+  cmd.add_option("--up", args.up, "The model's up axis: x, y, z, -x, -y or -z (default y)")
+      ->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"}, CLI::ignore_case));
+  cmd.add_option("--path", args.path_mode,
+                 "Camera path: paper (default; computed from the geometry by the toroidal-patch method of Choi et al. 2024,\n"
+                 "see 'meshtour path --help') or turntable (circular orbit around the up axis)")
+      ->check(CLI::IsMember({"turntable", "paper"}));
+  cmd.add_option("--path-file", args.path_file, "Use the camera path in this file, written by 'meshtour path -o' (overrides --path)")
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--fov", args.fov,
+                 "Vertical field of view: degrees (5-120), or auto (default): the paper path keeps its camera distance\n"
+                 "and the fov is fitted so every vertex stays in frame at every frame; the turntable uses 35 degrees\n"
+                 "and fits its radius. A fixed fov moves the paper path's camera back where needed instead.")
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(5.0, 120.0));
+  cmd.add_option("--elevation", args.elevation, "Turntable: camera elevation above the model's centre, degrees (default 18)")
+      ->check(CLI::Range(-80.0, 80.0));
+  add_render_options(cmd, args.render);
+  add_paper_path_options(cmd, args.paper);
+}
+
+namespace {
+bool is_scene_file(const std::filesystem::path& p) { return p.extension() == ".json"; }
+}  // namespace
+
+Scene resolve_scene(const SceneArgs& a) {
+  Scene scene;
+  if (a.input.empty()) {
+    scene = default_scene();
+  } else if (is_scene_file(a.input)) {
+    scene = load_scene(a.input);
+  } else {
+    scene = default_scene();  // defaults for everything but the model
+    scene.source = a.input;
+    scene.mesh_file = a.input;
+  }
+  if (a.up) scene.up = Axis::parse(*a.up);
+  if (a.width) scene.render.width = *a.width;
+  if (a.height) scene.render.height = *a.height;
+  if (a.fps) scene.fps = *a.fps;
+  if (a.frames) scene.frames = *a.frames;
+  if (a.seconds) {
+    const double frames = *a.seconds * scene.fps;
+    if (!(frames >= 1.0 && frames <= 1e6)) throw InputError("--seconds gives " + std::to_string(frames) + " frames; it must give 1 to 1000000");
+    scene.frames = static_cast<int>(std::lround(frames));
+  }
+  if (a.crf) scene.crf = *a.crf;
+  if (a.fov && *a.fov == "auto") {
+    scene.auto_fov = true;
+  } else if (a.fov) {
+    scene.vertical_fov_deg = std::stod(*a.fov);
+    scene.auto_fov = false;
+  }
+  if (a.elevation) scene.elevation_deg = *a.elevation;
+  if (a.path_mode) scene.path_mode = *a.path_mode;
+  if (a.path_file) scene.path_file = *a.path_file;
+  apply_render_options(a.render, scene);
+  return scene;
+}
+
+std::vector<std::string> scene_override_args(const SceneArgs& a, const std::string& frame_count_option) {
+  std::vector<std::string> out;
+  const auto add = [&](const char* name, const std::string& value) {
+    out.emplace_back(name);
+    out.push_back(value);
+  };
+  if (a.width) add("--width", std::to_string(*a.width));
+  if (a.height) add("--height", std::to_string(*a.height));
+  if (a.fps) add("--fps", std::to_string(*a.fps));
+  const auto number = [](double v) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g", v);
+    return std::string(text);
+  };
+  if (a.frames) add(frame_count_option.c_str(), std::to_string(*a.frames));
+  if (a.seconds) add("--seconds", number(*a.seconds));
+  if (a.up) add("--up", *a.up);
+  if (a.path_mode) add("--path", *a.path_mode);
+  if (a.fov) add("--fov", *a.fov);
+  if (a.elevation) add("--elevation", number(*a.elevation));
+  const RenderArgs& r = a.render;
+  if (r.preset) add("--preset", *r.preset);
+  if (r.spp) add("--spp", std::to_string(*r.spp));
+  if (r.background) add("--background", *r.background);
+  if (r.exposure) add("--exposure", number(*r.exposure));
+  if (!r.exr_layers.empty()) {
+    std::string layers;
+    for (const auto& l : r.exr_layers) layers += (layers.empty() ? "" : ",") + l;
+    add("--exr-layers", layers);
+  }
+  return out;
+}
+
+PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh, PaperPathOptions paper) {
+  paper.up = UpDirection{UpDirection::Kind::axis, scene.up, scene.up.vector()};
+  return compute_paper_path(mesh, paper);
+}
+
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens,
+                                      const PaperPathOptions& paper, bool quiet) {
+  if (scene.path_file) {
+    auto path = read_path_file(*scene.path_file);
+    if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
+    if (scene.auto_fov) return path;
+    return std::make_unique<FramedPath>(std::move(path), mesh.positions, lens);
+  }
+  if (scene.path_mode == "turntable") {
+    TurntableOptions options;
+    options.up = scene.up;
+    options.elevation_deg = scene.elevation_deg;
+    options.lens = lens;
+    return std::make_unique<TurntablePath>(mesh.positions, options);
+  }
+  const PaperPathResult result = compute_scene_paper_path(scene, mesh, paper);
+  if (!quiet) {
+    double seconds = 0;
+    for (const auto& [stage, s] : result.stage_seconds) seconds += s;
+    std::fprintf(stderr, "camera path (toroidal patches): %d patches (%.2f %% of faces), amplitude %.1f %%, %d extreme points, %.2f s\n",
+                 result.surface.patch_count, 100.0 * result.surface.patch_count / std::max<std::size_t>(1, result.surface.triangles.size()),
+                 100.0 * result.metrics.amplitude_gaze, result.metrics.extreme_points, seconds);
+    for (const auto& note : result.surface.cleanup_notes) std::fprintf(stderr, "  clean-up: %s\n", note.c_str());
+  }
+  if (scene.auto_fov) return std::make_unique<PaperCameraPath>(result.camera_path());
+  auto framed = std::make_unique<FramedPath>(std::make_unique<PaperCameraPath>(result.camera_path()), mesh.positions, lens);
+  if (!quiet && framed->pullback() > 0.0)
+    std::fprintf(stderr, "  camera moved back by %.4g model units to keep the whole model in frame\n", framed->pullback());
+  return framed;
+}
+
+double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, const Lens& lens, bool quiet) {
+  if (!scene.auto_fov || (scene.path_mode == "turntable" && !scene.path_file)) return lens.vertical_fov_deg;
+  // All frames of the tour, never just the ones this process renders: a farm chunk must use the
+  // fov of the whole tour.
+  std::vector<Camera> cameras;
+  cameras.reserve(static_cast<std::size_t>(scene.frames));
+  for (int k = 0; k < scene.frames; ++k) {
+    const CameraPose pose = frame_pose(path, k, scene.frames);
+    cameras.push_back(Camera{pose.eye, pose.target, pose.up, lens.vertical_fov_deg});
+  }
+  const double fov = fit_vertical_fov(cameras, mesh.positions, lens.aspect, lens.margin);
+  if (fov > 120.0)
+    throw InputError("the camera path passes too close to the model to frame it (it would need a " +
+                     std::to_string(static_cast<int>(fov)) + " degree lens); give a fixed --fov to move the camera back instead");
+  if (!quiet) std::fprintf(stderr, "field of view: %.1f degrees (fitted to the model over all %d frames)\n", fov, scene.frames);
+  return fov;
+}
+
+Image PreparedTour::render_frame(int k) const {
+  const CameraPose pose = frame_pose(*path, k, scene.frames);
+  return renderer->render(Camera{pose.eye, pose.target, pose.up, fov}, static_cast<std::uint64_t>(k));
+}
+
+PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, bool quiet) {
+  PreparedTour tour;
+  tour.scene = scene;
+  LoadReport report;
+  tour.mesh = load_scene_model(scene, &report);
+  const TriangleMesh& mesh = tour.mesh;
+  const Bounds bounds = mesh.bounds();
+  if (!quiet) {
+    std::fprintf(stderr, "%s: %zu faces, %zu vertices%s, bounds (%.4g %.4g %.4g) - (%.4g %.4g %.4g), up %s\n",
+                 scene.mesh_file ? scene.mesh_file->string().c_str() : "built-in sculpture", mesh.face_count(),
+                 mesh.vertex_count(), mesh.has_colors() ? " with colours" : "", bounds.lo.x(), bounds.lo.y(),
+                 bounds.lo.z(), bounds.hi.x(), bounds.hi.y(), bounds.hi.z(), scene.up.name().c_str());
+    for (const auto& w : report.warnings) std::fprintf(stderr, "  reader: %s\n", w.c_str());
+  }
+  Lens lens;
+  lens.vertical_fov_deg = scene.vertical_fov_deg;
+  lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
+  tour.path = make_path(scene, mesh, lens, paper, quiet);
+  tour.fov = choose_fov(scene, *tour.path, mesh, lens, quiet);
+  tour.renderer = std::make_unique<Renderer>(mesh, scene.render);
+  return tour;
+}
+
+int render_threads(int requested) {
+  if (requested > 0) return requested;
+  if (const char* slurm = std::getenv("SLURM_CPUS_PER_TASK")) {
+    char* end = nullptr;
+    const long n = std::strtol(slurm, &end, 10);
+    if (end != slurm && *end == '\0' && n >= 1 && n <= 4096) return static_cast<int>(n);
+  }
+  return tbb::info::default_concurrency();
+}
+
+}  // namespace meshtour::cli

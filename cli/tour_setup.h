@@ -1,0 +1,92 @@
+#pragma once
+// What every command that renders a tour shares (tour, render, batch, farm): the scene options,
+// how they resolve into a Scene, the camera path, the field of view, the thread count. One
+// implementation, so that a frame rendered by `render` in a farm chunk is the frame `tour` renders.
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/progress.h"
+#include "cli/render_options.h"
+#include "pathgen/camera_path.h"
+#include "pathgen/paper_path.h"
+#include "scenes/scene.h"
+#include "tracer/tracer.h"
+
+namespace meshtour::cli {
+
+/// The options that say which tour to render (model, size, timing, camera, look).
+struct SceneArgs {
+  std::string input;  // mesh or .json scene; empty = built-in default scene
+  std::optional<int> width, height, fps, frames, crf;
+  std::optional<double> seconds, elevation;
+  std::optional<std::string> fov;  // degrees or "auto"
+  std::optional<std::string> up, path_mode, path_file;
+  PaperPathOptions paper;  // options of the toroidal-patch path (ALGORITHM.md §2)
+  RenderArgs render;
+};
+
+/// Adds the options of SceneArgs (not --crf, which only commands that encode offer) to `cmd`.
+/// `frame_count_option` names the tour-length option: "--frames" for tour, "--frame-count" for
+/// the commands where --frames selects frames. `with_input` adds the INPUT positional.
+void add_scene_options(CLI::App& cmd, SceneArgs& args, const std::string& frame_count_option, bool with_input = true);
+
+/// The scene file (or default scene, or mesh with the default scene's settings) with the command
+/// line's overrides applied.
+Scene resolve_scene(const SceneArgs& args);
+
+/// Command-line arguments that make another process resolve the same scene from the same input
+/// (every override given; the frame count under `frame_count_option`), for `render` invocations.
+/// Neither the input, --path-file nor the paper-path options are included.
+std::vector<std::string> scene_override_args(const SceneArgs& args, const std::string& frame_count_option = "--frame-count");
+
+/// The toroidal-patch path of the scene's model (deterministic: the same for any thread count).
+PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh, PaperPathOptions paper);
+
+/// The camera path of the scene. Geometry-driven paths are wrapped in FramedPath when the fov is
+/// fixed: the paper's 4r/6r distance rule frames typical models, but every vertex is checked.
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens,
+                                      const PaperPathOptions& paper, bool quiet);
+
+/// The field of view to render with. With "auto", a geometry-driven path keeps its distances and
+/// the lens is fitted to the model over EVERY frame of the tour (one fov for the whole tour, so
+/// the image does not pump, and every farm chunk of the tour gets the same one).
+double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, const Lens& lens, bool quiet);
+
+/// A tour ready to render frames: model, path, fov and renderer (its BVH built).
+struct PreparedTour {
+  Scene scene;
+  TriangleMesh mesh;
+  std::unique_ptr<CameraPath> path;
+  double fov = 0.0;
+  std::unique_ptr<Renderer> renderer;
+
+  /// Frame `k` of the tour (k in 0 .. scene.frames-1); the same pixels in any process.
+  Image render_frame(int k) const;
+};
+
+/// Loads the model (printing a summary unless `quiet`), computes the path and the fov and builds
+/// the renderer.
+PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, bool quiet);
+
+/// Threads to render with: `requested` when > 0, else SLURM_CPUS_PER_TASK when set (a farm task
+/// must not take the whole node), else every core of the machine.
+int render_threads(int requested);
+
+/// The tour pipeline on one machine (defined in tour_command.cpp): path, frames, and the video
+/// encoded as frames finish; also used by `batch` for every item.
+struct TourVideoJob {
+  std::filesystem::path output;      // .mp4
+  std::filesystem::path frames_dir;  // also write the frames here ("" = no)
+  std::string format = "png";        // png, exr or png+exr, for frames_dir
+  int threads = 0;                   // 0 = render_threads' default
+  ProgressMode progress = ProgressMode::automatic;
+  bool quiet = false;
+};
+void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const TourVideoJob& job);
+
+}  // namespace meshtour::cli

@@ -1,0 +1,387 @@
+// End-to-end tests of the farm commands through the real executable: `render` in chunks by
+// separate processes gives the bytes of one run (and of `tour`), a killed render resumes to the
+// same frames and never shows a partial file under a frame name, resume skips what exists,
+// `batch` survives a broken item, and the sbatch scripts of `farm slurm` run a chunk.
+// (The real Slurm cluster is tests/slurm/run-slurm-test.sh.)
+#include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "encoder/video_encoder.h"
+#include "helpers.h"
+#include "test_meshes.h"
+#include "video_probe.h"
+
+namespace meshtour {
+namespace {
+
+using test::run_meshtour;
+
+std::string q(const std::filesystem::path& p) { return std::string("'").append(p.string()).append("'"); }
+
+std::string read_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Every regular file of `dir` by name (hidden ones included).
+std::map<std::string, std::filesystem::path> files_of(const std::filesystem::path& dir) {
+  std::map<std::string, std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.is_regular_file()) files[e.path().filename().string()] = e.path();
+  return files;
+}
+
+std::vector<std::string> frame_names(const std::filesystem::path& dir, const std::string& ext) {
+  std::vector<std::string> names;
+  for (const auto& [name, path] : files_of(dir))
+    if (name.rfind("frame_", 0) == 0 && path.extension() == ext) names.push_back(name);
+  return names;
+}
+
+// The pixels and header of an EXR frame, without the one attribute that is meant to differ
+// between runs (meshtour:renderSeconds, the render time the header records).
+std::string exr_content(const std::filesystem::path& file) {
+  OIIO::ImageBuf image(file.string());
+  EXPECT_TRUE(image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << file;
+  const OIIO::ImageSpec& spec = image.spec();
+  std::vector<float> pixels(spec.image_pixels() * static_cast<std::size_t>(spec.nchannels));
+  image.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, pixels.data());
+  std::string content(reinterpret_cast<const char*>(pixels.data()), pixels.size() * sizeof(float));
+  for (const auto& attribute : spec.extra_attribs)
+    if (attribute.name() != "meshtour:renderSeconds") content += "\n" + attribute.name().string() + "=" + spec.metadata_val(attribute);
+  EXPECT_NE(spec.find_attribute("meshtour:renderSeconds"), nullptr) << file << " lacks its render time";
+  return content;
+}
+
+// Expects the frame files (and the manifest) of two directories to be the same: PNG and manifest
+// the same bytes, EXR the same pixels and header but for the render time.
+void expect_same_frames(const std::filesystem::path& a, const std::filesystem::path& b, std::size_t expected_files) {
+  const auto fa = files_of(a), fb = files_of(b);
+  ASSERT_EQ(fa.size(), expected_files) << a;
+  ASSERT_EQ(fb.size(), expected_files) << b;
+  for (const auto& [name, path] : fa) {
+    ASSERT_TRUE(fb.count(name)) << name << " missing in " << b;
+    if (path.extension() == ".exr")
+      EXPECT_TRUE(exr_content(path) == exr_content(fb.at(name))) << name << " differs";
+    else
+      EXPECT_TRUE(read_bytes(path) == read_bytes(fb.at(name))) << name << " differs";
+  }
+}
+
+// A PNG frame is complete: OpenImageIO reads all its pixels at the expected size.
+bool readable_png(const std::filesystem::path& file, int width, int height) {
+  OIIO::ImageBuf image(file.string());
+  if (!image.read(0, 0, true, OIIO::TypeDesc::UINT8)) return false;
+  return image.spec().width == width && image.spec().height == height && !image.has_error();
+}
+
+// The video of a frames directory, made by `meshtour encode`, decoded.
+test::VideoProbe encode_and_decode(const std::filesystem::path& frames, const std::filesystem::path& video, int count) {
+  std::vector<int> all(count);
+  for (int k = 0; k < count; ++k) all[k] = k;
+  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(video) + " --codec h264 --crf 18");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return test::probe_video(video, all);
+}
+
+// Starts meshtour with `args` (no shell) and returns its pid; output goes to `log`.
+pid_t spawn_meshtour(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  const std::string exe = test::meshtour_executable().string();
+  std::vector<std::string> argv_storage = {exe};
+  argv_storage.insert(argv_storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_storage) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (FILE* f = std::freopen(log.c_str(), "w", stderr)) (void)f;
+    ::execv(exe.c_str(), argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Waits until `dir` holds at least `count` frame PNGs (checking every one seen is complete), or
+// the process ends. Returns false if a visible frame was ever unreadable.
+bool wait_for_frames(const std::filesystem::path& dir, std::size_t count, pid_t pid, int width, int height) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (std::filesystem::is_directory(dir)) {
+      const auto names = frame_names(dir, ".png");
+      for (const auto& n : names)
+        if (!readable_png(dir / n, width, height)) return false;
+      if (names.size() >= count) return true;
+    }
+    int status = 0;
+    if (::waitpid(pid, &status, WNOHANG) == pid) return true;  // finished already (a very fast machine)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return true;
+}
+
+const std::string kTour = "--frame-count 12 --width 96 --height 72 --spp 2";
+
+TEST(RenderCommand, ThreeUnevenChunksInSeparateProcessesGiveTheBytesOfOneRun) {
+  const auto dir = test::scratch_dir();
+  // One run of every frame, and the same tour in three uneven chunks, each its own process.
+  auto r = run_meshtour("render --out-dir " + q(dir / "one") + " " + kTour + " --format png+exr --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* chunk : {"0-1", "2-8", "9-11"}) {
+    r = run_meshtour("render --out-dir " + q(dir / "chunks") + " " + kTour + " --format png+exr --progress none --frames " + chunk);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  expect_same_frames(dir / "one", dir / "chunks", 25);  // 12 PNG + 12 EXR + manifest
+  // `tour` is the same pipeline: its frames are the same bytes too.
+  r = run_meshtour("tour -o " + q(dir / "tour.mp4") + " --frames 12 --width 96 --height 72 --spp 2 --frames-dir " +
+                   q(dir / "tour") + " --format png+exr --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  expect_same_frames(dir / "one", dir / "tour", 25);
+
+  // The videos of both directories decode to the same frames, and the frames differ from each
+  // other (a moving camera), so the comparison can tell frames apart.
+  const auto one = encode_and_decode(dir / "one", dir / "one.mp4", 12);
+  const auto chunks = encode_and_decode(dir / "chunks", dir / "chunks.mp4", 12);
+  ASSERT_EQ(one.decoded_frames, 12);
+  ASSERT_EQ(chunks.decoded_frames, 12);
+  for (int k = 0; k < 12; ++k) EXPECT_TRUE(one.rgb_frames[k] == chunks.rgb_frames[k]) << "decoded frame " << k;
+  EXPECT_FALSE(one.rgb_frames[0] == one.rgb_frames[6]);
+}
+
+TEST(RenderCommand, KilledRenderResumesToTheSameFramesAndNeverShowsAPartialFrame) {
+  const auto dir = test::scratch_dir();
+  const std::string tour = "--frame-count 24 --width 160 --height 120 --spp 8";
+  const std::vector<std::string> args = {"render", "--out-dir", (dir / "killed").string(), "--frame-count", "24", "--width", "160",
+                                         "--height", "120", "--spp", "8", "--threads", "1", "--progress", "none"};
+  const pid_t pid = spawn_meshtour(args, dir / "killed.log");
+  ASSERT_GT(pid, 0);
+  // Every frame that ever appears is complete, also while the render writes the next ones.
+  const bool complete = wait_for_frames(dir / "killed", 2, pid, 160, 120);
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  EXPECT_TRUE(complete) << "a frame under its final name was not a complete image";
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the render finished before it was killed; make it longer";
+  const auto names = frame_names(dir / "killed", ".png");
+  ASSERT_GE(names.size(), 2u);
+  ASSERT_LT(names.size(), 24u);
+  for (const auto& n : names) EXPECT_TRUE(readable_png(dir / "killed" / n, 160, 120)) << n;
+
+  // Re-running completes the set; the result is the bytes of a clean run. (A temporary file of
+  // the killed process may stay behind under its hidden name; it is not a frame.)
+  auto r = run_meshtour("render --out-dir " + q(dir / "killed") + " " + tour + " --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("render --out-dir " + q(dir / "clean") + " " + tour + " --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(frame_names(dir / "killed", ".png").size(), 24u);
+  for (const auto& n : frame_names(dir / "clean", ".png"))
+    EXPECT_TRUE(read_bytes(dir / "killed" / n) == read_bytes(dir / "clean" / n)) << n;
+}
+
+TEST(RenderCommand, SigtermStopsAfterTheCurrentFrameWithoutTemporaries) {
+  const auto dir = test::scratch_dir();
+  const pid_t pid = spawn_meshtour({"render", "--out-dir", (dir / "f").string(), "--frame-count", "24", "--width", "160", "--height",
+                                    "120", "--spp", "8", "--threads", "1", "--format", "png+exr", "--progress", "none"},
+                                   dir / "log.txt");
+  ASSERT_GT(pid, 0);
+  wait_for_frames(dir / "f", 1, pid, 160, 120);
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "the render did not exit by itself after SIGTERM";
+  EXPECT_EQ(WEXITSTATUS(status), 130) << read_bytes(dir / "log.txt");
+  EXPECT_NE(read_bytes(dir / "log.txt").find("interrupted"), std::string::npos);
+  const auto files = files_of(dir / "f");
+  for (const auto& [name, path] : files) EXPECT_NE(name[0], '.') << "temporary file left: " << name;
+  const auto png = frame_names(dir / "f", ".png"), exr = frame_names(dir / "f", ".exr");
+  EXPECT_LT(png.size(), 24u);
+  EXPECT_EQ(png.size(), exr.size()) << "a frame was stopped between its PNG and its EXR";
+}
+
+TEST(RenderCommand, ResumeSkipsExistingFramesAndRendersOnlyMissingOnes) {
+  const auto dir = test::scratch_dir();
+  auto r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  struct stat before[12];
+  for (int k = 0; k < 12; ++k) ASSERT_EQ(::stat((dir / frame_names(dir, ".png")[k]).c_str(), &before[k]), 0);
+
+  // Nothing to do: no frame is touched.
+  r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --progress json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("0 to render, 12 already there"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("{\"event\":\"summary\",\"what\":\"frame\",\"done\":0,\"total\":0,\"skipped\":12,"), std::string::npos) << r.output;
+
+  // Two frames lost: exactly those are rendered again (one JSON line each), the rest untouched.
+  std::filesystem::remove(dir / "frame_000003.png");
+  std::filesystem::remove(dir / "frame_000007.png");
+  r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --progress json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<int> rendered;
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("{", 0) != 0) continue;
+    const auto j = nlohmann::json::parse(line);
+    if (j["event"] == "frame") {
+      rendered.push_back(j["frame"].get<int>());
+      EXPECT_GT(j["seconds"].get<double>(), 0.0);
+      EXPECT_EQ(j["total"].get<int>(), 2);
+    } else {
+      EXPECT_EQ(j["event"], "summary");
+      EXPECT_EQ(j["done"].get<int>(), 2);
+      EXPECT_EQ(j["skipped"].get<int>(), 10);
+    }
+  }
+  EXPECT_EQ(rendered, (std::vector<int>{3, 7}));
+  for (int k = 0; k < 12; ++k) {
+    if (k == 3 || k == 7) continue;
+    struct stat after {};
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d.png", k);
+    ASSERT_EQ(::stat((dir / name).c_str(), &after), 0);
+    EXPECT_EQ(after.st_ino, before[k].st_ino) << name;
+    EXPECT_EQ(after.st_mtim.tv_nsec, before[k].st_mtim.tv_nsec) << name;
+    EXPECT_EQ(after.st_mtim.tv_sec, before[k].st_mtim.tv_sec) << name;
+  }
+}
+
+TEST(RenderCommand, RefusesToMixAnotherTourIntoTheSameDirectory) {
+  const auto dir = test::scratch_dir();
+  auto r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --frames 0 --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("render --out-dir " + q(dir) + " --frame-count 12 --width 64 --height 72 --spp 2 --frames 1 --progress none");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("holds another tour"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "frame_000001.png"));
+  r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --frames 5-x");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+// Writes `mesh` as an OBJ file.
+void write_obj(const TriangleMesh& mesh, const std::filesystem::path& file) {
+  std::ofstream out(file);
+  out.precision(9);
+  for (const auto& p : mesh.positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  for (const auto& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+}
+
+TEST(BatchCommand, ThreeGoodMeshesAndABrokenOneGiveThreeVideosOneFailureAndExitCode5) {
+  const auto dir = test::scratch_dir();
+  write_obj(test_meshes::icosphere(2), dir / "ball.obj");
+  write_obj(test_meshes::torus(0.3, 0.1, 48, 16), dir / "ring.obj");
+  write_obj(test_meshes::open_cylinder(0.2, 0.8, 32, 8), dir / "tube.obj");
+  std::ofstream(dir / "broken.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0.5\n";
+  std::ofstream(dir / "catalogue.csv") << "mesh,up,output,preset,path\n"
+                                          "ball.obj,y,,studio,turntable\n"
+                                          "broken.ply,y,broken.mp4,plain,turntable\n"
+                                          "ring.obj,z,ring-video.mp4,plain,turntable\n"
+                                          "tube.obj,y,,,turntable\n";
+  const std::string cmd = "batch " + q(dir / "catalogue.csv") + " --out-dir " + q(dir / "videos") +
+                          " --frames 6 --width 64 --height 48 --spp 1 --progress none";
+  auto r = run_meshtour(cmd);
+  EXPECT_EQ(r.exit_code, 5) << r.output;
+  EXPECT_NE(r.output.find("4 items: 3 rendered, 0 skipped (video already there), 1 failed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("FAILED"), std::string::npos) << r.output;
+  for (const char* video : {"ball.mp4", "ring-video.mp4", "tube.mp4"}) {
+    ASSERT_TRUE(std::filesystem::exists(dir / "videos" / video)) << video;
+    const auto probe = test::probe_video(dir / "videos" / video);
+    EXPECT_EQ(probe.decoded_frames, 6) << video;
+    EXPECT_EQ(probe.width, 64) << video;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "videos" / "broken.mp4"));
+  for (const auto& [name, path] : files_of(dir / "videos")) EXPECT_NE(name[0], '.') << "temporary left: " << name;
+
+  auto summary = nlohmann::json::parse(read_bytes(dir / "videos" / "batch-summary.json"));
+  EXPECT_EQ(summary["rendered"], 3);
+  EXPECT_EQ(summary["failed"], 1);
+  ASSERT_EQ(summary["items"].size(), 4u);
+  EXPECT_EQ(summary["items"][1]["status"], "failed");
+  EXPECT_NE(summary["items"][1]["error"].get<std::string>().find("broken.ply"), std::string::npos) << summary.dump(2);
+  EXPECT_EQ(summary["items"][2]["output"], "ring-video.mp4");
+
+  // A re-run renders nothing new: the videos are untouched, the broken item fails again.
+  struct stat before {}, after {};
+  ASSERT_EQ(::stat((dir / "videos" / "ball.mp4").c_str(), &before), 0);
+  r = run_meshtour(cmd);
+  EXPECT_EQ(r.exit_code, 5) << r.output;
+  EXPECT_NE(r.output.find("4 items: 0 rendered, 3 skipped (video already there), 1 failed"), std::string::npos) << r.output;
+  ASSERT_EQ(::stat((dir / "videos" / "ball.mp4").c_str(), &after), 0);
+  EXPECT_EQ(after.st_ino, before.st_ino);
+  EXPECT_EQ(after.st_mtim.tv_nsec, before.st_mtim.tv_nsec);
+  summary = nlohmann::json::parse(read_bytes(dir / "videos" / "batch-summary.json"));
+  EXPECT_EQ(summary["skipped"], 3);
+  EXPECT_EQ(summary["rendered"], 0);
+}
+
+TEST(BatchCommand, JsonManifestAndBadValuesFailOnlyTheirItem) {
+  const auto dir = test::scratch_dir();
+  write_obj(test_meshes::icosphere(1), dir / "ball.obj");
+  std::ofstream(dir / "m.json") << R"({"items": [{"mesh": "ball.obj", "output": "a.mp4", "path": "turntable", "frames": 3},
+                                                {"mesh": "ball.obj", "output": "b.mp4", "up": "w"},
+                                                {"mesh": "ball.obj", "output": "a.mp4"}]})";
+  const auto r = run_meshtour("batch " + q(dir / "m.json") + " --out-dir " + q(dir / "v") + " --width 32 --height 24 --spp 1 --progress none");
+  EXPECT_EQ(r.exit_code, 5) << r.output;
+  EXPECT_EQ(test::probe_video(dir / "v" / "a.mp4").decoded_frames, 3);
+  EXPECT_NE(r.output.find("up 'w' is not one of"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("already used by item 0"), std::string::npos) << r.output;
+  // Not a manifest at all: exit 2 with the reason.
+  std::ofstream(dir / "bad.csv") << "model,up\nball.obj,y\n";
+  const auto bad = run_meshtour("batch " + q(dir / "bad.csv") + " --out-dir " + q(dir / "v"));
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("unknown column 'model'"), std::string::npos) << bad.output;
+}
+
+TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
+  const auto dir = test::scratch_dir();
+  const auto out = dir / "farm";
+  auto r = run_meshtour("farm slurm --out-dir " + q(out) + " --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5 --cpus-per-task 1 --partition debug --time 10");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string render = read_bytes(out / "render.sbatch");
+  EXPECT_NE(render.find("#SBATCH --array=0-2\n"), std::string::npos) << render;  // 12 frames, chunks of 5
+  EXPECT_NE(render.find("#SBATCH --partition=debug\n"), std::string::npos) << render;
+  EXPECT_NE(render.find("#SBATCH --time=10\n"), std::string::npos) << render;
+  EXPECT_NE(render.find("'" + test::meshtour_executable().string() + "' 'render'"), std::string::npos) << render;
+  EXPECT_NE(render.find("'--path-file' '" + (out / "path.json").string() + "'"), std::string::npos) << render;
+  EXPECT_TRUE(std::filesystem::exists(out / "path.json"));
+  const std::string encode = read_bytes(out / "encode.sbatch");
+  EXPECT_NE(encode.find("'encode' '" + (out / "frames").string() + "' '-o' '" + (out / "meshtour-default.mp4").string() + "' '--codec' 'h264'"),
+            std::string::npos) << encode;
+  EXPECT_NE(read_bytes(out / "submit.sh").find("--dependency=afterok:$render"), std::string::npos);
+
+  // Run the last array task's script as Slurm would: it renders frames 10-11 only (the chunk
+  // 10-14 clamped), with the thread count of SLURM_CPUS_PER_TASK.
+  r = run_meshtour("--version && SLURM_ARRAY_TASK_ID=2 SLURM_CPUS_PER_TASK=1 bash " + q(out / "render.sbatch"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("rendering with 1 threads"), std::string::npos) << r.output;
+  EXPECT_EQ(frame_names(out / "frames", ".png"), (std::vector<std::string>{"frame_000010.png", "frame_000011.png"}));
+  // And they are the frames a single `render` of the whole tour makes (same path, same fov).
+  r = run_meshtour("render --out-dir " + q(dir / "one") + " --frame-count 12 --width 64 --height 48 --spp 1 --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(read_bytes(out / "frames" / "frame_000011.png") == read_bytes(dir / "one" / "frame_000011.png"));
+}
+
+TEST(FarmSlurm, ManifestGivesOneArrayTaskPerItem) {
+  const auto dir = test::scratch_dir();
+  std::ofstream(dir / "m.csv") << "mesh,output\na.obj,a.mp4\nb.obj,b.mp4\nc.obj,c.mp4\n";
+  const auto r = run_meshtour("farm slurm --manifest " + q(dir / "m.csv") + " --out-dir " + q(dir / "farm") + " --frames 6");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string script = read_bytes(dir / "farm" / "batch.sbatch");
+  EXPECT_NE(script.find("#SBATCH --array=0-2\n"), std::string::npos) << script;
+  EXPECT_NE(script.find("'batch' '" + (dir / "m.csv").string() + "'"), std::string::npos) << script;
+  EXPECT_NE(script.find("--item \"$SLURM_ARRAY_TASK_ID\""), std::string::npos) << script;
+  EXPECT_NE(script.find("'--frames' '6'"), std::string::npos) << script;
+}
+
+}  // namespace
+}  // namespace meshtour
