@@ -21,6 +21,7 @@ inline constexpr int kSomeItemsFailedExitCode = 5;
 struct SomeItemsFailed : std::exception {
   const char* what() const noexcept override { return "some batch items failed"; }
 };
+void add_evaluate_command(CLI::App& app);  // what a tour shows: coverage and smoothness per path mode
 
 /// Thrown by throw_if_interrupted() after SIGINT or SIGTERM, so that destructors remove partial
 /// outputs on the way out; main() exits with 130.

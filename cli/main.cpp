@@ -22,6 +22,7 @@ Examples:
   meshtour farm slurm bunny.ply --out-dir /shared/bunny --chunk-size 10 --submit
   meshtour tour scenes/default.json --frames 48 --width 640 --height 360
   meshtour path bunny.ply -o bunny.path.json --plot bunny.png
+  meshtour evaluate bunny.ply --compare          # coverage and smoothness of turntable, paper, feature-orbit
 Run 'meshtour <command> --help' for the options of a command.)";
 
 }  // namespace
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
   meshtour::cli::add_render_command(app);
   meshtour::cli::add_batch_command(app);
   meshtour::cli::add_farm_command(app);
+  meshtour::cli::add_evaluate_command(app);
 
   try {
     app.parse(argc, argv);

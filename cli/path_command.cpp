@@ -11,9 +11,13 @@
 
 #include "cli/commands.h"
 #include "cli/path_options.h"
+#include "cli/path_overview.h"
 #include "cli/path_plot.h"
+#include "cli/tour_setup.h"
 #include "core/error.h"
 #include "mesh/mesh.h"
+#include "scenes/scene.h"
+#include "pathgen/camera_export.h"
 #include "pathgen/debug_output.h"
 #include "pathgen/path_file.h"
 
@@ -26,6 +30,10 @@ struct PathArgs {
   std::string output;
   std::string plot;
   std::string debug_dir;
+  std::string mode = "paper";
+  int frames = 120;
+  std::string gltf, camera_frames, overview;
+  std::string overview_size = "1200x900";
   int threads = 0;
   bool quiet = false;
   PaperPathOptions options;
@@ -91,22 +99,92 @@ void run_path(PathArgs& a) {
   LoadReport load;
   const TriangleMesh mesh = load_mesh(a.mesh, &load);
   throw_if_interrupted();
-  const PaperPathResult result = compute_paper_path(mesh, a.options);
+  const bool paper = a.mode == "paper";
+  if (!paper && (!a.output.empty() || !a.plot.empty() || !a.debug_dir.empty()))
+    throw InputError("-o, --plot and --debug-dir describe the paper path; with --path " + a.mode +
+                     " use --gltf, --camera-frames or --overview");
+  std::optional<PaperPathResult> result;
+  if (paper) result = compute_paper_path(mesh, a.options);
   throw_if_interrupted();
+
+  // The cameras exactly as `meshtour tour MESH --path MODE --frames N` renders them (default
+  // frame size and field of view "auto"), for the exports and the overview.
+  Scene scene = default_scene();
+  scene.source = a.mesh;
+  scene.mesh_file = a.mesh;
+  scene.frames = a.frames;
+  scene.path_mode = a.mode;
+  Eigen::Vector3d up_vector = result ? result->up : Eigen::Vector3d::UnitY();
+  if (!paper) {
+    scene.up = Axis::parse(a.up);  // the other modes take a coordinate axis
+    up_vector = scene.up.vector();
+  } else if (a.options.up.kind == UpDirection::Kind::axis) {
+    scene.up = a.options.up.axis;
+  }
+  Lens lens;
+  lens.vertical_fov_deg = scene.vertical_fov_deg;
+  lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
+  std::unique_ptr<CameraPath> camera_path;
+  double fov = lens.vertical_fov_deg;
+  const bool exports = !a.gltf.empty() || !a.camera_frames.empty() || !a.overview.empty();
+  if (exports) {
+    // The paper path as computed here (its up direction may be a vector or pca), else the tour's.
+    if (paper)
+      camera_path = std::make_unique<PaperCameraPath>(result->camera_path());
+    else
+      camera_path = make_path(scene, mesh, lens, a.options, a.quiet);
+    fov = choose_fov(scene, *camera_path, mesh, lens, true);
+  }
   // Everything that can fail for a reason other than the file system happens before the first
-  // output is written: the plot is drawn in memory first.
+  // output is written: the plot and the overview are drawn in memory first.
   std::optional<PlotImage> plot;
-  if (!a.plot.empty()) plot = render_path_plot(result);
+  if (!a.plot.empty()) plot = render_path_plot(*result);
+  std::optional<Image> overview;
+  if (!a.overview.empty()) {
+    OverviewCylinder cylinder = bounding_cylinder(mesh, up_vector);
+    if (paper) {
+      // The paper's own cylinder (normalized units) in model units.
+      const Cylinder& c = result->cylinder;
+      const double scale = result->surface.scale;
+      cylinder.up = c.up;
+      cylinder.base_center = scale * c.axis_foot(c.base) + result->surface.offset;
+      cylinder.radius = scale * c.radius;
+      cylinder.height = scale * c.height;
+    }
+    int width = 0, height = 0;
+    if (std::sscanf(a.overview_size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 || height < 16 || width > 16384 || height > 16384)
+      throw InputError("--overview-size '" + a.overview_size + "': give WIDTHxHEIGHT in pixels, e.g. 1200x900");
+    overview = render_overview(mesh, *camera_path, cylinder, width, height);
+  }
+  throw_if_interrupted();
 
   std::vector<std::filesystem::path> written;
   try {
-    if (!a.debug_dir.empty()) written = write_debug_outputs(result, a.debug_dir);
+    if (!a.debug_dir.empty()) written = write_debug_outputs(*result, a.debug_dir);
     if (plot) {
       write_plot_image(*plot, a.plot);
       written.push_back(a.plot);
     }
-    write_path_file(result, output, a.mesh);
-    written.push_back(output);
+    if (overview) {
+      write_image(*overview, a.overview);
+      written.push_back(a.overview);
+    }
+    if (exports && (!a.gltf.empty() || !a.camera_frames.empty())) {
+      const TourCameras cameras = sample_tour(*camera_path, scene.frames, fov, lens.aspect, scene.fps);
+      if (!a.gltf.empty()) {
+        write_camera_gltf(cameras, a.gltf);
+        written.push_back(a.gltf);
+        written.push_back(std::filesystem::path(a.gltf).replace_extension(".bin"));
+      }
+      if (!a.camera_frames.empty()) {
+        write_camera_frames(cameras, a.camera_frames);
+        written.push_back(a.camera_frames);
+      }
+    }
+    if (paper) {
+      write_path_file(*result, output, a.mesh);
+      written.push_back(output);
+    }
   } catch (...) {
     // No partial outputs: undo the files this run completed.
     std::error_code ignored;
@@ -114,7 +192,9 @@ void run_path(PathArgs& a) {
     throw;
   }
   if (!a.quiet) {
-    print_summary(result, a, load, std::cout);
+    if (paper) print_summary(*result, a, load, std::cout);
+    else std::cout << "meshtour path: " << a.mesh << " (--path " << a.mode << ", up " << scene.up.name() << ")\n";
+    if (exports) std::cout << "  lens       " << fixed(fov, 2) << " degrees vertical, " << scene.frames << " frames at " << scene.fps << " fps\n";
     for (const auto& f : written) std::cout << "  wrote      " << f.string() << "\n";
   }
 }
@@ -156,6 +236,28 @@ void add_path_command(CLI::App& app) {
                   "coloured by patch / by w(f) / by the weight of their cell, green = low, red = "
                   "high) and samples.csv (the sampled curves and camera poses)")
       ->type_name("DIR");
+  cmd->add_option("--path", args->mode,
+                  "Path mode: paper (this method; the path file, --plot and --debug-dir describe it), turntable or "
+                  "feature-orbit (see 'meshtour evaluate --help'); the other modes need a coordinate --up axis")
+      ->check(CLI::IsMember({"paper", "turntable", "feature-orbit"}))
+      ->capture_default_str();
+  cmd->add_option("--frames", args->frames, "Frames of the tour the exports describe (as 'meshtour tour --frames')")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--gltf", args->gltf,
+                  "Also write the tour's camera as glTF 2.0: FILE.gltf + FILE.bin, an animated camera node (translation "
+                  "and rotation keys at the frame times, 30 fps) with the tour's vertical field of view and 16:9 aspect")
+      ->type_name("FILE.gltf");
+  cmd->add_option("--camera-frames", args->camera_frames,
+                  "Also write every frame's eye, target, up and field of view, as CSV (.csv) or JSON (.json)")
+      ->type_name("FILE");
+  cmd->add_option("--overview", args->overview,
+                  "Also render a picture of the path (PNG): the model, its bounding cylinder (blue-grey), the camera "
+                  "positions (magenta), the points looked at (cyan), sight lines (yellow) and the start (red)")
+      ->type_name("PNG");
+  cmd->add_option("--overview-size", args->overview_size, "Size of the --overview picture, WIDTHxHEIGHT")
+      ->type_name("WxH")
+      ->capture_default_str();
   cmd->add_option("--samples", args->options.samples,
                   "Samples per loop K in samples.csv (§13.3)")
       ->check(CLI::Range(1, 1000000))

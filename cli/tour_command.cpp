@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "encoder/video_encoder.h"
 #include "jobs/frame_dir.h"
+#include "pathgen/camera_export.h"
 #include "scenes/scene.h"
 #include "tracer/tracer.h"
 
@@ -27,6 +28,7 @@ struct TourArgs {
   std::string frames_dir;
   std::string format = "png";
   std::string progress = "auto";
+  std::string gltf, camera_frames;  // camera exports (glTF 2.0 animated camera, per-frame table)
   int threads = 0;
   bool quiet = false;
 };
@@ -46,6 +48,8 @@ void run_tour(const TourArgs& args) {
   job.threads = args.threads;
   job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
   job.quiet = args.quiet;
+  job.gltf = args.gltf;
+  job.camera_frames = args.camera_frames;
   render_tour_video(scene, args.scene.paper, job);
 }
 
@@ -84,6 +88,12 @@ void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const 
   }
 
   const PreparedTour tour = prepare_tour(scene, paper, job.quiet);
+  if (!job.gltf.empty() || !job.camera_frames.empty()) {
+    const double aspect = static_cast<double>(scene.render.width) / scene.render.height;
+    const TourCameras cameras = sample_tour(*tour.path, scene.frames, tour.fov, aspect, scene.fps);
+    if (!job.gltf.empty()) write_camera_gltf(cameras, job.gltf);
+    if (!job.camera_frames.empty()) write_camera_frames(cameras, job.camera_frames);
+  }
 
   Progress progress("frame", scene.frames, job.progress);
   for (int k = 0; k < scene.frames; ++k) {
@@ -117,6 +127,8 @@ void add_tour_command(CLI::App& app) {
       ->check(CLI::IsMember({"png", "exr", "png+exr"}));
   cmd->add_option("--threads", args->threads, "Threads to render with (default: SLURM_CPUS_PER_TASK when set, else all cores); results do not depend on it")
       ->check(CLI::Range(1, 1024));
+  cmd->add_option("--gltf", args->gltf, "Also write the camera path as glTF 2.0 (FILE.gltf + FILE.bin: an animated camera with the tour's field of view)");
+  cmd->add_option("--camera-frames", args->camera_frames, "Also write every frame's eye, target, up and field of view (.csv or .json)");
   add_progress_option(*cmd, args->progress);
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
   cmd->callback([args] { run_tour(*args); });

@@ -83,6 +83,8 @@ struct TourVideoJob {
   std::filesystem::path output;      // .mp4
   std::filesystem::path frames_dir;  // also write the frames here ("" = no)
   std::string format = "png";        // png, exr or png+exr, for frames_dir
+  std::filesystem::path gltf;           // also export the camera path as glTF 2.0 ("" = no)
+  std::filesystem::path camera_frames;  // also write every frame's camera as .csv or .json ("" = no)
   int threads = 0;                   // 0 = render_threads' default
   ProgressMode progress = ProgressMode::automatic;
   bool quiet = false;

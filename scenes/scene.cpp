@@ -228,8 +228,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   if (top.has("camera")) {
     ObjectReader camera = top.child("camera");
     camera.read("path", scene.path_mode);
-    if (scene.path_mode != "turntable" && scene.path_mode != "paper")
-      camera.fail_key("path", "is '" + scene.path_mode + "'; use \"turntable\" or \"paper\"");
+    if (scene.path_mode != "turntable" && scene.path_mode != "paper" && scene.path_mode != "feature-orbit")
+      camera.fail_key("path", "is '" + scene.path_mode + "'; use \"turntable\", \"paper\" or \"feature-orbit\"");
     std::string path_file;
     camera.read("path_file", path_file);
     if (!path_file.empty()) {

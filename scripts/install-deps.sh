@@ -23,7 +23,28 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
+# Node.js runs the Khronos glTF validator in the tests (tests/gltf). Checked by command, not by
+# package name, so that a Node.js from another source (which bundles npm) is left alone.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  missing+=(nodejs npm)
+fi
+
+# The validator itself, pinned by tests/gltf/package-lock.json; `npm ci` only when it is missing
+# or the lock file changed since the last install.
+install_gltf_validator() {
+  local dir tests_gltf
+  dir="$(cd "$(dirname "$0")/.." && pwd)"
+  tests_gltf="$dir/tests/gltf"
+  if [ ! -f "$tests_gltf/node_modules/.package-lock.json" ] || [ "$tests_gltf/package-lock.json" -nt "$tests_gltf/node_modules/.package-lock.json" ]; then
+    echo "install-deps: npm ci in tests/gltf (Khronos glTF validator)"
+    (cd "$tests_gltf" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  fi
+}
+
+if [ ${#missing[@]} -eq 0 ]; then
+  install_gltf_validator
+  exit 0
+fi
 
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then
@@ -44,4 +65,6 @@ status=0
 $sudo apt-get -o DPkg::Lock::Timeout=600 update -qq &&
   $sudo apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${missing[@]}" >/dev/null || status=$?
 [ "$added_policy" = 1 ] && $sudo rm -f /usr/sbin/policy-rc.d
-exit "$status"
+[ "$status" = 0 ] || exit "$status"
+install_gltf_validator
+

@@ -1,0 +1,128 @@
+#pragma once
+// The feature orbit: a path mode beyond the paper. Like the paper's path it follows the mesh's
+// features (the faces with a high weight w(f), ALGORITHM.md §8), but it chooses the camera's
+// height by what the camera would actually see instead of by where the heaviest grid cell is:
+//
+//  - the camera circles the model once on a sphere around the bounding-box centre, looking at
+//    the centre (the view turns exactly as smoothly as the camera moves; the model stays framed);
+//  - its elevation is a smooth periodic curve, a mean height plus a once-per-loop swing plus a
+//    twice-per-loop ripple, so it can rise to show the top or dip to show the underside where
+//    that reveals features, and the loop is seamless by construction;
+//  - every curve whose angular speed and acceleration stay within the limits is scored by the
+//    feature area (plus a smaller worth for other area) that its views see well, in small depth
+//    buffers (occlusion counts); the best one wins.
+//
+// Feature faces are the top quarter of the area by weight, so flat-dominated models still have
+// features, and no column is ever "empty": every view counts what it shows.
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "core/axis.h"
+#include "mesh/mesh.h"
+#include "pathgen/camera_path.h"
+#include "pathgen/surface.h"
+
+namespace meshtour {
+
+struct FeatureOrbitOptions {
+  SurfaceOptions surface;  ///< how w(f) is computed (§3–§8 defaults)
+  Axis up{1, false};
+  /// Mean elevations tried, degrees: from level to well above the top.
+  double base_min_deg = -15.0, base_max_deg = 60.0, base_step_deg = 5.0;
+  /// Amplitudes of the once-per-loop swing tried, degrees (0 = a level circle).
+  double swing_max_deg = 45.0, swing_step_deg = 5.0;
+  int phases = 12;  ///< phases of the swing (and of the twice-per-loop ripple) tried per loop
+  /// Amplitudes of the twice-per-loop ripple tried on top of the best swing, degrees.
+  double ripple_max_deg = 20.0, ripple_step_deg = 5.0;
+  /// Elevations the camera may reach, degrees: below the model's equator to high above its top.
+  double lowest_deg = -37.5, highest_deg = 75.0;
+  /// Smoothness limits, per loop (divide by frames, frames², for per-frame values): the angular
+  /// speed of the camera around the centre, and the change of its angular velocity (pathgen/motion.h).
+  /// 2π rad/loop is a level orbit's speed (an elevated one is slower, leaving room for climbing).
+  double max_angular_speed = 6.3;
+  double max_angular_acceleration = 15.0;
+  double surface_weight = 0.3;     ///< worth of other area relative to feature area
+  int azimuth_samples = 24;        ///< views per loop at which coverage is estimated
+  double elevation_grid_deg = 7.5; ///< elevation spacing of the precomputed views
+  int view_pixels = 160;           ///< depth-buffer size of a view (square)
+  double seen_angle_deg = 75.0;    ///< a face is seen well below this angle (as in the evaluation)
+  double feature_quantile = 0.75;  ///< feature faces: w(f) at or above this area-weighted quantile
+  double vertical_fov_deg = 35.0;  ///< the lens the distance is planned for
+  double aspect = 16.0 / 9.0;      ///< frame width / height the distance is planned for
+  /// Dolly: the distance follows (a smooth two-harmonic envelope of) what each view needs to keep
+  /// the whole model in frame, so a slender model fills the frame from every side. The angular
+  /// motion is unchanged by it. Off: a constant distance that frames the bounding sphere.
+  bool dolly = true;
+
+  /// \throw InputError naming the option that is out of range.
+  void validate() const;
+};
+
+/// Elevation of the camera (radians) as a function of the azimuth fraction a ∈ [0, 1):
+/// base + swing·cos(2π(a − swing_phase)) + ripple·cos(4π(a − ripple_phase)). Smooth and periodic,
+/// so the loop is seamless.
+struct ElevationCurve {
+  double base = 0.0, swing = 0.0, swing_phase = 0.0, ripple = 0.0, ripple_phase = 0.0;
+  double operator()(double a) const;
+};
+
+/// The geometry of a feature orbit, in model units.
+struct FeatureOrbitGeometry {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d front = Eigen::Vector3d::UnitZ();  ///< azimuth 0 (where the loop starts)
+  Eigen::Vector3d side = Eigen::Vector3d::UnitX();   ///< azimuth π/2 (counter-clockwise seen from +up)
+  /// Distance of the eye from the centre: d0 + c1 cos 2πa + s1 sin 2πa + c2 cos 4πa + s2 sin 4πa.
+  std::array<double, 5> distance{1.0, 0.0, 0.0, 0.0, 0.0};
+  ElevationCurve elevation;
+
+  double distance_at(double a) const;
+
+  /// Unit direction from the centre to the eye at azimuth fraction a.
+  Eigen::Vector3d direction(double a) const;
+};
+
+/// The camera circles the centre once at constant azimuth speed, looking at the centre.
+class FeatureOrbitPath final : public CameraPath {
+public:
+  explicit FeatureOrbitPath(FeatureOrbitGeometry geometry) : geometry_(std::move(geometry)) {}
+  CameraPose pose(double t) const override;
+  const FeatureOrbitGeometry& geometry() const { return geometry_; }
+
+private:
+  FeatureOrbitGeometry geometry_;
+};
+
+struct FeatureOrbitResult {
+  FeatureOrbitGeometry geometry;
+  double feature_share_seen = 0.0;  ///< share of the feature area the sampled views see well
+  double surface_share_seen = 0.0;  ///< the same for the whole surface
+  double angular_speed = 0.0;        ///< largest, rad per loop
+  double angular_acceleration = 0.0; ///< largest, rad per loop²
+  int candidates = 0;                ///< curves that met the smoothness limits and were scored
+  FeatureOrbitPath camera_path() const { return FeatureOrbitPath(geometry); }
+};
+
+/// Largest angular speed (rad/loop) and acceleration (rad/loop²) of the direction `direction(t)`,
+/// t ∈ [0, 1), sampled at `samples` points, as the evaluation measures them (pathgen/motion.h).
+std::pair<double, double> loop_angular_extremes(const std::function<Eigen::Vector3d(double)>& direction,
+                                                const Eigen::Vector3d& up, int samples = 360);
+
+/// Analyses the surface (w(f)), then plans the orbit.
+FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const FeatureOrbitOptions& options);
+/// Plans the orbit for given feature flags (one per face of `mesh`).
+FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::vector<std::uint8_t>& feature_face,
+                                         const FeatureOrbitOptions& options);
+
+/// Faces of `mesh` that a pinhole camera (eye, looking at `target`, `up`, square image of
+/// `pixels`², vertical field of view `fov_deg`) sees in a depth buffer and within `seen_angle_deg`
+/// of their normal (either side). A software z-buffer: pathgen does not depend on the ray tracer.
+std::vector<std::uint32_t> faces_seen_well(const TriangleMesh& mesh, const Eigen::Vector3d& eye,
+                                           const Eigen::Vector3d& target, const Eigen::Vector3d& up, double fov_deg,
+                                           int pixels, double seen_angle_deg);
+
+}  // namespace meshtour

@@ -1,0 +1,31 @@
+// Writes the markdown table of scripts/evaluate-table.sh into README.md.
+// Usage: node scripts/evaluate-table.js DIR README.md  (DIR holds <mesh>.json and `order`)
+const fs = require('fs');
+const path = require('path');
+const [dir, readme] = process.argv.slice(2);
+const names = fs.readFileSync(path.join(dir, 'order'), 'utf8').split('\n').filter(Boolean);
+const modes = ['turntable', 'paper', 'feature-orbit'];
+const percent = (x) => (100 * x).toFixed(2) + ' %';
+const lines = [
+  '| mesh | path | feature coverage | surface coverage | feature frames min / median | camera speed (rad/frame) | view speed (rad/frame) | view acceleration (rad/frame²) | frames out |',
+  '|---|---|---:|---:|---:|---:|---:|---:|---:|',
+];
+for (const name of names) {
+  const doc = JSON.parse(fs.readFileSync(path.join(dir, name + '.json'), 'utf8')).modes;
+  const best = Math.max(...modes.map((m) => doc[m].feature_coverage));
+  for (const m of modes) {
+    const e = doc[m];
+    const features = e.feature_coverage === best ? '**' + percent(e.feature_coverage) + '**' : percent(e.feature_coverage);
+    lines.push(`| ${m === modes[0] ? name : ''} | ${m} | ${features} | ${percent(e.surface_coverage)} | ` +
+               `${e.feature_min_frames} / ${e.feature_median_frames} | ${e.camera_max_angular_speed.toFixed(4)} | ` +
+               `${e.view_max_angular_speed.toFixed(4)} | ${e.view_max_angular_acceleration.toFixed(4)} | ${e.frames_out_of_frame} |`);
+  }
+}
+const begin = '<!-- evaluate-table:begin -->', end = '<!-- evaluate-table:end -->';
+const text = fs.readFileSync(readme, 'utf8');
+const a = text.indexOf(begin), b = text.indexOf(end);
+if (a < 0 || b < a) {
+  console.error(readme + ': the ' + begin + ' and ' + end + ' markers are missing');
+  process.exit(1);
+}
+fs.writeFileSync(readme, text.slice(0, a + begin.length) + '\n' + lines.join('\n') + '\n' + text.slice(b));

@@ -1,0 +1,149 @@
+// `meshtour evaluate --compare`, the camera exports of `path` and `tour` (validated with the
+// Khronos glTF validator through Node.js) and the --overview picture, on a small generated mesh.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+
+#include "helpers.h"
+#include "test_meshes.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using meshtour::test::run_meshtour;
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+fs::path small_mesh(const fs::path& dir) {
+  const fs::path file = dir / "bumpy.ply";
+  meshtour::save_mesh(meshtour::test_meshes::bumpy_sphere(3), file);
+  return file;
+}
+
+std::string read_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Runs the Khronos validator (tests/gltf/validate.js); returns its exit code and report.
+meshtour::test::CommandResult validate_gltf(const fs::path& file) {
+  const std::string cmd = "cd '" + meshtour::test::source_dir().string() + "' && node tests/gltf/validate.js " + q(file) + " 2>&1";
+  meshtour::test::CommandResult result;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return result;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) result.output.append(buf, n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  const fs::path mesh = small_mesh(dir);
+  const auto r = run_meshtour("evaluate " + q(mesh) + " --compare --frames 24 --pixels 96 --json " + q(dir / "e.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* mode : {"turntable ", "paper ", "feature-orbit "}) EXPECT_NE(r.output.find(mode), std::string::npos) << r.output;
+  std::ifstream in(dir / "e.json");
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  ASSERT_EQ(doc.size(), 1u);
+  ASSERT_EQ(doc["modes"].size(), 3u);
+  for (const char* mode : {"turntable", "paper", "feature-orbit"}) {
+    const auto& m = doc["modes"].at(mode);
+    EXPECT_EQ(m.size(), 8u) << mode;
+    const double features = m.at("feature_coverage"), surface = m.at("surface_coverage");
+    EXPECT_GT(features, 0.3) << mode;
+    EXPECT_LE(features, 1.0) << mode;
+    EXPECT_GT(surface, 0.3) << mode;
+    EXPECT_LE(surface, 1.0) << mode;
+    EXPECT_GE(m.at("feature_median_frames").get<double>(), m.at("feature_min_frames").get<double>());
+    EXPECT_LE(m.at("feature_median_frames").get<double>(), 24.0);
+    // 24 frames around a loop: about 2π/24 rad per frame.
+    EXPECT_GT(m.at("camera_max_angular_speed").get<double>(), 0.2);
+    EXPECT_LT(m.at("camera_max_angular_speed").get<double>(), 0.4);
+    EXPECT_EQ(m.at("frames_out_of_frame").get<int>(), 0) << mode;
+  }
+  // The path modes see the same mesh: a fixed evaluation gives the same numbers again.
+  const auto again = run_meshtour("evaluate " + q(mesh) + " --path turntable --frames 24 --pixels 96 -q --json " + q(dir / "t.json"));
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  std::ifstream in2(dir / "t.json");
+  const nlohmann::json single = nlohmann::json::parse(in2);
+  EXPECT_EQ(single["modes"]["turntable"], doc["modes"]["turntable"]);
+}
+
+TEST(CliEvaluate, PathFileGivesTheSameNumbersAsThePaperMode) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  const fs::path mesh = small_mesh(dir);
+  auto r = run_meshtour("path " + q(mesh) + " -q -o " + q(dir / "p.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("evaluate " + q(mesh) + " --path-file " + q(dir / "p.json") + " --frames 12 --pixels 64 -q --json " + q(dir / "f.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("evaluate " + q(mesh) + " --path paper --frames 12 --pixels 64 -q --json " + q(dir / "m.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream f(dir / "f.json"), m(dir / "m.json");
+  const nlohmann::json from_file = nlohmann::json::parse(f), from_mode = nlohmann::json::parse(m);
+  EXPECT_EQ(from_file["modes"]["path-file"], from_mode["modes"]["paper"]);
+  // --compare judges the built-in modes only.
+  r = run_meshtour("evaluate " + q(mesh) + " --compare --path-file " + q(dir / "p.json"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+TEST(CliEvaluate, GltfFromPathAndTourIsValidAndIdentical) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  const fs::path mesh = small_mesh(dir);
+  auto r = run_meshtour("path " + q(mesh) + " --path feature-orbit --frames 8 -q --gltf " + q(dir / "path.gltf") +
+                        " --camera-frames " + q(dir / "frames.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("tour " + q(mesh) + " --path feature-orbit --frames 8 --width 64 --height 36 --spp 1 -q -o " +
+                   q(dir / "t.mp4") + " --gltf " + q(dir / "tour.gltf"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The same cameras whichever command exports them (the tour's 64x36 has the default 16:9 aspect).
+  EXPECT_EQ(read_file(dir / "path.bin"), read_file(dir / "tour.bin"));
+  std::string tour_text = read_file(dir / "tour.gltf");
+  tour_text.replace(tour_text.find("tour.bin"), 8, "path.bin");  // each names its own buffer
+  EXPECT_EQ(read_file(dir / "path.gltf"), tour_text);
+  for (const char* name : {"path.gltf", "tour.gltf"}) {
+    const auto v = validate_gltf(dir / name);
+    EXPECT_EQ(v.exit_code, 0) << name << ": " << v.output;
+    EXPECT_NE(v.output.find("\"numErrors\": 0"), std::string::npos) << v.output;
+  }
+  // The validator does catch a broken file: a buffer that is too short.
+  std::string text = read_file(dir / "path.gltf");
+  const std::string key = "\"byteLength\": ";
+  const auto at = text.find(key);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + key.size(), "9");
+  std::ofstream(dir / "broken.gltf") << text;
+  fs::copy_file(dir / "path.bin", dir / "broken.bin");
+  const auto broken = validate_gltf(dir / "broken.gltf");
+  EXPECT_EQ(broken.exit_code, 1) << broken.output;
+}
+
+TEST(CliEvaluate, OverviewShowsTheModelAndThePath) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  const fs::path mesh = small_mesh(dir);
+  const auto r = run_meshtour("path " + q(mesh) + " --path turntable -q --overview " + q(dir / "o.png") + " --overview-size 160x120");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto in = OIIO::ImageInput::open((dir / "o.png").string());
+  ASSERT_TRUE(in);
+  const OIIO::ImageSpec& spec = in->spec();
+  EXPECT_EQ(spec.width, 160);
+  EXPECT_EQ(spec.height, 120);
+  std::vector<unsigned char> pixels(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+  ASSERT_TRUE(in->read_image(0, 0, 0, -1, OIIO::TypeDesc::UINT8, pixels.data()));
+  // The position path is drawn magenta: strong red and blue, little green.
+  int magenta = 0;
+  for (std::size_t p = 0; p + 2 < pixels.size(); p += spec.nchannels)
+    magenta += pixels[p] > 150 && pixels[p + 2] > 150 && pixels[p + 1] < 100;
+  EXPECT_GT(magenta, 50);
+  // Options of the paper path only: refused for another mode, with a message.
+  const auto refused = run_meshtour("path " + q(mesh) + " --path turntable --plot " + q(dir / "p.png"));
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_FALSE(fs::exists(dir / "p.png"));
+}
+
+}  // namespace

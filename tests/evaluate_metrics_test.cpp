@@ -1,0 +1,209 @@
+// The evaluation's metrics on cases with known answers: a cube seen by its six axis cameras, the
+// seen-well cap of a sphere, motion of circular orbits, framing, feature quantiles and regions,
+// and the JSON shape `meshtour evaluate --json` promises.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "core/error.h"
+#include "evaluate/evaluate.h"
+#include "pathgen/features.h"
+#include "test_meshes.h"
+
+namespace {
+
+using namespace meshtour;
+constexpr double kPi = std::numbers::pi;
+
+TriangleMesh cube() {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i) m.positions.emplace_back(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0);
+  // Two outward triangles per side: -x, +x, -y, +y, -z, +z.
+  m.triangles = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
+                 {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
+  return m;
+}
+
+std::vector<Camera> axis_cameras(double distance) {
+  std::vector<Camera> cameras;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sign : {-1.0, 1.0}) {
+      Eigen::Vector3d eye = Eigen::Vector3d::Zero();
+      eye[axis] = sign * distance;
+      cameras.push_back(Camera{eye, Eigen::Vector3d::Zero(), axis == 1 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY(), 40.0});
+    }
+  return cameras;
+}
+
+TEST(EvaluateMetrics, CubeSeenByItsSixAxisCamerasIsFullyCovered) {
+  const TriangleMesh mesh = cube();
+  std::vector<std::uint8_t> features(12, 0);
+  features[2] = features[3] = 1;  // the +x side: one region of two triangles
+  const PathEvaluator evaluator(mesh, features);
+  EXPECT_EQ(evaluator.regions().count, 1);
+  const std::vector<Camera> cameras = axis_cameras(6.0);
+  const PathEvaluation e = evaluator.evaluate(cameras, 1.0);
+  EXPECT_DOUBLE_EQ(e.surface_coverage, 1.0);
+  EXPECT_DOUBLE_EQ(e.feature_coverage, 1.0);
+  // Each side faces exactly one camera; the others see it edge-on (90 degrees, not seen well).
+  EXPECT_EQ(e.feature_min_frames, 1);
+  EXPECT_DOUBLE_EQ(e.feature_median_frames, 1.0);
+  EXPECT_EQ(e.frames_out_of_frame, 0);
+  // One camera alone sees exactly one side.
+  const auto seen = evaluator.seen_well(cameras[1], 1.0);
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), 2);
+  EXPECT_TRUE(seen[2] && seen[3]);
+  // Five of the six cameras leave the +x side unseen: coverage 5/6.
+  const std::vector<Camera> five = {cameras[0], cameras[2], cameras[3], cameras[4], cameras[5]};
+  const PathEvaluation partial = evaluator.evaluate(five, 1.0);
+  EXPECT_NEAR(partial.surface_coverage, 5.0 / 6.0, 1e-12);
+  EXPECT_DOUBLE_EQ(partial.feature_coverage, 0.0);
+  EXPECT_EQ(partial.feature_min_frames, 0);
+}
+
+TEST(EvaluateMetrics, SphereSeenWellCapMatchesTheAnalyticAngle) {
+  // A unit sphere seen from distance D: a point at angle θ from the camera axis is seen well
+  // when the angle between its normal and the direction to the eye is below 75 degrees, i.e.
+  // (D cos θ - 1) / |eye - p| > cos 75°. The cap fraction is (1 - cos θmax) / 2.
+  const TriangleMesh mesh = test_meshes::icosphere(5);
+  const double D = 4.0, limit = std::cos(75.0 * kPi / 180.0);
+  double lo = 0.0, hi = kPi / 2;
+  for (int i = 0; i < 100; ++i) {
+    const double th = 0.5 * (lo + hi);
+    const double c = (D * std::cos(th) - 1.0) / std::sqrt(D * D - 2.0 * D * std::cos(th) + 1.0);
+    (c > limit ? lo : hi) = th;
+  }
+  const double expected = 0.5 * (1.0 - std::cos(lo));
+  EvaluationOptions options;
+  options.long_side_pixels = 512;
+  const PathEvaluator evaluator(mesh, std::vector<std::uint8_t>(mesh.triangles.size(), 1), options);
+  const Camera camera{Eigen::Vector3d(0, 0, D), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 40.0};
+  const PathEvaluation e = evaluator.evaluate(std::vector<Camera>{camera}, 1.0);
+  EXPECT_NEAR(e.surface_coverage, expected, 0.01) << "analytic cap " << expected;
+  EXPECT_DOUBLE_EQ(e.surface_coverage, e.feature_coverage);
+  // A wider seen-well angle shows more, and the far side is never seen.
+  options.seen_angle_deg = 89.0;
+  const PathEvaluator wide(mesh, std::vector<std::uint8_t>(mesh.triangles.size(), 1), options);
+  const double wide_coverage = wide.evaluate(std::vector<Camera>{camera}, 1.0).surface_coverage;
+  EXPECT_GT(wide_coverage, e.surface_coverage + 0.03);
+  EXPECT_LT(wide_coverage, 0.5 * (1.0 - 1.0 / D) + 0.01);  // the horizon cap: cos θ = 1/D
+}
+
+TEST(EvaluateMetrics, CircularOrbitHasConstantSpeedAndNoAcceleration) {
+  constexpr int kFrames = 90;
+  std::vector<Camera> cameras;
+  for (int k = 0; k < kFrames; ++k) {
+    const double a = 2.0 * kPi * k / kFrames;
+    cameras.push_back(Camera{Eigen::Vector3d(5 * std::sin(a), 0, 5 * std::cos(a)), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 30});
+  }
+  PathEvaluation e;
+  measure_motion(cameras, Eigen::Vector3d::Zero(), e);
+  EXPECT_NEAR(e.camera_max_angular_speed, 2.0 * kPi / kFrames, 1e-12);
+  EXPECT_NEAR(e.view_max_angular_speed, 2.0 * kPi / kFrames, 1e-12);
+  EXPECT_LT(e.camera_max_angular_acceleration, 1e-12);
+  EXPECT_LT(e.view_max_angular_acceleration, 1e-12);
+
+  // A jump: one frame moved by 0.1 rad up gives that speed and about twice that acceleration.
+  cameras[10].eye = 5.0 * Eigen::Vector3d(std::sin(2 * kPi * 10 / kFrames) * std::cos(0.1), std::sin(0.1),
+                                          std::cos(2 * kPi * 10 / kFrames) * std::cos(0.1));
+  measure_motion(cameras, Eigen::Vector3d::Zero(), e);
+  EXPECT_GT(e.camera_max_angular_speed, 0.1);
+  EXPECT_GT(e.camera_max_angular_acceleration, 0.19);
+}
+
+TEST(EvaluateMetrics, OutOfFrameCountsFramesThatCutTheModel) {
+  const TriangleMesh mesh = cube();
+  std::vector<Camera> cameras = axis_cameras(6.0);
+  EXPECT_EQ(count_out_of_frame(cameras, mesh.positions, 1.0), 0);
+  cameras[0].vertical_fov_deg = 10.0;  // too narrow: the cube's corners leave the image
+  cameras[3].target = 2.0 * cameras[3].eye;  // looking away from the model
+  EXPECT_EQ(count_out_of_frame(cameras, mesh.positions, 1.0), 2);
+  // A wide image keeps the sides in that a square one cuts off.
+  const Camera close{Eigen::Vector3d(0, 0, 3.2), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 70.0};
+  const std::vector<Camera> one{close};
+  EXPECT_EQ(count_out_of_frame(one, mesh.positions, 1.0), 0);
+  EXPECT_EQ(count_out_of_frame(one, mesh.positions, 0.5), 1);
+}
+
+TEST(EvaluateMetrics, FeatureFacesAreAtOrAboveTheAreaWeightedQuantile) {
+  // Weights 1..4, areas 1, 1, 1, 5: 75 % of the area (6 of 8) is reached at weight 4, so only the
+  // big face is a feature; with equal areas the 75 % quantile is 3 (weights 3 and 4 are features).
+  EXPECT_DOUBLE_EQ(area_weighted_quantile({1, 2, 3, 4}, {1, 1, 1, 5}, 0.75), 4.0);
+  EXPECT_DOUBLE_EQ(area_weighted_quantile({1, 2, 3, 4}, {1, 1, 1, 1}, 0.75), 3.0);
+  EXPECT_EQ(feature_faces({4, 1, 3, 2}, {1, 1, 1, 1}, 0.75), (std::vector<std::uint8_t>{1, 0, 1, 0}));
+  // Ties: all faces with the threshold weight are features.
+  EXPECT_EQ(feature_faces({2, 2, 2, 1}, {1, 1, 1, 1}, 0.75), (std::vector<std::uint8_t>{1, 1, 1, 0}));
+  EXPECT_THROW(area_weighted_quantile({1}, {1, 2}, 0.5), InputError);
+}
+
+TEST(EvaluateMetrics, FeatureRegionsAreEdgeConnectedComponents) {
+  const TriangleMesh mesh = cube();
+  // +x side (2 triangles sharing an edge) and -x side: two regions; a corner-touching triangle
+  // of the +y side joins neither... it shares an edge with -x? Face 6 (2,6,7) shares edge 2-6
+  // with face 1 (0,6,2), so it joins the -x region.
+  std::vector<std::uint8_t> features(12, 0);
+  features[0] = features[1] = features[2] = features[3] = features[6] = 1;
+  const FeatureRegions regions = feature_regions(mesh, features);
+  EXPECT_EQ(regions.count, 2);
+  EXPECT_EQ(regions.face_region[0], regions.face_region[1]);
+  EXPECT_EQ(regions.face_region[0], regions.face_region[6]);
+  EXPECT_EQ(regions.face_region[2], regions.face_region[3]);
+  EXPECT_NE(regions.face_region[0], regions.face_region[2]);
+  EXPECT_EQ(regions.face_region[4], -1);
+}
+
+TEST(EvaluateMetrics, ResultsDoNotDependOnTheThreadCount) {
+  const TriangleMesh mesh = test_meshes::bumpy_sphere(3);
+  std::vector<std::uint8_t> features(mesh.triangles.size());
+  for (std::size_t f = 0; f < features.size(); ++f) features[f] = f % 3 == 0;
+  const PathEvaluator evaluator(mesh, features);
+  std::vector<Camera> cameras;
+  for (int k = 0; k < 12; ++k)
+    cameras.push_back(Camera{Eigen::Vector3d(4 * std::cos(k * 0.5), 1.0, 4 * std::sin(k * 0.5)), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 35});
+  PathEvaluation one;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = evaluator.evaluate(cameras, 16.0 / 9.0);
+  }
+  const PathEvaluation all = evaluator.evaluate(cameras, 16.0 / 9.0);
+  EXPECT_EQ(one.surface_coverage, all.surface_coverage);
+  EXPECT_EQ(one.feature_coverage, all.feature_coverage);
+  EXPECT_EQ(one.feature_median_frames, all.feature_median_frames);
+  EXPECT_GT(all.surface_coverage, 0.5);
+  EXPECT_LT(all.surface_coverage, 1.0);
+}
+
+TEST(EvaluateMetrics, JsonHasExactlyTheDocumentedShape) {
+  PathEvaluation a;
+  a.feature_coverage = 0.5;
+  a.surface_coverage = 0.75;
+  a.feature_min_frames = 3;
+  a.feature_median_frames = 7.5;
+  a.camera_max_angular_speed = 0.05;
+  a.view_max_angular_speed = 0.06;
+  a.view_max_angular_acceleration = 0.001;
+  a.frames_out_of_frame = 2;
+  const nlohmann::json doc = nlohmann::json::parse(evaluation_json({{"turntable", a}, {"paper", PathEvaluation{}}}));
+  ASSERT_EQ(doc.size(), 1u);
+  ASSERT_TRUE(doc.at("modes").is_object());
+  ASSERT_EQ(doc["modes"].size(), 2u);
+  const std::vector<std::string> keys = {"feature_coverage", "surface_coverage", "feature_min_frames",
+                                         "feature_median_frames", "camera_max_angular_speed", "view_max_angular_speed",
+                                         "view_max_angular_acceleration", "frames_out_of_frame"};
+  for (const char* mode : {"turntable", "paper"}) {
+    const auto& m = doc["modes"].at(mode);
+    EXPECT_EQ(m.size(), keys.size());
+    for (const auto& k : keys) EXPECT_TRUE(m.contains(k) && m[k].is_number()) << mode << " " << k;
+  }
+  const auto& t = doc["modes"]["turntable"];
+  EXPECT_EQ(t["feature_coverage"].get<double>(), 0.5);
+  EXPECT_EQ(t["feature_median_frames"].get<double>(), 7.5);
+  EXPECT_TRUE(t["feature_min_frames"].is_number_integer());
+  EXPECT_TRUE(t["frames_out_of_frame"].is_number_integer());
+  EXPECT_EQ(t["frames_out_of_frame"].get<int>(), 2);
+}
+
+}  // namespace

@@ -1,0 +1,96 @@
+// The feature orbit: it rises to show features on top and dips to show features underneath,
+// stays within its smoothness limits, loops seamlessly and keeps the model framed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "pathgen/feature_orbit.h"
+#include "test_meshes.h"
+
+namespace {
+
+using namespace meshtour;
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+// A sphere whose features are the faces within `cap_deg` of the +Y (top) or -Y pole.
+std::vector<std::uint8_t> polar_features(const TriangleMesh& mesh, double sign, double cap_deg) {
+  std::vector<std::uint8_t> features(mesh.triangles.size(), 0);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    const Eigen::Vector3d c = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]).normalized();
+    features[f] = sign * c.y() > std::cos(cap_deg * kDegree);
+  }
+  return features;
+}
+
+FeatureOrbitOptions fast_options() {
+  FeatureOrbitOptions o;
+  o.surface_weight = 0.0;  // the polar caps are 1 % of the area: judge by them alone
+  o.view_pixels = 96;
+  o.azimuth_samples = 16;
+  o.phases = 8;
+  return o;
+}
+
+TEST(FeatureOrbit, RisesToShowFeaturesOnTheTop) {
+  const TriangleMesh mesh = test_meshes::icosphere(4);
+  // Within 12° of the pole: a level camera sees them at 78° or more, never "well" (75°).
+  const FeatureOrbitOptions options = fast_options();
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, polar_features(mesh, 1.0, 12.0), options);
+  EXPECT_GT(r.geometry.elevation.base / kDegree, 10.0);
+  EXPECT_GT(r.feature_share_seen, 0.95);
+  EXPECT_LE(r.angular_speed, options.max_angular_speed);
+  EXPECT_LE(r.angular_acceleration, options.max_angular_acceleration);
+}
+
+TEST(FeatureOrbit, DipsToShowFeaturesUnderneath) {
+  const TriangleMesh mesh = test_meshes::icosphere(4);
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, polar_features(mesh, -1.0, 12.0), fast_options());
+  double lowest = 1e9;
+  for (int k = 0; k < 360; ++k) lowest = std::min(lowest, r.geometry.elevation(k / 360.0));
+  EXPECT_LT(lowest / kDegree, -10.0);
+  EXPECT_GT(r.feature_share_seen, 0.25);  // a level orbit sees none of it
+}
+
+TEST(FeatureOrbit, LoopsSeamlesslyLooksAtTheCentreAndKeepsItsLimits) {
+  TriangleMesh mesh = test_meshes::bumpy_sphere(3);
+  for (auto& p : mesh.positions) p = Eigen::Vector3d(3.0 * p.x(), p.y(), p.z()) + Eigen::Vector3d(1, 2, 3);  // slender, off-centre
+  std::vector<std::uint8_t> features(mesh.triangles.size());
+  for (std::size_t f = 0; f < features.size(); ++f) features[f] = mesh.positions[mesh.triangles[f][0]].z() > 3.4;
+  FeatureOrbitOptions options = fast_options();
+  options.surface_weight = 0.3;
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, features, options);
+  const FeatureOrbitPath path = r.camera_path();
+  const CameraPose a = path.pose(0.0), b = path.pose(1.0), c = path.pose(1e-6);
+  EXPECT_LT((a.eye - b.eye).norm(), 1e-9);
+  EXPECT_LT((a.eye - c.eye).norm(), 1e-3);
+  EXPECT_LT((a.target - mesh.bounds().center()).norm(), 1e-12);
+  const auto [speed, acceleration] = loop_angular_extremes([&](double t) { return path.pose(t).eye - path.pose(t).target; }, Eigen::Vector3d::UnitY(), 720);
+  EXPECT_LE(speed, options.max_angular_speed * 1.001);
+  EXPECT_LE(acceleration, options.max_angular_acceleration * 1.01);
+  // The dolly: every pose keeps every vertex inside the planned lens (up to the smooth envelope's sampling).
+  Lens lens;
+  lens.vertical_fov_deg = options.vertical_fov_deg;
+  lens.aspect = options.aspect;
+  for (int k = 0; k < 48; ++k) EXPECT_LT(fit_pullback(mesh.positions, path.pose(k / 48.0), lens), 0.02) << k;
+  // Closer from the slender side than from the end: the distance follows the silhouette.
+  double nearest = 1e9, farthest = 0.0;
+  for (int k = 0; k < 72; ++k) {
+    const double d = r.geometry.distance_at(k / 72.0);
+    nearest = std::min(nearest, d);
+    farthest = std::max(farthest, d);
+  }
+  EXPECT_GT(farthest, 1.1 * nearest);
+}
+
+TEST(FeatureOrbit, SoftwareDepthBufferHidesTheFarSide) {
+  const TriangleMesh mesh = test_meshes::icosphere(3);
+  const auto seen = faces_seen_well(mesh, Eigen::Vector3d(0, 0, 5), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 30.0, 128, 75.0);
+  ASSERT_FALSE(seen.empty());
+  for (std::uint32_t f : seen) EXPECT_GT(mesh.positions[mesh.triangles[f][0]].z(), 0.0);
+  EXPECT_GT(seen.size(), mesh.triangles.size() / 5);
+  EXPECT_LT(seen.size(), mesh.triangles.size() / 2);
+}
+
+}  // namespace
