@@ -58,7 +58,7 @@ void run_render(const RenderCommandArgs& args) {
   std::vector<int> todo;
   for (const int k : selected) {
     bool done = !args.overwrite;
-    for (const auto& f : formats) done = done && !missing_frames(dir, {k}, f).size();
+    for (const auto& f : formats) done = done && missing_frames(dir, {k}, f).empty();
     if (!done) todo.push_back(k);
   }
   const int skipped = static_cast<int>(selected.size() - todo.size());
