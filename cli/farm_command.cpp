@@ -164,7 +164,9 @@ void run_farm_slurm(const FarmArgs& args) {
     std::filesystem::path path_file;
     if (scene.path_file) {
       path_file = std::filesystem::absolute(*scene.path_file);
-    } else if (scene.path_mode != "turntable") {
+    } else if (scene.path_mode == "paper") {
+      // Only the paper path has a path file; the turntable and the feature orbit are cheap and
+      // deterministic (thread-count invariant), so every task computes the same one itself.
       const TriangleMesh mesh = load_scene_model(scene);
       const PaperPathResult path = compute_scene_paper_path(scene, mesh, args.scene.paper);
       path_file = out / "path.json";

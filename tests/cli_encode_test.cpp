@@ -95,8 +95,9 @@ TEST(CliEncode, EncodesTheManifestsRangeAtItsRate) {
   fs::create_directory(out);
   const auto r = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.mp4"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  // Progress on stderr, frames done of total, then a summary.
-  EXPECT_NE(r.output.find("encoded frame 10/10"), std::string::npos) << r.output;
+  // Progress on stderr (JSON lines, since it is not a terminal): frames done of total, then a summary.
+  EXPECT_NE(r.output.find(R"("event":"encoded frame","done":10,"total":10)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(R"("event":"summary","what":"encoded frame","done":10,"total":10)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("wrote"), std::string::npos) << r.output;
   const auto probe = probe_video(out / "tour.mp4");
   EXPECT_EQ(probe.codec, "h264");

@@ -345,7 +345,8 @@ TEST(BatchCommand, JsonManifestAndBadValuesFailOnlyTheirItem) {
 TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
   const auto dir = test::scratch_dir();
   const auto out = dir / "farm";
-  auto r = run_meshtour("farm slurm --out-dir " + q(out) + " --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5 --cpus-per-task 1 --partition debug --time 10");
+  // The paper path is computed once into a path file; the other modes are recomputed by each task.
+  auto r = run_meshtour("farm slurm --out-dir " + q(out) + " --path paper --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5 --cpus-per-task 1 --partition debug --time 10");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string render = read_bytes(out / "render.sbatch");
   EXPECT_NE(render.find("#SBATCH --array=0-2\n"), std::string::npos) << render;  // 12 frames, chunks of 5
@@ -366,9 +367,15 @@ TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
   EXPECT_NE(r.output.find("rendering with 1 threads"), std::string::npos) << r.output;
   EXPECT_EQ(frame_names(out / "frames", ".png"), (std::vector<std::string>{"frame_000010.png", "frame_000011.png"}));
   // And they are the frames a single `render` of the whole tour makes (same path, same fov).
-  r = run_meshtour("render --out-dir " + q(dir / "one") + " --frame-count 12 --width 64 --height 48 --spp 1 --progress none");
+  r = run_meshtour("render --out-dir " + q(dir / "one") + " --path paper --frame-count 12 --width 64 --height 48 --spp 1 --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(read_bytes(out / "frames" / "frame_000011.png") == read_bytes(dir / "one" / "frame_000011.png"));
+
+  // The default mode (feature orbit) has no path file: every task computes the same orbit.
+  r = run_meshtour("farm slurm --out-dir " + q(dir / "orbit") + " --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_bytes(dir / "orbit" / "render.sbatch").find("--path-file"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir / "orbit" / "path.json"));
 }
 
 TEST(FarmSlurm, ManifestGivesOneArrayTaskPerItem) {
