@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "cli/mesh_warnings.h"
 #include "cli/path_options.h"
 #include "cli/path_plot.h"
 #include "core/error.h"
@@ -91,8 +92,9 @@ void run_path(PathArgs& a) {
   LoadReport load;
   const TriangleMesh mesh = load_mesh(a.mesh, &load);
   throw_if_interrupted();
-  const PaperPathResult result = compute_paper_path(mesh, a.options);
+  const PaperPathResult result = with_file_name(a.mesh, [&] { return compute_paper_path(mesh, a.options); });
   throw_if_interrupted();
+  if (!a.quiet) warn_if_flat(mesh, result.up, a.mesh);
   // Everything that can fail for a reason other than the file system happens before the first
   // output is written: the plot is drawn in memory first.
   std::optional<PlotImage> plot;

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.h"
+#include "cli/mesh_warnings.h"
 #include "cli/path_options.h"
 #include "cli/progress.h"
 #include "cli/render_options.h"
@@ -105,7 +106,9 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     return std::make_unique<TurntablePath>(mesh.positions, options);
   }
   paper.up = UpDirection{UpDirection::Kind::axis, scene.up, scene.up.vector()};
-  const PaperPathResult result = compute_paper_path(mesh, paper);
+  const std::string model = scene.mesh_file ? scene.mesh_file->string() : scene.source;
+  const PaperPathResult result = with_file_name(model, [&] { return compute_paper_path(mesh, paper); });
+  if (!quiet) warn_if_flat(mesh, result.up, model);
   if (!quiet) {
     double seconds = 0;
     for (const auto& [stage, s] : result.stage_seconds) seconds += s;

@@ -13,6 +13,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev           # scene/path files, command line
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   ffmpeg                                    # ffprobe, used by tests as an independent reader
+  clang libclang-rt-14-dev                  # fuzz targets: clang with libFuzzer and the sanitizers
 )
 
 missing=()
