@@ -3,6 +3,8 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -13,6 +15,7 @@
 #include "cli/mesh_warnings.h"
 #include "cli/path_options.h"
 #include "cli/progress.h"
+#include "cli/resource_options.h"
 #include "cli/render_options.h"
 #include "core/error.h"
 #include "encoder/video_encoder.h"
@@ -38,6 +41,7 @@ struct TourArgs {
   int threads = 0;
   bool quiet = false;
   RenderArgs render;
+  ResourceArgs resources;
 };
 
 bool is_scene_file(const std::filesystem::path& p) { return p.extension() == ".json"; }
@@ -152,8 +156,36 @@ void run_tour(const TourArgs& args) {
   const bool write_png = keep_frames && (args.format == "png" || args.format == "png+exr");
   const bool write_exr = keep_frames && (args.format == "exr" || args.format == "png+exr");
 
-  const int threads = args.threads > 0 ? args.threads : tbb::info::default_concurrency();
+  const int threads = capped_threads(args.threads, args.quiet);
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+
+  // Refuse what would not fit before allocating anything: the model's counts come from its file's
+  // structure (or the procedural model's size), the rest from the options.
+  StageLog log(args.resources.verbose);
+  log.start("check");
+  std::size_t triangles = 0, vertices = 0;
+  if (scene.mesh_file) {
+    const MeshFileSummary counts = check_mesh_file(*scene.mesh_file);
+    triangles = counts.triangles();
+    vertices = counts.vertices;
+  } else {
+    triangles = static_cast<std::size_t>(60000.0 * scene.procedural_detail * scene.procedural_detail) + 1000;
+    vertices = triangles / 2 + 1000;
+  }
+  {
+    const auto& layers = scene.render.layers;
+    const int extra_layers = int(layers.albedo) + int(layers.normal) + int(layers.depth);
+    const bool path_stages = !scene.path_file && scene.path_mode == "paper";
+    MemoryEstimate e;
+    e.parts = {{"runtime", 100e6}, {"mesh", estimate_mesh_bytes(triangles, vertices)}};
+    if (path_stages) e.parts.push_back({"camera path", estimate_path_bytes(triangles)});
+    e.parts.push_back({"ray-tracing BVH", estimate_bvh_bytes(triangles)});
+    e.parts.push_back({"frame buffers", estimate_frame_bytes(scene.render.width, scene.render.height, extra_layers)});
+    // The path's structures are freed before the BVH is built.
+    e.peak = e.parts[0].second + e.parts[1].second +
+             std::max(path_stages ? e.parts[2].second : 0.0, e.parts[e.parts.size() - 2].second + e.parts.back().second);
+    check_memory(e, memory_budget(args.resources), "this tour");
+  }
 
   // Fail on the output before the expensive work: the encoder opens its temporary file now.
   VideoOptions video;
@@ -163,6 +195,7 @@ void run_tour(const TourArgs& args) {
   video.crf = scene.crf;
   VideoEncoder encoder(output, video);
 
+  log.start("load");
   LoadReport report;
   const TriangleMesh mesh = load_scene_model(scene, &report);
   const Bounds bounds = mesh.bounds();
@@ -183,22 +216,34 @@ void run_tour(const TourArgs& args) {
   Lens lens;
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
+  log.start("path");
   auto path = make_path(scene, mesh, lens, args.paper, args.quiet);
   const double fov = choose_fov(scene, *path, mesh, lens, args.quiet);
+  log.start("bvh");
   const Renderer renderer(mesh, scene.render);
+  log.stop();
 
   Progress progress("frame", scene.frames, args.quiet);
+  using Clock = std::chrono::steady_clock;
+  double render_seconds = 0.0, encode_seconds = 0.0;
   for (int k = 0; k < scene.frames; ++k) {
     throw_if_interrupted();
+    const auto t0 = Clock::now();
     const CameraPose pose = frame_pose(*path, k, scene.frames);
     const Image image = renderer.render(Camera{pose.eye, pose.target, pose.up, fov}, static_cast<std::uint64_t>(k));
     if (write_png) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "png"));
     if (write_exr) write_image(image, std::filesystem::path(args.frames_dir) / frame_name(k, "exr"));
+    const auto t1 = Clock::now();
     encoder.add_frame(image.to_srgb8());
+    encode_seconds += std::chrono::duration<double>(Clock::now() - t1).count();
+    render_seconds += std::chrono::duration<double>(t1 - t0).count();
     progress.update(k + 1);
   }
   throw_if_interrupted();
+  log.report("render", render_seconds);
+  const auto finish_start = Clock::now();
   encoder.finish();
+  log.report("encode", encode_seconds + std::chrono::duration<double>(Clock::now() - finish_start).count());
   progress.finish();
   if (!args.quiet) std::fprintf(stderr, "wrote %s (%d frames, %dx%d, %d fps)\n", output.string().c_str(), scene.frames,
                                 scene.render.width, scene.render.height, scene.fps);
@@ -245,6 +290,7 @@ void add_tour_command(CLI::App& app) {
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
   add_paper_path_options(*cmd, args->paper);
+  add_resource_options(*cmd, args->resources);
   cmd->callback([args] { run_tour(*args); });
 }
 

@@ -91,6 +91,50 @@ std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh) {
 
 namespace {
 
+// The triangles of an OBJ's faces after fan triangulation (v0 v1 v2, v0 v2 v3, ...), as OpenMesh
+// makes them, with each corner's vertex and texture coordinate index (0-based; -1 = none).
+struct ObjFan {
+  struct Triangle {
+    std::array<int, 3> vertex, texcoord;
+  };
+  std::vector<Triangle> triangles;
+  std::vector<Eigen::Vector2f> texcoords;
+};
+
+ObjFan obj_fan_triangles(const std::filesystem::path& file) {
+  ObjFan fan;
+  std::ifstream in(file, std::ios::binary);
+  long long vertices = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key)) continue;
+    if (key == "v") {
+      ++vertices;
+    } else if (key == "vt") {
+      float u = 0, v = 0;
+      words >> u >> v;
+      fan.texcoords.emplace_back(u, v);
+    } else if (key == "f") {
+      std::vector<std::pair<int, int>> corners;
+      for (std::string corner; words >> corner;) {
+        // check_mesh_file() has verified the indices; negative ones count back from the end.
+        const long long v = std::atoll(corner.c_str());
+        const auto slash = corner.find('/');
+        long long t = slash == std::string::npos ? 0 : std::atoll(corner.c_str() + slash + 1);
+        const long long uv_count = static_cast<long long>(fan.texcoords.size());
+        corners.emplace_back(static_cast<int>(v < 0 ? vertices + v : v - 1),
+                             static_cast<int>(t < 0 ? uv_count + t : t > 0 ? t - 1 : -1));
+      }
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+        fan.triangles.push_back({{corners[0].first, corners[k].first, corners[k + 1].first},
+                                 {corners[0].second, corners[k].second, corners[k + 1].second}});
+    }
+  }
+  return fan;
+}
+
 // The diffuse texture of an OBJ: the first `map_Kd` of the first `mtllib` it names, resolved
 // relative to the files. OpenMesh reads these too, but keeps them per face in properties that
 // vary between versions; meshtour uses one texture per model, so two small text scans suffice.
@@ -207,14 +251,39 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
   if (obj && options.check(OpenMesh::IO::Options::FaceTexCoord)) {
     mesh.texture_file = obj_diffuse_texture(file);
     if (!mesh.texture_file.empty()) {
+      // OpenMesh fan-triangulates polygons but gives texture coordinates only to the first
+      // triangle of each; the others get them here from the file's own corners.
+      const ObjFan fan = obj_fan_triangles(file);
       mesh.corner_uvs.reserve(3 * mesh.triangles.size());
+      std::size_t cursor = 0;
       for (auto fh : om.faces()) {
+        std::array<OpenMesh::HalfedgeHandle, 3> corners;
+        std::array<int, 3> vertex{};
         int k = 0;
         for (auto heh : om.fh_range(fh))  // same order as fv_range: each halfedge's target vertex
-          if (k++ < 3) {
-            const auto& t = om.texcoord2D(heh);
-            mesh.corner_uvs.emplace_back(t[0], t[1]);
+          if (k < 3) {
+            corners[k] = heh;
+            vertex[k++] = om.to_vertex_handle(heh).idx();
           }
+        // OpenMesh keeps the file's order and drops faces it cannot add, so the match is ahead.
+        std::size_t match = fan.triangles.size();
+        for (std::size_t j = cursor; j < fan.triangles.size() && j < cursor + 1024; ++j)
+          if (std::is_permutation(vertex.begin(), vertex.end(), fan.triangles[j].vertex.begin())) {
+            match = j;
+            break;
+          }
+        for (int c = 0; c < 3; ++c) {
+          if (match == fan.triangles.size()) {  // a face OpenMesh changed (split vertices): its own
+            const auto& t = om.texcoord2D(corners[c]);
+            mesh.corner_uvs.emplace_back(t[0], t[1]);
+            continue;
+          }
+          const auto& tri = fan.triangles[match];
+          const int at = static_cast<int>(std::find(tri.vertex.begin(), tri.vertex.end(), vertex[c]) - tri.vertex.begin());
+          const int uv = tri.texcoord[at];
+          mesh.corner_uvs.push_back(uv >= 0 && uv < static_cast<int>(fan.texcoords.size()) ? fan.texcoords[uv] : Eigen::Vector2f::Zero());
+        }
+        if (match != fan.triangles.size()) cursor = match + 1;
       }
     }
   }

@@ -67,7 +67,8 @@ struct MeshFileSummary {
 /// for its contents: counts a header announces must fit in the file, coordinates must be finite,
 /// faces must name vertices the file has. Called by load_mesh(); the CLI also calls it first to
 /// estimate the memory a job will need.
-/// \throw InputError naming the file and the line (text formats) or element at fault.
+/// \throw IoError if the file is missing or unreadable, InputError naming the file and the line
+///        (text formats) or element at fault.
 MeshFileSummary check_mesh_file(const std::filesystem::path& file);
 
 /// Mesh formats the loader understands, for help texts: "obj, ply, off, stl".

@@ -294,15 +294,20 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
     auto fail = [&](const std::string& what) -> void {
       throw InputError(name + ": PLY header line " + std::to_string(number) + ": " + what);
     };
+    // The strict grammar of the header: OpenMesh's own header parser loops forever on some
+    // malformed lines (a 'format' line with extra words was found by fuzzing).
     const std::string& keyword = words[0];
+    if (keyword == "comment" || keyword == "obj_info") continue;
     if (keyword == "format") {
-      if (words.size() < 2) fail("'format' names no format");
+      double version = 0.0;
+      if (words.size() != 3 || !parse_double(words[2], version))
+        fail("'format' must be followed by a format and a version, e.g. 'format binary_little_endian 1.0'");
       format = words[1];
       if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
         fail("unknown format '" + format + "' (ascii, binary_little_endian or binary_big_endian)");
     } else if (keyword == "element") {
       PlyElement e;
-      if (words.size() < 3) fail("an element needs a name and a count");
+      if (words.size() != 3) fail("an element needs a name and a count, e.g. 'element vertex 8'");
       e.name = words[1];
       long long count = -1;
       if (!parse_integer(words[2], count) || count < 0)
@@ -312,7 +317,7 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
     } else if (keyword == "property") {
       if (elements.empty()) fail("a property before any element");
       PlyProperty p;
-      if (words.size() >= 5 && words[1] == "list") {
+      if (words.size() == 5 && words[1] == "list") {
         bool count_float = false, count_signed = false;
         if (!ply_type(words[2], p.count_size, count_float, count_signed) || count_float)
           fail("list count type '" + words[2] + "' is not an integer type");
@@ -320,14 +325,17 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
         if (!ply_type(words[3], p.size, p.is_float, p.is_signed)) fail("unknown type '" + words[3] + "'");
         p.name = words[4];
       } else {
-        if (words.size() < 3 || !ply_type(words[1], p.size, p.is_float, p.is_signed))
-          fail("unknown property type '" + (words.size() > 1 ? words[1] : std::string()) + "'");
+        if (words.size() != 3 || !ply_type(words[1], p.size, p.is_float, p.is_signed))
+          fail("'" + line + "' is not 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME' with a PLY type");
         p.name = words[2];
       }
       elements.back().properties.push_back(p);
     } else if (keyword == "end_header") {
+      if (words.size() != 1) fail("'end_header' must stand alone on its line");
       header_complete = true;
       break;
+    } else {
+      fail("unexpected '" + keyword + "' (a header has format, element, property, comment and end_header lines)");
     }
   }
   if (!header_complete) throw InputError(name + ": truncated or corrupt PLY: the header has no 'end_header' line");
@@ -431,7 +439,15 @@ MeshFileSummary check_stl(const std::filesystem::path& file, const std::string& 
 
 MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
   const std::string name = file.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) throw IoError(name + ": no such file");
+  if (std::filesystem::is_directory(file, ec)) throw IoError(name + ": is a directory, not a mesh file");
   const std::string ext = lower_extension(file);
+  if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
+    std::ifstream probe(file, std::ios::binary);
+    if (!probe) throw IoError(name + ": cannot open for reading (check permissions)");
+    if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
+  }
   if (ext == ".obj") return check_obj(file, name);
   if (ext == ".off") return check_off(file, name);
   if (ext == ".ply") return check_ply(file, name);
