@@ -139,14 +139,17 @@ protected:
     const fs::path out = dir_ / ("out-" + std::to_string(index_++));
     fs::create_directories(out);
     std::string args = c.command + " " + q(c.input) + " " + c.extra;
-    if (c.command == "path") args += " -o " + q(out / "p.path.json") + " --threads 1";
-    else args += " -o " + q(out / "v.mp4") + " --frames-dir " + q(out / "frames") + " --threads 1";
+    const std::string threads = c.extra.find("--threads") == std::string::npos ? " --threads 1" : "";
+    if (c.command == "path") args += " -o " + q(out / "p.path.json") + threads;
+    else args += " -o " + q(out / "v.mp4") + " --frames-dir " + q(out / "frames") + threads;
     const auto start = std::chrono::steady_clock::now();
     const auto r = run_meshtour(args);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(r.exit_code, c.exit_code) << r.output;
     for (const auto& w : c.words) EXPECT_NE(r.output.find(w), std::string::npos) << "'" << w << "' not in: " << r.output;
-    if (c.names_file) EXPECT_NE(r.output.find(c.input.filename().string()), std::string::npos) << r.output;
+    if (c.names_file) {
+      EXPECT_NE(r.output.find(c.input.filename().string()), std::string::npos) << r.output;
+    }
     // Every failure is refused quickly: no case needs more than a few seconds (the billion-face
     // header must not make the loader allocate or read for long).
     EXPECT_LT(seconds, 20.0) << r.output;
@@ -237,6 +240,12 @@ TEST_F(BadInputCorpus, Meshes) {
       {"scene at 100000 x 100000", "tour",
        write(d / "absurd.json", R"({"model": {"procedural": "sculpture"}, "output": {"width": 100000, "height": 100000}})"), "-q", 2,
        {"'output.width' must be between 2 and 16384"}},
+      {"16384 x 16384 over a 1 GiB memory budget", "tour", write(d / "big.json", R"({"model": {"procedural": "sculpture"}, "output": {"width": 16384, "height": 16384}})"),
+       "-q --max-memory 1G", 2, {"needs an estimated", "frame buffers", "memory budget is 1.0 GiB", "--max-memory"}, false},
+      {"mesh over a 2 MiB memory budget", "path", write(d / "budget.obj", sphere_obj()), "--max-memory 2M", 2,
+       {"budget.obj", "needs an estimated", "--max-memory 2M"}, false},
+      {"--max-memory that is not a size", "path", write(d / "size.obj", sphere_obj()), "--max-memory lots", 2,
+       {"--max-memory", "not a size"}, false},
       {"scene not JSON", "tour", write(d / "broken.json", "{\"model\": {\"procedural\": \"sculpture\"},\n  \"up\": }"), "-q", 2,
        {"not valid JSON", "line 2"}},
   };
@@ -258,6 +267,10 @@ TEST_F(BadInputCorpus, OddButValidMeshes) {
        }(),
        "", 0, {}, false},
       {"non-ASCII names, tour", "tour", write(d / "vidéo_ß.obj", sphere_obj()), kSmall, 0, {}, false},
+      {"more threads than cores are capped", "path", write(d / "threads.obj", sphere_obj()), "--threads 100000", 0,
+       {"capped to the"}, false},
+      {"--verbose reports every stage", "tour", write(d / "verbose.obj", sphere_obj()), "--width 64 --height 48 --frames 2 --spp 1 --verbose",
+       0, {"stage load", "stage path", "stage bvh", "stage render", "stage encode", "peak"}, false},
   };
   for (const auto& c : cases) run(c);
 }
