@@ -129,6 +129,10 @@ MeshFileSummary check_off(const std::filesystem::path& file, const std::string& 
     while (std::getline(in, line)) {
       ++number;
       strip_cr(line);
+      for (unsigned char c : line)
+        if (c < 0x20 && c != '\t')
+          throw InputError(name + ": line " + std::to_string(number) + ": binary data in a text OFF file (control character " +
+                           std::to_string(c) + ")");
       if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
       words = words_of(line);
       if (!words.empty()) return true;
@@ -162,12 +166,20 @@ MeshFileSummary check_off(const std::filesystem::path& file, const std::string& 
                        std::to_string(size) + " bytes");
     return s;
   }
-  // The counts may follow the keyword on its line or come on the next one.
-  std::vector<std::string> count_words(words.begin() + 1, words.end());
-  if (count_words.empty() && !next(count_words)) fail("the header has no vertex and face counts");
-  long long nv = -1, nf = -1;
-  if (count_words.size() < 2 || !parse_integer(count_words[0], nv) || !parse_integer(count_words[1], nf) || nv < 0 || nf < 0)
-    fail("the header's vertex and face counts are not two non-negative numbers");
+  // OpenMesh skips the rest of the keyword's line and reads the counts from the next line with
+  // no comment handling, so counts anywhere else would be misread (a 'COFF 0 0 0' line with no
+  // line after it made it reserve 4.6 GB: found by fuzzing). Require what it reads.
+  if (words.size() > 1) fail("the vertex, face and edge counts must be on the line after '" + keyword + "', not on its line");
+  std::vector<std::string> count_words;
+  while (count_words.empty() && std::getline(in, line)) {
+    ++number;
+    strip_cr(line);
+    count_words = words_of(line);
+  }
+  long long nv = -1, nf = -1, ne = -1;
+  if (count_words.size() != 3 || !parse_integer(count_words[0], nv) || !parse_integer(count_words[1], nf) ||
+      !parse_integer(count_words[2], ne) || nv < 0 || nf < 0 || ne < 0)
+    fail("the header's counts must be three non-negative numbers: vertices, faces, edges");
   // Each vertex needs at least three numbers and separators, each face a count and 3 indices.
   const long double needed = 6.0L * nv + 8.0L * nf;
   if (needed > static_cast<long double>(size))
