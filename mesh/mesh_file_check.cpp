@@ -83,6 +83,14 @@ MeshFileSummary check_obj(const std::filesystem::path& file, const std::string& 
         if (!std::isfinite(c))
           fail("vertex " + std::to_string(s.vertices) + " has a NaN or infinite coordinate ('" + words[k] + "')");
       }
+      // "v x y z r g b": OpenMesh converts the colour to bytes without a range check (undefined
+      // behaviour beyond 0..1, found by fuzzing).
+      if (words.size() >= 7)
+        for (int k = 4; k <= 6; ++k) {
+          double c = 0.0;
+          if (!parse_double(words[k], c) || !(c >= 0.0 && c <= 1.0))
+            fail("vertex " + std::to_string(s.vertices) + " has a colour component '" + words[k] + "' outside 0 to 1");
+        }
     } else if (key == "vt") {
       ++texcoords;
     } else if (key == "vn") {
