@@ -85,8 +85,14 @@ MeshFileSummary check_obj(const std::filesystem::path& file, const std::string& 
       }
       // "v x y z r g b": OpenMesh converts the colour to bytes without a range check (undefined
       // behaviour beyond 0..1, found by fuzzing).
-      if (words.size() >= 7)
-        for (int k = 4; k <= 6; ++k) {
+      // Every extra value must be a plain number ("0+5" would be read by OpenMesh as 0 and 5).
+      for (std::size_t k = 4; k < words.size(); ++k) {
+        double c = 0.0;
+        if (!parse_double(words[k], c) || !std::isfinite(c))
+          fail("vertex " + std::to_string(s.vertices) + " has a value that is not a number: '" + words[k] + "'");
+      }
+      if (words.size() >= 6)
+        for (std::size_t k = 4; k < words.size() && k <= 6; ++k) {
           double c = 0.0;
           if (!parse_double(words[k], c) || !(c >= 0.0 && c <= 1.0))
             fail("vertex " + std::to_string(s.vertices) + " has a colour component '" + words[k] + "' outside 0 to 1");
