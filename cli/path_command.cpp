@@ -10,9 +10,11 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "cli/mesh_warnings.h"
 #include "cli/path_options.h"
 #include "cli/path_overview.h"
 #include "cli/path_plot.h"
+#include "cli/resource_options.h"
 #include "cli/tour_setup.h"
 #include "core/error.h"
 #include "mesh/mesh.h"
@@ -37,6 +39,7 @@ struct PathArgs {
   int threads = 0;
   bool quiet = false;
   PaperPathOptions options;
+  ResourceArgs resources;
 };
 
 std::string fixed(double value, int digits) {
@@ -87,6 +90,7 @@ void print_summary(const PaperPathResult& r, const PathArgs& a, const LoadReport
 void run_path(PathArgs& a) {
   install_interrupt_handlers();
   a.options.up = UpDirection::parse(a.up);
+  if (a.threads > 0) a.threads = capped_threads(a.threads, a.quiet);
   a.options.surface.threads = a.threads;
   a.options.validate();
   std::optional<tbb::global_control> thread_limit;
@@ -96,6 +100,18 @@ void run_path(PathArgs& a) {
       a.output.empty() ? std::filesystem::path(std::filesystem::path(a.mesh).stem().string() + ".path.json")
                        : std::filesystem::path(a.output);
 
+  // Refuse what would not fit before allocating it: the counts come from the file's structure.
+  StageLog log(a.resources.verbose);
+  log.start("check");
+  const MeshFileSummary counts = check_mesh_file(a.mesh);
+  MemoryEstimate estimate;
+  estimate.parts = {{"runtime", 100e6},
+                    {"mesh", estimate_mesh_bytes(counts.triangles(), counts.vertices)},
+                    {"camera path", estimate_path_bytes(counts.triangles())}};
+  for (const auto& part : estimate.parts) estimate.peak += part.second;
+  check_memory(estimate, memory_budget(a.resources), "the camera path of " + a.mesh);
+
+  log.start("load");
   LoadReport load;
   const TriangleMesh mesh = load_mesh(a.mesh, &load);
   throw_if_interrupted();
@@ -104,7 +120,13 @@ void run_path(PathArgs& a) {
     throw InputError("-o, --plot and --debug-dir describe the paper path; with --path " + a.mode +
                      " use --gltf, --camera-frames or --overview");
   std::optional<PaperPathResult> result;
-  if (paper) result = compute_paper_path(mesh, a.options);
+  if (paper) {
+    log.start("path");
+    result = with_file_name(a.mesh, [&] { return compute_paper_path(mesh, a.options); });
+    log.stop();
+    for (const auto& [stage, seconds] : result->stage_seconds) log.report_time("path/" + stage, seconds);
+    if (!a.quiet) warn_if_flat(mesh, result->up, a.mesh);
+  }
   throw_if_interrupted();
 
   // The cameras exactly as `meshtour tour MESH --path MODE --frames N` renders them (default
@@ -267,6 +289,7 @@ void add_path_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
   add_paper_path_options(*cmd, args->options);
+  add_resource_options(*cmd, args->resources);
   cmd->callback([args] { run_path(*args); });
 }
 

@@ -26,6 +26,7 @@ struct RenderCommandArgs {
   std::string frames = "all";
   std::string format = "png";
   std::string progress = "auto";
+  ResourceArgs resources;  // --max-memory, --verbose
   int threads = 0;
   bool overwrite = false;
   bool quiet = false;
@@ -71,10 +72,13 @@ void run_render(const RenderCommandArgs& args) {
     return;
   }
 
-  const int threads = render_threads(args.threads);
+  const int threads = capped_threads(render_threads(args.threads), args.quiet);
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", threads);
-  const PreparedTour tour = prepare_tour(scene, args.scene.paper, args.quiet);
+  StageLog log(args.resources.verbose);
+  log.start("check");
+  check_tour_memory(scene, args.resources);
+  const PreparedTour tour = prepare_tour(scene, args.scene.paper, args.quiet, &log);
 
   Progress progress("frame", static_cast<int>(todo.size()), mode);  // from here: frames/s are rendering only
 
@@ -120,6 +124,7 @@ void add_render_command(CLI::App& app) {
                   "Threads to render with (default: SLURM_CPUS_PER_TASK when set, else all cores); results do not depend on it")
       ->check(CLI::Range(1, 1024));
   add_progress_option(*cmd, args->progress);
+  add_resource_options(*cmd, args->resources);
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
   cmd->callback([args] { run_render(*args); });
 }

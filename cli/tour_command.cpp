@@ -29,6 +29,7 @@ struct TourArgs {
   std::string format = "png";
   std::string progress = "auto";
   std::string gltf, camera_frames;  // camera exports (glTF 2.0 animated camera, per-frame table)
+  ResourceArgs resources;           // --max-memory, --verbose
   int threads = 0;
   bool quiet = false;
 };
@@ -48,6 +49,7 @@ void run_tour(const TourArgs& args) {
   job.threads = args.threads;
   job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
   job.quiet = args.quiet;
+  job.resources = args.resources;
   job.gltf = args.gltf;
   job.camera_frames = args.camera_frames;
   render_tour_video(scene, args.scene.paper, job);
@@ -62,8 +64,13 @@ void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const 
   const bool write_png = keep_frames && (job.format == "png" || job.format == "png+exr");
   const bool write_exr = keep_frames && (job.format == "exr" || job.format == "png+exr");
 
-  const int threads = render_threads(job.threads);
+  const int threads = capped_threads(render_threads(job.threads), job.quiet);
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+
+  // Refuse what would not fit before allocating anything.
+  StageLog log(job.resources.verbose);
+  log.start("check");
+  check_tour_memory(scene, job.resources);
 
   // Fail on the output before the expensive work: the encoder opens its temporary file now.
   VideoOptions video;
@@ -73,6 +80,9 @@ void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const 
   video.crf = scene.crf;
   VideoEncoder encoder(output, video);
 
+  const PreparedTour tour = prepare_tour(scene, paper, job.quiet, &log);
+  // The frames directory and its manifest only once the tour could be prepared: a bad model or
+  // path file leaves nothing behind.
   if (keep_frames) {
     // The same frames directory `meshtour render` writes: `meshtour encode` can read it too.
     FrameDirInfo info;
@@ -87,7 +97,6 @@ void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const 
     prepare_frame_dir(job.frames_dir, info);
   }
 
-  const PreparedTour tour = prepare_tour(scene, paper, job.quiet);
   if (!job.gltf.empty() || !job.camera_frames.empty()) {
     const double aspect = static_cast<double>(scene.render.width) / scene.render.height;
     const TourCameras cameras = sample_tour(*tour.path, scene.frames, tour.fov, aspect, scene.fps);
@@ -96,17 +105,25 @@ void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const 
   }
 
   Progress progress("frame", scene.frames, job.progress);
+  using Clock = std::chrono::steady_clock;
+  double render_seconds = 0.0, encode_seconds = 0.0;
   for (int k = 0; k < scene.frames; ++k) {
     throw_if_interrupted();
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     const Image image = tour.render_frame(k);
     if (write_png) write_image(image, frame_file(job.frames_dir, k, "png"));
     if (write_exr) write_image(image, frame_file(job.frames_dir, k, "exr"));
+    const auto rendered = Clock::now();
     encoder.add_frame(image.to_srgb8());
-    progress.step_done(k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), k + 1);
+    encode_seconds += std::chrono::duration<double>(Clock::now() - rendered).count();
+    render_seconds += std::chrono::duration<double>(rendered - start).count();
+    progress.step_done(k, std::chrono::duration<double>(Clock::now() - start).count(), k + 1);
   }
   throw_if_interrupted();
+  log.report("render", render_seconds);
+  const auto finish_start = Clock::now();
   encoder.finish();
+  log.report("encode", encode_seconds + std::chrono::duration<double>(Clock::now() - finish_start).count());
   progress.finish();
   if (!job.quiet) std::fprintf(stderr, "wrote %s (%d frames, %dx%d, %d fps)\n", output.string().c_str(), scene.frames,
                                scene.render.width, scene.render.height, scene.fps);
@@ -130,6 +147,7 @@ void add_tour_command(CLI::App& app) {
   cmd->add_option("--gltf", args->gltf, "Also write the camera path as glTF 2.0 (FILE.gltf + FILE.bin: an animated camera with the tour's field of view)");
   cmd->add_option("--camera-frames", args->camera_frames, "Also write every frame's eye, target, up and field of view (.csv or .json)");
   add_progress_option(*cmd, args->progress);
+  add_resource_options(*cmd, args->resources);
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
   cmd->callback([args] { run_tour(*args); });
 }

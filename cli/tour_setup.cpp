@@ -1,5 +1,7 @@
 #include "cli/tour_setup.h"
 
+#include "cli/mesh_warnings.h"
+
 #include "pathgen/feature_orbit.h"
 
 #include <tbb/info.h>
@@ -155,7 +157,9 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     options.lens = lens;
     return std::make_unique<TurntablePath>(mesh.positions, options);
   }
-  const PaperPathResult result = compute_scene_paper_path(scene, mesh, paper);
+  const std::string model = scene.mesh_file ? scene.mesh_file->string() : std::string("the built-in model");
+  const PaperPathResult result = with_file_name(model, [&] { return compute_scene_paper_path(scene, mesh, paper); });
+  if (!quiet) warn_if_flat(mesh, result.up, model);
   if (!quiet) {
     double seconds = 0;
     for (const auto& [stage, s] : result.stage_seconds) seconds += s;
@@ -194,7 +198,35 @@ Image PreparedTour::render_frame(int k) const {
   return renderer->render(Camera{pose.eye, pose.target, pose.up, fov}, static_cast<std::uint64_t>(k));
 }
 
-PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, bool quiet) {
+void check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
+  std::size_t triangles = 0, vertices = 0;
+  if (scene.mesh_file) {
+    const MeshFileSummary counts = check_mesh_file(*scene.mesh_file);
+    triangles = counts.triangles();
+    vertices = counts.vertices;
+  } else {
+    triangles = static_cast<std::size_t>(60000.0 * scene.procedural_detail * scene.procedural_detail) + 1000;
+    vertices = triangles / 2 + 1000;
+  }
+  const auto& layers = scene.render.layers;
+  const int extra_layers = int(layers.albedo) + int(layers.normal) + int(layers.depth);
+  const bool path_stages = !scene.path_file && scene.path_mode == "paper";
+  MemoryEstimate e;
+  e.parts = {{"runtime", 100e6}, {"mesh", estimate_mesh_bytes(triangles, vertices)}};
+  if (path_stages) e.parts.push_back({"camera path", estimate_path_bytes(triangles)});
+  e.parts.push_back({"ray-tracing BVH", estimate_bvh_bytes(triangles)});
+  e.parts.push_back({"frame buffers", estimate_frame_bytes(scene.render.width, scene.render.height, extra_layers)});
+  // The path's structures are freed before the BVH is built.
+  e.peak = e.parts[0].second + e.parts[1].second +
+           std::max(path_stages ? e.parts[2].second : 0.0, e.parts[e.parts.size() - 2].second + e.parts.back().second);
+  check_memory(e, memory_budget(resources), "this tour");
+}
+
+PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, bool quiet, StageLog* log) {
+  const auto stage = [&](const char* name) {
+    if (log) log->start(name);
+  };
+  stage("load");
   PreparedTour tour;
   tour.scene = scene;
   LoadReport report;
@@ -211,9 +243,12 @@ PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, boo
   Lens lens;
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
+  stage("path");
   tour.path = make_path(scene, mesh, lens, paper, quiet);
   tour.fov = choose_fov(scene, *tour.path, mesh, lens, quiet);
+  stage("bvh");
   tour.renderer = std::make_unique<Renderer>(mesh, scene.render);
+  if (log) log->stop();
   return tour;
 }
 

@@ -12,6 +12,7 @@
 
 #include "cli/progress.h"
 #include "cli/render_options.h"
+#include "cli/resource_options.h"
 #include "pathgen/camera_path.h"
 #include "pathgen/paper_path.h"
 #include "scenes/scene.h"
@@ -70,8 +71,13 @@ struct PreparedTour {
 };
 
 /// Loads the model (printing a summary unless `quiet`), computes the path and the fov and builds
-/// the renderer.
-PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, bool quiet);
+/// the renderer; each of these is a stage of `log` (--verbose) when given.
+PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, bool quiet, StageLog* log = nullptr);
+
+/// Refuses (InputError) a tour of `scene` whose estimated memory exceeds the budget, before
+/// anything big is allocated: the model's counts come from its file's structure (or the
+/// procedural model's size), the rest from the options.
+void check_tour_memory(const Scene& scene, const ResourceArgs& resources);
 
 /// Threads to render with: `requested` when > 0, else SLURM_CPUS_PER_TASK when set (a farm task
 /// must not take the whole node), else every core of the machine.
@@ -87,6 +93,7 @@ struct TourVideoJob {
   std::filesystem::path camera_frames;  // also write every frame's camera as .csv or .json ("" = no)
   int threads = 0;                   // 0 = render_threads' default
   ProgressMode progress = ProgressMode::automatic;
+  ResourceArgs resources;  // --max-memory, --verbose
   bool quiet = false;
 };
 void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const TourVideoJob& job);

@@ -3,8 +3,11 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -49,67 +52,6 @@ std::size_t count_polygons_in_text(const std::filesystem::path& file, const std:
   return polygons;
 }
 
-// A PLY header announces its element counts, and OpenMesh allocates for them before reading the
-// body; a corrupt or hostile header ("element vertex 4000000000" on a 100-byte file) would make
-// it allocate gigabytes. Check that the body can possibly hold what the header announces.
-void check_ply_header(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::string line;
-  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return;  // OpenMesh reports the error
-  bool ascii = false;
-  struct Element {
-    std::string name;
-    unsigned long long count = 0;
-    unsigned long long min_bytes = 0;  // smallest possible size of one element in the body
-  };
-  std::vector<Element> elements;
-  bool header_complete = false;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "format") {
-      std::string format;
-      words >> format;
-      ascii = format == "ascii";
-    } else if (keyword == "element") {
-      Element e;
-      std::string count;
-      words >> e.name >> count;
-      try {
-        e.count = std::stoull(count);
-      } catch (const std::exception&) {
-        throw InputError(file.string() + ": PLY header: element '" + e.name + "' has an invalid count '" + count + "'");
-      }
-      elements.push_back(e);
-    } else if (keyword == "property" && !elements.empty()) {
-      std::string type;
-      words >> type;
-      // ASCII needs a digit and a separator per value; binary at least one byte (a list's count).
-      elements.back().min_bytes += ascii ? 2 : 1;
-    } else if (keyword == "end_header") {
-      header_complete = true;
-      break;
-    }
-  }
-  if (!header_complete) throw InputError(file.string() + ": truncated or corrupt PLY: the header has no 'end_header' line");
-  const auto body_start = in.tellg();
-  if (body_start < 0) return;
-  const auto size = std::filesystem::file_size(file);
-  const unsigned long long body = size - static_cast<unsigned long long>(body_start);
-  long double needed = 0;
-  for (const auto& e : elements) needed += static_cast<long double>(e.count) * std::max(1ull, e.min_bytes);
-  if (needed > static_cast<long double>(body))
-    throw InputError(file.string() + ": truncated or corrupt PLY: the header announces " +
-                     [&] {
-                       std::string s;
-                       for (const auto& e : elements) s += (s.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name;
-                       return s;
-                     }() +
-                     " but the file holds only " + std::to_string(body) + " bytes after the header");
-}
-
 }  // namespace
 
 Bounds TriangleMesh::bounds() const {
@@ -130,7 +72,68 @@ Bounds TriangleMesh::bounds() const {
   return b;
 }
 
+std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh) {
+  // The largest triangle gives the most reliable normal; all used vertices must lie in its plane.
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    if (n.squaredNorm() > normal.squaredNorm()) normal = n;
+  }
+  if (normal.squaredNorm() == 0.0 || mesh.triangles.empty()) return std::nullopt;
+  normal.normalize();
+  const Eigen::Vector3d origin = mesh.positions[mesh.triangles.front()[0]];
+  const double tolerance = 1e-9 * mesh.bounds().diagonal();
+  for (const auto& t : mesh.triangles)
+    for (auto v : t)
+      if (std::abs((mesh.positions[v] - origin).dot(normal)) > tolerance) return std::nullopt;
+  return normal;
+}
+
 namespace {
+
+// The triangles of an OBJ's faces after fan triangulation (v0 v1 v2, v0 v2 v3, ...), as OpenMesh
+// makes them, with each corner's vertex and texture coordinate index (0-based; -1 = none).
+struct ObjFan {
+  struct Triangle {
+    std::array<int, 3> vertex, texcoord;
+  };
+  std::vector<Triangle> triangles;
+  std::vector<Eigen::Vector2f> texcoords;
+};
+
+ObjFan obj_fan_triangles(const std::filesystem::path& file) {
+  ObjFan fan;
+  std::ifstream in(file, std::ios::binary);
+  long long vertices = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key)) continue;
+    if (key == "v") {
+      ++vertices;
+    } else if (key == "vt") {
+      float u = 0, v = 0;
+      words >> u >> v;
+      fan.texcoords.emplace_back(u, v);
+    } else if (key == "f") {
+      std::vector<std::pair<int, int>> corners;
+      for (std::string corner; words >> corner;) {
+        // check_mesh_file() has verified the indices; negative ones count back from the end.
+        const long long v = std::atoll(corner.c_str());
+        const auto slash = corner.find('/');
+        long long t = slash == std::string::npos ? 0 : std::atoll(corner.c_str() + slash + 1);
+        const long long uv_count = static_cast<long long>(fan.texcoords.size());
+        corners.emplace_back(static_cast<int>(v < 0 ? vertices + v : v - 1),
+                             static_cast<int>(t < 0 ? uv_count + t : t > 0 ? t - 1 : -1));
+      }
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+        fan.triangles.push_back({{corners[0].first, corners[k].first, corners[k + 1].first},
+                                 {corners[0].second, corners[k].second, corners[k + 1].second}});
+    }
+  }
+  return fan;
+}
 
 // The diffuse texture of an OBJ: the first `map_Kd` of the first `mtllib` it names, resolved
 // relative to the files. OpenMesh reads these too, but keeps them per face in properties that
@@ -181,7 +184,7 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
   }
 
-  if (ext == ".ply") check_ply_header(file);
+  check_mesh_file(file);
 
   LoaderMesh om;
   om.request_vertex_colors();
@@ -214,8 +217,9 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
     const auto& p = om.point(vh);
     mesh.positions.emplace_back(p[0], p[1], p[2]);
   }
-  for (const auto& p : mesh.positions)
-    if (!p.allFinite()) throw InputError(name + ": mesh has a vertex with a NaN or infinite coordinate");
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    if (!mesh.positions[i].allFinite())
+      throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
   if (options.check(OpenMesh::IO::Options::VertexColor)) {
     mesh.colors.reserve(om.n_vertices());
     for (auto vh : om.vertices()) {
@@ -235,17 +239,51 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
   }
   if (mesh.bounds().diagonal() <= 0.0)
     throw InputError(name + ": all vertices coincide; the mesh has no extent to render");
+  // Every later stage divides by areas and normals: a mesh without one proper triangle is refused
+  // here, naming the file, rather than deep in the path computation.
+  const bool has_area = std::any_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const auto& t) {
+    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    return n.squaredNorm() > 0.0;
+  });
+  if (!has_area)
+    throw InputError(name + ": all " + std::to_string(mesh.triangles.size()) +
+                     " faces are degenerate (zero area: their corners are collinear or coincide)");
   if (obj && options.check(OpenMesh::IO::Options::FaceTexCoord)) {
     mesh.texture_file = obj_diffuse_texture(file);
     if (!mesh.texture_file.empty()) {
+      // OpenMesh fan-triangulates polygons but gives texture coordinates only to the first
+      // triangle of each; the others get them here from the file's own corners.
+      const ObjFan fan = obj_fan_triangles(file);
       mesh.corner_uvs.reserve(3 * mesh.triangles.size());
+      std::size_t cursor = 0;
       for (auto fh : om.faces()) {
+        std::array<OpenMesh::HalfedgeHandle, 3> corners;
+        std::array<int, 3> vertex{};
         int k = 0;
         for (auto heh : om.fh_range(fh))  // same order as fv_range: each halfedge's target vertex
-          if (k++ < 3) {
-            const auto& t = om.texcoord2D(heh);
-            mesh.corner_uvs.emplace_back(t[0], t[1]);
+          if (k < 3) {
+            corners[k] = heh;
+            vertex[k++] = om.to_vertex_handle(heh).idx();
           }
+        // OpenMesh keeps the file's order and drops faces it cannot add, so the match is ahead.
+        std::size_t match = fan.triangles.size();
+        for (std::size_t j = cursor; j < fan.triangles.size() && j < cursor + 1024; ++j)
+          if (std::is_permutation(vertex.begin(), vertex.end(), fan.triangles[j].vertex.begin())) {
+            match = j;
+            break;
+          }
+        for (int c = 0; c < 3; ++c) {
+          if (match == fan.triangles.size()) {  // a face OpenMesh changed (split vertices): its own
+            const auto& t = om.texcoord2D(corners[c]);
+            mesh.corner_uvs.emplace_back(t[0], t[1]);
+            continue;
+          }
+          const auto& tri = fan.triangles[match];
+          const int at = static_cast<int>(std::find(tri.vertex.begin(), tri.vertex.end(), vertex[c]) - tri.vertex.begin());
+          const int uv = tri.texcoord[at];
+          mesh.corner_uvs.push_back(uv >= 0 && uv < static_cast<int>(fan.texcoords.size()) ? fan.texcoords[uv] : Eigen::Vector2f::Zero());
+        }
+        if (match != fan.triangles.size()) cursor = match + 1;
       }
     }
   }

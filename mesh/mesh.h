@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,12 +43,33 @@ struct TriangleMesh {
   Bounds bounds() const;
 };
 
+/// The unit normal of the plane in which every vertex some triangle uses lies (within 1e-9 of the
+/// bounding-box diagonal), or nothing if the mesh is not flat.
+std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh);
+
 /// What the loader did to the file's contents on the way in.
 struct LoadReport {
   std::size_t polygons_triangulated = 0;  ///< faces with more than 3 corners, fan-triangulated
   std::size_t vertices_split = 0;         ///< vertices OpenMesh duplicated to keep non-manifold faces
   std::vector<std::string> warnings;      ///< messages from the reader, one per line
 };
+
+/// What a mesh file announces, found by check_mesh_file() without building the mesh.
+struct MeshFileSummary {
+  std::size_t vertices = 0;  ///< as stored (STL: 3 per triangle, before merging)
+  std::size_t faces = 0;     ///< polygons as stored, before triangulation
+  std::size_t corners = 0;   ///< sum of the faces' corner counts (3 per triangle)
+  /// Triangles after fan triangulation.
+  std::size_t triangles() const { return corners >= 2 * faces ? corners - 2 * faces : faces; }
+};
+
+/// Checks a mesh file's structure in one pass bounded by its size, before anything is allocated
+/// for its contents: counts a header announces must fit in the file, coordinates must be finite,
+/// faces must name vertices the file has. Called by load_mesh(); the CLI also calls it first to
+/// estimate the memory a job will need.
+/// \throw IoError if the file is missing or unreadable, InputError naming the file and the line
+///        (text formats) or element at fault.
+MeshFileSummary check_mesh_file(const std::filesystem::path& file);
 
 /// Mesh formats the loader understands, for help texts: "obj, ply, off, stl".
 std::string supported_mesh_formats();

@@ -255,7 +255,8 @@ PaperCameraPath read_paper_path_file(const std::filesystem::path& file) {
   nlohmann::json root;
   try {
     root = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for numbers beyond double's range (1e999): found by fuzzing.
     throw InputError("path file " + file.string() + " is not valid JSON (" + e.what() +
                      "); write it again with 'meshtour path'");
   }

@@ -185,7 +185,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   json doc;
   try {
     doc = json::parse(json_text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error, and out_of_range for numbers beyond double's range (1e999, found by fuzzing).
     // nlohmann's message carries the line and column.
     std::string what = e.what();
     if (auto pos = what.find("parse error"); pos != std::string::npos) what = what.substr(pos);

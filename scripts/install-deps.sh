@@ -15,6 +15,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   ffmpeg                                    # ffprobe, used by tests as an independent reader
   slurmctld slurmd slurm-client munge       # farm: the single-node Slurm cluster of tests/slurm/
+  clang libclang-rt-14-dev                  # fuzz targets: clang with libFuzzer and the sanitizers
 )
 
 missing=()

@@ -2,7 +2,8 @@
 # Quick start, second command: install what is needed, build, and run the whole test suite:
 #  1. a Release build and all tests;
 #  2. an AddressSanitizer + UndefinedBehaviorSanitizer build and all tests again, under the
-#     sanitizers (set MESHTOUR_SKIP_SANITIZERS=1 to skip this half on a slow machine).
+#     sanitizers (set MESHTOUR_SKIP_SANITIZERS=1 to skip this half on a slow machine);
+#  3. the libFuzzer targets (fuzz/, clang) for a fixed number of inputs each (MESHTOUR_SKIP_FUZZ=1 skips).
 # Tests that need ../shared/meshes skip when it is absent, unless MESHTOUR_REQUIRE_SHARED=1.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,5 +26,11 @@ if [ "${MESHTOUR_SKIP_SANITIZERS:-0}" != 1 ]; then
   export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:new_delete_type_mismatch=0"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
   ctest --test-dir build-asan --output-on-failure -j "$jobs" --timeout 900 -LE slow
+fi
+if [ "${MESHTOUR_SKIP_FUZZ:-0}" != 1 ]; then
+  echo "== Fuzz targets (clang + libFuzzer), a fixed number of inputs each"
+  CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHTOUR_FUZZ=ON >/dev/null
+  cmake --build build-fuzz -j "$jobs"
+  ctest --test-dir build-fuzz --output-on-failure -j "$jobs" --timeout 300
 fi
 echo "== all tests passed"

@@ -2,6 +2,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "core/error.h"
@@ -29,6 +30,39 @@ TEST(MeshLoader, ObjQuadIsTriangulated) {
   EXPECT_EQ(b.hi, Eigen::Vector3d(1, 1, 0));
   EXPECT_DOUBLE_EQ(b.diagonal(), std::sqrt(2.0));
   EXPECT_FALSE(mesh.has_colors());
+}
+
+// Every corner of every triangle of a fan-triangulated polygon keeps its own texture coordinate.
+// The coordinates are chosen = (x, y) of the corner's vertex (scaled and shifted, and listed in
+// another order than the vertices), so each corner's UV can be checked against its position.
+TEST(MeshLoader, ObjPolygonsKeepEveryCornersUv) {
+  const auto dir = test::scratch_dir();
+  write_text(dir / "m.mtl", "newmtl m\nmap_Kd tex.png\n");
+  std::string obj = "mtllib m.mtl\nusemtl m\n";
+  const int sides = 7;
+  std::string face = "f", vts;
+  for (int k = 0; k < sides; ++k) {
+    const double a = 2 * 3.14159265358979 * k / sides;
+    obj += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0\n";
+  }
+  obj += "v 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n";  // a quad with negative (relative) indices
+  // vt listed backwards: vt number k+1 belongs to vertex sides-k.
+  for (int k = sides - 1; k >= 0; --k) {
+    const double a = 2 * 3.14159265358979 * k / sides;
+    obj += "vt " + std::to_string(0.5 + 0.25 * std::cos(a)) + " " + std::to_string(0.5 + 0.25 * std::sin(a)) + "\n";
+  }
+  for (int k = 0; k < sides; ++k) face += " " + std::to_string(k + 1) + "/" + std::to_string(sides - k);
+  obj += "vt 0.5 0.5\nvt 0.75 0.5\nvt 0.5 0.75\nvt 0.75 0.75\n";
+  obj += face + "\nf -4/-4 -3/-3 -1/-1 -2/-2\n";
+  const TriangleMesh mesh = load_mesh(write_text(dir / "polygon.obj", obj));
+  ASSERT_EQ(mesh.face_count(), static_cast<std::size_t>(sides - 2 + 2));
+  ASSERT_TRUE(mesh.has_texture());
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d& p = mesh.positions[mesh.triangles[f][c]];
+      const Eigen::Vector2f expected(static_cast<float>(0.5 + 0.25 * p.x()), static_cast<float>(0.5 + 0.25 * p.y()));
+      EXPECT_NEAR((mesh.corner_uvs[3 * f + c] - expected).norm(), 0.0f, 1e-5f) << "face " << f << " corner " << c;
+    }
 }
 
 TEST(MeshLoader, AsciiPlyKeepsVertexColours) {

@@ -1,0 +1,81 @@
+#pragma once
+// Resource limits shared by the commands: a memory budget checked against an estimate of the job
+// BEFORE anything big is allocated, threads capped to the machine, and --verbose reports of time
+// and memory per stage. A command adds the options with add_resource_options() and keeps the
+// ResourceArgs in its shared state.
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace meshtour::cli {
+
+struct ResourceArgs {
+  std::string max_memory;  ///< as given ("512M", "8G"); empty = default budget
+  bool verbose = false;
+};
+
+/// Adds --max-memory SIZE and --verbose to `cmd`. `args` must outlive the parse.
+void add_resource_options(CLI::App& cmd, ResourceArgs& args);
+
+/// "512M", "8G", "1.5g", "2T", "100000" (bytes), "64K" -> bytes (powers of 1024).
+/// \throw InputError for anything else.
+std::uint64_t parse_memory_size(const std::string& text);
+/// Bytes as "1.5 GiB", "512 MiB".
+std::string format_bytes(double bytes);
+/// Physical memory of the machine (sysconf, else /proc/meminfo), 0 if unknown.
+std::uint64_t physical_memory();
+
+/// The memory a job may use, and why (for messages).
+struct MemoryBudget {
+  std::uint64_t bytes = 0;
+  std::string origin;  ///< "--max-memory 8G" or "the default, 75% of the 16 GiB of this machine"
+};
+/// --max-memory when given, else 75% of physical memory. \throw InputError for a bad SIZE.
+MemoryBudget memory_budget(const ResourceArgs& args);
+
+/// What a job will hold in memory at its peak, by part, in bytes.
+struct MemoryEstimate {
+  std::vector<std::pair<std::string, double>> parts;  ///< e.g. {"mesh (70000 triangles)", 3.1e7}
+  double peak = 0.0;
+};
+
+/// Estimates (deliberately generous; calibrated on the Stanford bunny, see README.md).
+double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices);  ///< loading: OpenMesh + arrays
+double estimate_path_bytes(std::size_t triangles);                        ///< toroidal-patch path stages
+double estimate_bvh_bytes(std::size_t triangles);                         ///< Embree BVH + shading data
+double estimate_frame_bytes(int width, int height, int extra_layers);     ///< frame buffers + encoder
+
+/// Refuses (InputError, exit 2) a job whose estimated peak exceeds the budget, naming the budget,
+/// the estimate by part and how to raise the budget.
+void check_memory(const MemoryEstimate& estimate, const MemoryBudget& budget, const std::string& job);
+
+/// `requested` threads (0 = all), capped to the machine's cores; a note on stderr when capped
+/// (unless quiet). Results never depend on the thread count, so capping changes only speed.
+int capped_threads(int requested, bool quiet);
+
+/// --verbose: one line per stage on stderr with its wall time, the resident memory at its end and
+/// the peak so far (VmRSS / VmHWM of /proc/self/status).
+class StageLog {
+public:
+  explicit StageLog(bool verbose) : verbose_(verbose) {}
+  /// Ends the previous stage (if any) and starts `name`.
+  void start(const std::string& name);
+  /// Ends the current stage and reports it.
+  void stop();
+  /// Reports a stage timed elsewhere (seconds), with the memory figures of now.
+  void report(const std::string& name, double seconds) const;
+  /// Reports a part of a stage timed elsewhere, without memory figures (they belong to the stage).
+  void report_time(const std::string& name, double seconds) const;
+  bool verbose() const { return verbose_; }
+
+private:
+  bool verbose_;
+  std::string current_;
+  std::chrono::steady_clock::time_point started_;
+};
+
+}  // namespace meshtour::cli

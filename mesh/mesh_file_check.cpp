@@ -1,0 +1,486 @@
+// Structural checks of mesh files before OpenMesh reads them (see check_mesh_file in mesh.h).
+//
+// OpenMesh's readers trust their input: a header's counts are reserved before the body is read
+// (a billion-face OFF header allocated 23 GB), faces that name vertices past the list are dropped
+// or make the reader fail with a message that does not say where, and a body shorter than its
+// header is read as garbage. These scans walk the file once, bounded by its size, and refuse such
+// files with a message naming the file and the line or element; they also give the counts the
+// memory estimate needs before anything is allocated.
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "mesh/mesh.h"
+
+namespace meshtour {
+namespace {
+
+std::string lower_extension(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+void strip_cr(std::string& line) {
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+}
+
+// strtod/strtoll over a whole word; false if the word is not entirely a number.
+bool parse_double(const std::string& word, double& value) {
+  if (word.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(word.c_str(), &end);
+  return end == word.c_str() + word.size();
+}
+
+bool parse_integer(const std::string& word, long long& value) {
+  if (word.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtoll(word.c_str(), &end, 10);
+  return end == word.c_str() + word.size() && errno == 0;
+}
+
+std::vector<std::string> words_of(const std::string& line) {
+  std::vector<std::string> words;
+  std::istringstream in(line);
+  for (std::string w; in >> w;) words.push_back(w);
+  return words;
+}
+
+// ---- OBJ ------------------------------------------------------------------------------------
+
+MeshFileSummary check_obj(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  MeshFileSummary s;
+  std::size_t texcoords = 0, normals = 0;
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    strip_cr(line);
+    // OpenMesh skips leading blanks (" f /11 2 3" reached an assertion in its reader: fuzzing).
+    line.erase(0, line.find_first_not_of(" \t\r\v\f"));
+    if (line.size() < 2 || (line[0] != 'v' && line[0] != 'f')) continue;
+    const auto words = words_of(line);
+    if (words.empty()) continue;
+    const std::string& key = words[0];
+    auto fail = [&](const std::string& what) -> void {
+      throw InputError(name + ": line " + std::to_string(number) + ": " + what);
+    };
+    if (key == "v") {
+      ++s.vertices;
+      if (words.size() < 4) fail("vertex " + std::to_string(s.vertices) + " has fewer than 3 coordinates");
+      for (int k = 1; k <= 3; ++k) {
+        double c = 0.0;
+        if (!parse_double(words[k], c)) fail("vertex " + std::to_string(s.vertices) + " has a coordinate that is not a number: '" + words[k] + "'");
+        if (!std::isfinite(c))
+          fail("vertex " + std::to_string(s.vertices) + " has a NaN or infinite coordinate ('" + words[k] + "')");
+      }
+      // "v x y z r g b": OpenMesh converts the colour to bytes without a range check (undefined
+      // behaviour beyond 0..1, found by fuzzing).
+      // Every extra value must be a plain number ("0+5" would be read by OpenMesh as 0 and 5).
+      for (std::size_t k = 4; k < words.size(); ++k) {
+        double c = 0.0;
+        if (!parse_double(words[k], c) || !std::isfinite(c))
+          fail("vertex " + std::to_string(s.vertices) + " has a value that is not a number: '" + words[k] + "'");
+      }
+      if (words.size() >= 6)
+        for (std::size_t k = 4; k < words.size() && k <= 6; ++k) {
+          double c = 0.0;
+          if (!parse_double(words[k], c) || !(c >= 0.0 && c <= 1.0))
+            fail("vertex " + std::to_string(s.vertices) + " has a colour component '" + words[k] + "' outside 0 to 1");
+        }
+    } else if (key == "vt") {
+      ++texcoords;
+    } else if (key == "vn") {
+      ++normals;
+    } else if (key == "f") {
+      ++s.faces;
+      if (words.size() < 4) fail("face with fewer than 3 corners");
+      s.corners += words.size() - 1;
+      for (std::size_t k = 1; k < words.size(); ++k) {
+        // v, v/vt, v//vn or v/vt/vn; OBJ indices start at 1, negative ones count back from the end.
+        const std::string& corner = words[k];
+        const std::size_t counts[3] = {s.vertices, texcoords, normals};
+        const char* what[3] = {"vertex", "texture coordinate", "normal"};
+        std::size_t begin = 0;
+        for (int part = 0; part < 3 && begin <= corner.size(); ++part) {
+          const std::size_t end = std::min(corner.find('/', begin), corner.size());
+          const std::string index_text = corner.substr(begin, end - begin);
+          begin = end + 1;
+          if (index_text.empty() && part > 0) continue;
+          long long index = 0;
+          if (!parse_integer(index_text, index)) fail("face corner '" + corner + "' is not an index");
+          const long long count = static_cast<long long>(counts[part]);
+          if (index == 0 || index > count || index < -count)
+            fail("face refers to " + std::string(what[part]) + " " + std::to_string(index) + " but only " +
+                 std::to_string(count) + " " + (part == 0 ? "vertices" : part == 1 ? "texture coordinates" : "normals") +
+                 (count == 1 ? " is" : " are") + " defined before it");
+          if (end == corner.size()) break;
+        }
+      }
+    }
+  }
+  return s;
+}
+
+// ---- OFF ------------------------------------------------------------------------------------
+
+MeshFileSummary check_off(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  const auto size = std::filesystem::file_size(file);
+  std::string line;
+  std::size_t number = 0;
+  // The next line that is neither empty nor a comment, as words.
+  auto next = [&](std::vector<std::string>& words) {
+    while (std::getline(in, line)) {
+      ++number;
+      strip_cr(line);
+      for (unsigned char c : line)
+        if (c < 0x20 && c != '\t')
+          throw InputError(name + ": line " + std::to_string(number) + ": binary data in a text OFF file (control character " +
+                           std::to_string(c) + ")");
+      if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+      words = words_of(line);
+      if (!words.empty()) return true;
+    }
+    return false;
+  };
+  auto fail = [&](const std::string& what) -> void {
+    throw InputError(name + ": line " + std::to_string(number) + ": " + what);
+  };
+  std::vector<std::string> words;
+  if (!next(words)) throw InputError(name + ": not an OFF file (no header)");
+  const std::string& keyword = words[0];
+  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0)
+    fail("not an OFF file: the first word is '" + keyword + "', not OFF (or COFF, NOFF, STOFF, ...)");
+  const bool binary = words.size() > 1 && words[1] == "BINARY";
+  const bool four_d = keyword.find('4') != std::string::npos;
+  if (keyword.find('n') != std::string::npos) fail("nOFF (vertices of any dimension) is not supported");
+  if (binary) {
+    // Binary OFF: the counts follow as 32-bit integers; OpenMesh checks the rest as it reads,
+    // but would allocate for the counts first.
+    const std::size_t after_header = static_cast<std::size_t>(in.tellg() < 0 ? 0 : static_cast<std::size_t>(in.tellg()));
+    std::uint32_t counts[3] = {};
+    in.read(reinterpret_cast<char*>(counts), sizeof counts);
+    if (!in) throw InputError(name + ": truncated binary OFF: the header has no vertex and face counts");
+    for (auto& c : counts) c = __builtin_bswap32(c);  // binary OFF is big-endian
+    MeshFileSummary s{counts[0], counts[1], 3ull * counts[1]};
+    const long double needed = 12.0L * counts[0] + 16.0L * counts[1];
+    if (needed > static_cast<long double>(size - after_header - 12))
+      throw InputError(name + ": truncated or corrupt binary OFF: the header announces " + std::to_string(counts[0]) +
+                       " vertices and " + std::to_string(counts[1]) + " faces but the file holds only " +
+                       std::to_string(size) + " bytes");
+    return s;
+  }
+  // OpenMesh skips the rest of the keyword's line and reads the counts from the next line with
+  // no comment handling, so counts anywhere else would be misread (a 'COFF 0 0 0' line with no
+  // line after it made it reserve 4.6 GB: found by fuzzing). Require what it reads.
+  if (words.size() > 1) fail("the vertex, face and edge counts must be on the line after '" + keyword + "', not on its line");
+  std::vector<std::string> count_words;
+  while (count_words.empty() && std::getline(in, line)) {
+    ++number;
+    strip_cr(line);
+    count_words = words_of(line);
+  }
+  long long nv = -1, nf = -1, ne = -1;
+  if (count_words.size() != 3 || !parse_integer(count_words[0], nv) || !parse_integer(count_words[1], nf) ||
+      !parse_integer(count_words[2], ne) || nv < 0 || nf < 0 || ne < 0)
+    fail("the header's counts must be three non-negative numbers: vertices, faces, edges");
+  // Each vertex needs at least three numbers and separators, each face a count and 3 indices.
+  const long double needed = 6.0L * nv + 8.0L * nf;
+  if (needed > static_cast<long double>(size))
+    throw InputError(name + ": truncated or corrupt OFF: the header announces " + std::to_string(nv) + " vertices and " +
+                     std::to_string(nf) + " faces but the file holds only " + std::to_string(size) + " bytes");
+  MeshFileSummary s{static_cast<std::size_t>(nv), static_cast<std::size_t>(nf), 0};
+  const int dimensions = four_d ? 4 : 3;
+  for (long long v = 0; v < nv; ++v) {
+    if (!next(words)) fail("truncated: the file ends after " + std::to_string(v) + " of its " + std::to_string(nv) + " vertices");
+    if (static_cast<int>(words.size()) < dimensions) fail("vertex " + std::to_string(v) + " has fewer than " + std::to_string(dimensions) + " coordinates");
+    for (int k = 0; k < dimensions; ++k) {
+      double c = 0.0;
+      if (!parse_double(words[k], c)) fail("vertex " + std::to_string(v) + " has a coordinate that is not a number: '" + words[k] + "'");
+      if (!std::isfinite(c)) fail("vertex " + std::to_string(v) + " has a NaN or infinite coordinate ('" + words[k] + "')");
+    }
+  }
+  for (long long f = 0; f < nf; ++f) {
+    if (!next(words)) fail("truncated: the file ends after " + std::to_string(f) + " of its " + std::to_string(nf) + " faces");
+    long long corners = 0;
+    if (!parse_integer(words[0], corners) || corners < 3 || static_cast<long long>(words.size()) < corners + 1)
+      fail("face " + std::to_string(f) + " is not a corner count (3 or more) followed by that many vertex indices");
+    s.corners += static_cast<std::size_t>(corners);
+    for (long long k = 1; k <= corners; ++k) {
+      long long index = 0;
+      if (!parse_integer(words[k], index)) fail("face " + std::to_string(f) + " has an index that is not a number: '" + words[k] + "'");
+      if (index < 0 || index >= nv)
+        fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(index) + " but the file has " +
+             std::to_string(nv) + " vertices (0 to " + std::to_string(nv - 1) + ")");
+    }
+  }
+  return s;
+}
+
+// ---- PLY ------------------------------------------------------------------------------------
+
+struct PlyProperty {
+  std::string name;
+  int size = 0;        // bytes of a scalar, or of a list's items
+  int count_size = 0;  // bytes of a list's count, 0 for scalars
+  bool is_float = false, is_signed = false;
+  bool count_signed = false;
+};
+struct PlyElement {
+  std::string name;
+  unsigned long long count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+// Size and kind of a PLY scalar type; false for an unknown type.
+bool ply_type(const std::string& type, int& size, bool& is_float, bool& is_signed) {
+  struct T {
+    const char* name;
+    int size;
+    bool is_float, is_signed;
+  };
+  static const T types[] = {{"char", 1, false, true},    {"int8", 1, false, true},   {"uchar", 1, false, false},
+                            {"uint8", 1, false, false},  {"short", 2, false, true},  {"int16", 2, false, true},
+                            {"ushort", 2, false, false}, {"uint16", 2, false, false}, {"int", 4, false, true},
+                            {"int32", 4, false, true},   {"uint", 4, false, false},  {"uint32", 4, false, false},
+                            {"float", 4, true, true},    {"float32", 4, true, true}, {"double", 8, true, true},
+                            {"float64", 8, true, true}};
+  for (const auto& t : types)
+    if (type == t.name) {
+      size = t.size;
+      is_float = t.is_float;
+      is_signed = t.is_signed;
+      return true;
+    }
+  return false;
+}
+
+class PlyBody {
+public:
+  PlyBody(std::ifstream& in, const std::string& name, bool ascii, bool big_endian)
+      : in_(in), name_(name), ascii_(ascii), big_endian_(big_endian) {}
+
+  // The next value, as a double (integers up to 2^53 are exact, enough for any index).
+  double value(int size, bool is_float, bool is_signed, const std::string& where) {
+    if (ascii_) {
+      std::string word;
+      if (!(in_ >> word)) throw InputError(name_ + ": truncated PLY: the file ends in " + where);
+      double d = 0.0;
+      if (!parse_double(word, d)) throw InputError(name_ + ": " + where + ": '" + word + "' is not a number");
+      return d;
+    }
+    unsigned char bytes[8] = {};
+    in_.read(reinterpret_cast<char*>(bytes), size);
+    if (!in_) throw InputError(name_ + ": truncated PLY: the file ends in " + where);
+    if (big_endian_) std::reverse(bytes, bytes + size);
+    if (is_float) {
+      if (size == 4) {
+        float f;
+        std::memcpy(&f, bytes, 4);
+        return f;
+      }
+      double d;
+      std::memcpy(&d, bytes, 8);
+      return d;
+    }
+    std::uint64_t u = 0;
+    std::memcpy(&u, bytes, static_cast<std::size_t>(size));  // little-endian host
+    if (is_signed && size < 8 && (u >> (8 * size - 1)) & 1) return static_cast<double>(static_cast<std::int64_t>(u | (~0ull << (8 * size))));
+    return static_cast<double>(u);
+  }
+
+private:
+  std::ifstream& in_;
+  const std::string& name_;
+  bool ascii_, big_endian_;
+};
+
+MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || (strip_cr(line), line != "ply"))
+    throw InputError(name + ": not a PLY file (it does not start with 'ply')");
+  std::string format;
+  std::vector<PlyElement> elements;
+  bool header_complete = false;
+  for (std::size_t number = 2; std::getline(in, line); ++number) {
+    strip_cr(line);
+    const auto words = words_of(line);
+    if (words.empty()) continue;
+    auto fail = [&](const std::string& what) -> void {
+      throw InputError(name + ": PLY header line " + std::to_string(number) + ": " + what);
+    };
+    // The strict grammar of the header: OpenMesh's own header parser loops forever on some
+    // malformed lines (a 'format' line with extra words was found by fuzzing).
+    const std::string& keyword = words[0];
+    if (keyword == "comment" || keyword == "obj_info") continue;
+    if (keyword == "format") {
+      double version = 0.0;
+      if (words.size() != 3 || !parse_double(words[2], version))
+        fail("'format' must be followed by a format and a version, e.g. 'format binary_little_endian 1.0'");
+      format = words[1];
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        fail("unknown format '" + format + "' (ascii, binary_little_endian or binary_big_endian)");
+    } else if (keyword == "element") {
+      PlyElement e;
+      if (words.size() != 3) fail("an element needs a name and a count, e.g. 'element vertex 8'");
+      e.name = words[1];
+      long long count = -1;
+      if (!parse_integer(words[2], count) || count < 0)
+        throw InputError(name + ": PLY header: element '" + e.name + "' has an invalid count '" + words[2] + "'");
+      e.count = static_cast<unsigned long long>(count);
+      elements.push_back(e);
+    } else if (keyword == "property") {
+      if (elements.empty()) fail("a property before any element");
+      PlyProperty p;
+      if (words.size() == 5 && words[1] == "list") {
+        bool count_float = false, count_signed = false;
+        if (!ply_type(words[2], p.count_size, count_float, count_signed) || count_float)
+          fail("list count type '" + words[2] + "' is not an integer type");
+        p.count_signed = count_signed;
+        if (!ply_type(words[3], p.size, p.is_float, p.is_signed)) fail("unknown type '" + words[3] + "'");
+        p.name = words[4];
+      } else {
+        if (words.size() != 3 || !ply_type(words[1], p.size, p.is_float, p.is_signed))
+          fail("'" + line + "' is not 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME' with a PLY type");
+        p.name = words[2];
+      }
+      elements.back().properties.push_back(p);
+    } else if (keyword == "end_header") {
+      if (words.size() != 1) fail("'end_header' must stand alone on its line");
+      header_complete = true;
+      break;
+    } else {
+      fail("unexpected '" + keyword + "' (a header has format, element, property, comment and end_header lines)");
+    }
+  }
+  if (!header_complete) throw InputError(name + ": truncated or corrupt PLY: the header has no 'end_header' line");
+  if (format.empty()) throw InputError(name + ": corrupt PLY: the header has no 'format' line");
+  const bool ascii = format == "ascii";
+
+  // Refuse from the header alone what the body cannot hold (OpenMesh reserves the counts first).
+  const auto body_start = in.tellg();
+  const unsigned long long size = std::filesystem::file_size(file);
+  const unsigned long long body = body_start < 0 ? 0 : size - static_cast<unsigned long long>(body_start);
+  long double needed = 0;
+  for (const auto& e : elements) {
+    unsigned long long min_bytes = 0;  // smallest possible size of one element in the body
+    for (const auto& p : e.properties) min_bytes += ascii ? 2 : (p.count_size ? p.count_size : p.size);
+    needed += static_cast<long double>(e.count) * std::max(1ull, min_bytes);
+  }
+  if (needed > static_cast<long double>(body)) {
+    std::string counts;
+    for (const auto& e : elements) counts += (counts.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name;
+    throw InputError(name + ": truncated or corrupt PLY: the header announces " + counts + " but the file holds only " +
+                     std::to_string(body) + " bytes after the header");
+  }
+
+  // Walk the body: coordinates must be finite, face indices must name vertices of the file.
+  MeshFileSummary s;
+  unsigned long long vertex_count = 0;
+  for (const auto& e : elements)
+    if (e.name == "vertex") vertex_count = e.count;
+  PlyBody reader(in, name, ascii, format == "binary_big_endian");
+  for (const auto& e : elements) {
+    if (e.name == "vertex") s.vertices = e.count;
+    if (e.name == "face") s.faces = e.count;
+    for (unsigned long long i = 0; i < e.count; ++i) {
+      for (const auto& p : e.properties) {
+        const std::string where = e.name + " " + std::to_string(i);
+        if (!p.count_size) {
+          const double v = reader.value(p.size, p.is_float, p.is_signed, where);
+          if (e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z") && !std::isfinite(v))
+            throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate (" + p.name + ")");
+          continue;
+        }
+        const double n = reader.value(p.count_size, false, p.count_signed, where);
+        if (!(n >= 0) || n > static_cast<double>(body))
+          throw InputError(name + ": " + where + ": the list '" + p.name + "' has an invalid length " + std::to_string(n));
+        const bool indices = e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+        if (indices) {
+          if (n < 3) throw InputError(name + ": face " + std::to_string(i) + " has " + std::to_string(static_cast<long long>(n)) + " corners; a face needs 3 or more");
+          s.corners += static_cast<std::size_t>(n);
+        }
+        for (double k = 0; k < n; ++k) {
+          const double v = reader.value(p.size, p.is_float, p.is_signed, where);
+          if (indices && !(v >= 0 && v < static_cast<double>(vertex_count)))
+            throw InputError(name + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(static_cast<long long>(v)) +
+                             " but the file has " + std::to_string(vertex_count) + " vertices");
+        }
+      }
+    }
+  }
+  return s;
+}
+
+// ---- STL ------------------------------------------------------------------------------------
+
+MeshFileSummary check_stl(const std::filesystem::path& file, const std::string& name) {
+  const unsigned long long size = std::filesystem::file_size(file);
+  std::ifstream in(file, std::ios::binary);
+  char header[84] = {};
+  in.read(header, sizeof header);
+  const std::size_t got = static_cast<std::size_t>(in.gcount());
+  std::string start(header, std::min<std::size_t>(got, 80));
+  start.erase(0, start.find_first_not_of(" \t\r\n"));
+  const bool says_solid = start.rfind("solid", 0) == 0;
+  if (got == 84) {
+    std::uint32_t triangles = 0;
+    std::memcpy(&triangles, header + 80, 4);
+    const unsigned long long binary_size = 84ull + 50ull * triangles;
+    // Binary STL files may also begin with "solid"; the exact size tells them apart, as in OpenMesh.
+    if (binary_size == size || !says_solid) {
+      if (binary_size > size)
+        throw InputError(name + ": truncated or corrupt binary STL: the header announces " + std::to_string(triangles) +
+                         " triangles (" + std::to_string(binary_size) + " bytes) but the file holds " + std::to_string(size) + " bytes");
+      return MeshFileSummary{3ull * triangles, triangles, 3ull * triangles};
+    }
+  } else if (!says_solid) {
+    throw InputError(name + ": truncated or corrupt STL: " + std::to_string(size) + " bytes, shorter than a binary STL header");
+  }
+  // ASCII: count the facets (one "facet" line each); coordinates are checked after reading.
+  in.clear();
+  in.seekg(0);
+  MeshFileSummary s;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto first = line.find_first_not_of(" \t");
+    if (first != std::string::npos && line.compare(first, 5, "facet") == 0) ++s.faces;
+  }
+  s.vertices = s.corners = 3 * s.faces;
+  return s;
+}
+
+}  // namespace
+
+MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) throw IoError(name + ": no such file");
+  if (std::filesystem::is_directory(file, ec)) throw IoError(name + ": is a directory, not a mesh file");
+  const std::string ext = lower_extension(file);
+  if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
+    std::ifstream probe(file, std::ios::binary);
+    if (!probe) throw IoError(name + ": cannot open for reading (check permissions)");
+    if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
+  }
+  if (ext == ".obj") return check_obj(file, name);
+  if (ext == ".off") return check_off(file, name);
+  if (ext == ".ply") return check_ply(file, name);
+  if (ext == ".stl") return check_stl(file, name);
+  throw InputError(name + ": unknown mesh format '" + ext + "' (supported: " + supported_mesh_formats() + ")");
+}
+
+}  // namespace meshtour

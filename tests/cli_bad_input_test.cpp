@@ -1,0 +1,315 @@
+// The bad-input corpus (issue 6): hostile, broken and odd files run through the real `meshtour`
+// executable. Each case is generated here into a scratch folder and lists the exit code and the
+// words its one-line message must hold; every message must name the file at fault. After a
+// failure the case's output folder must be empty: never a partial output file.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "helpers.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using meshtour::test::run_meshtour;
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+fs::path write(const fs::path& file, const std::string& bytes) {
+  std::ofstream(file, std::ios::binary) << bytes;
+  return file;
+}
+
+std::string binary_floats(const std::vector<float>& values) {
+  std::string out(values.size() * 4, '\0');
+  std::memcpy(out.data(), values.data(), out.size());
+  return out;
+}
+
+// ---- generated meshes ---------------------------------------------------------------------
+
+// A closed UV sphere as OBJ text (`rings` x `segments` quads, triangle fans at the poles).
+std::string sphere_obj(int rings = 8, int segments = 16, const std::string& eol = "\n") {
+  std::ostringstream s;
+  s << "v 0 1 0" << eol;
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double th = std::numbers::pi * i / rings, ph = 2 * std::numbers::pi * j / segments;
+      s << "v " << std::sin(th) * std::cos(ph) << ' ' << std::cos(th) << ' ' << std::sin(th) * std::sin(ph) << eol;
+    }
+  s << "v 0 -1 0" << eol;
+  auto ring_vertex = [&](int i, int j) { return 2 + (i - 1) * segments + (j % segments); };
+  for (int j = 0; j < segments; ++j) s << "f 1 " << ring_vertex(1, j + 1) << ' ' << ring_vertex(1, j) << eol;
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < segments; ++j)
+      s << "f " << ring_vertex(i, j) << ' ' << ring_vertex(i, j + 1) << ' ' << ring_vertex(i + 1, j + 1) << ' '
+        << ring_vertex(i + 1, j) << eol;
+  const int south = 2 + (rings - 1) * segments;
+  for (int j = 0; j < segments; ++j) s << "f " << south << ' ' << ring_vertex(rings - 1, j) << ' ' << ring_vertex(rings - 1, j + 1) << eol;
+  return s.str();
+}
+
+// A flat n x n grid of quads; `plane` picks the two axes it spans ("xy" contains the y axis,
+// "xz" is perpendicular to it).
+std::string plane_obj(const std::string& plane, int n = 12) {
+  std::ostringstream s;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double a = double(i) / n, b = double(j) / n;
+      if (plane == "xy") s << "v " << a << ' ' << b << " 0\n";
+      else s << "v " << a << " 0 " << b << "\n";
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const int v = 1 + i * (n + 1) + j;
+      s << "f " << v << ' ' << v + n + 1 << ' ' << v + n + 2 << ' ' << v + 1 << "\n";
+    }
+  return s.str();
+}
+
+// A prism over a regular `sides`-gon: two polygons of `sides` corners (top and bottom) and quads.
+std::string prism_obj(int sides) {
+  std::ostringstream s;
+  for (int k = 0; k < sides; ++k) {
+    const double a = 2 * std::numbers::pi * k / sides;
+    s << "v " << std::cos(a) << " 0 " << std::sin(a) << "\n" << "v " << std::cos(a) << " 1.5 " << std::sin(a) << "\n";
+  }
+  s << "f";
+  for (int k = sides - 1; k >= 0; --k) s << ' ' << 1 + 2 * k;
+  s << "\nf";
+  for (int k = 0; k < sides; ++k) s << ' ' << 2 + 2 * k;
+  s << "\n";
+  for (int k = 0; k < sides; ++k) {
+    const int a = 1 + 2 * k, b = 1 + 2 * ((k + 1) % sides);
+    s << "f " << a << ' ' << a + 1 << ' ' << b + 1 << ' ' << b << "\n";
+  }
+  return s.str();
+}
+
+// Every other line ends in CR LF instead of LF.
+std::string mixed_line_endings(const std::string& text) {
+  std::string out;
+  int line = 0;
+  for (char c : text) {
+    if (c == '\n' && line++ % 2 == 0) out += '\r';
+    out += c;
+  }
+  return out;
+}
+
+const std::string kPlyTetHeader =
+    "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
+
+std::string ply_tetrahedron_body() {
+  std::string body = binary_floats({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1});
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  for (const auto& f : faces) {
+    body += char(3);
+    body.append(reinterpret_cast<const char*>(f), 12);
+  }
+  return body;
+}
+
+// ---- the corpus -----------------------------------------------------------------------------
+
+struct Case {
+  std::string name;
+  std::string command;        // "path" or "tour"
+  fs::path input;             // the file at fault, named in the message
+  std::string extra;          // further arguments
+  int exit_code;
+  std::vector<std::string> words;  // must all appear in the output
+  bool names_file = true;     // the message must name `input` (by its file name)
+};
+
+class BadInputCorpus : public ::testing::Test {
+protected:
+  void run(const Case& c) {
+    SCOPED_TRACE(c.name);
+    const fs::path out = dir_ / ("out-" + std::to_string(index_++));
+    fs::create_directories(out);
+    std::string args = c.command + " " + q(c.input) + " " + c.extra;
+    const std::string threads = c.extra.find("--threads") == std::string::npos ? " --threads 1" : "";
+    if (c.command == "path") args += " -o " + q(out / "p.path.json") + threads;
+    else args += " -o " + q(out / "v.mp4") + " --frames-dir " + q(out / "frames") + threads;
+    const auto start = std::chrono::steady_clock::now();
+    const auto r = run_meshtour(args);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, c.exit_code) << r.output;
+    for (const auto& w : c.words) EXPECT_NE(r.output.find(w), std::string::npos) << "'" << w << "' not in: " << r.output;
+    if (c.names_file) {
+      EXPECT_NE(r.output.find(c.input.filename().string()), std::string::npos) << r.output;
+    }
+    // Every failure is refused quickly: no case needs more than a few seconds (the billion-face
+    // header must not make the loader allocate or read for long).
+    EXPECT_LT(seconds, 20.0) << r.output;
+    std::size_t outputs = 0;
+    for (const auto& e : fs::recursive_directory_iterator(out)) outputs += e.is_regular_file();
+    if (c.exit_code != 0) {
+      // One line, no partial outputs (the frames folder may exist, but empty).
+      EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+      EXPECT_EQ(outputs, 0u) << "partial output left in " << out;
+    } else {
+      EXPECT_TRUE(fs::exists(out / (c.command == "path" ? "p.path.json" : "v.mp4"))) << r.output;
+    }
+    std::printf("  %-40s exit %d  %s", c.name.c_str(), r.exit_code, r.output.empty() ? "\n" : "");
+    // The message, as documentation of the corpus in the test log.
+    std::string first = r.output.substr(0, r.output.find('\n'));
+    if (!r.output.empty()) std::printf("%s\n", first.c_str());
+  }
+
+  void SetUp() override { dir_ = meshtour::test::scratch_dir(); }
+  fs::path dir_;
+  int index_ = 0;
+};
+
+constexpr const char* kSmall = "--width 64 --height 48 --frames 2 --spp 1 -q";
+
+TEST_F(BadInputCorpus, Meshes) {
+  const fs::path d = dir_;
+  const std::string tet_body = ply_tetrahedron_body();
+  std::string garbage(tet_body.size(), '\0');
+  std::uint32_t x = 12345;
+  for (char& c : garbage) c = static_cast<char>((x = x * 1664525u + 1013904223u) >> 24);
+  std::string past_end = tet_body;
+  const int bad_index = 99;
+  std::memcpy(past_end.data() + 48 + 13 * 3 + 1 + 8, &bad_index, 4);  // last face's third corner
+
+  std::string stl(80, ' ');
+  const std::uint32_t ten = 10;
+  stl.append(reinterpret_cast<const char*>(&ten), 4);
+  stl += std::string(50 * 2, '\0');  // 2 of the 10 announced triangles
+
+  const std::vector<Case> cases = {
+      {"empty file", "path", write(d / "empty.ply", ""), "", 2, {"empty"}},
+      {"empty OBJ (only a comment)", "path", write(d / "comment.obj", "# nothing\n"), "", 2, {"no faces"}},
+      {"truncated binary PLY", "path", write(d / "truncated.ply", kPlyTetHeader + tet_body.substr(0, 40)), "", 2, {"truncated"}},
+      {"truncated binary STL", "path", write(d / "truncated.stl", stl), "", 2, {"truncated"}},
+      {"garbage body, valid PLY header", "path", write(d / "garbage.ply", kPlyTetHeader + garbage), "", 2, {}},
+      {"PLY announces more vertices than it has", "path",
+       write(d / "counts.ply", "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                               "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+       "", 2, {}},
+      {"PLY face past the vertex list", "path", write(d / "past.ply", kPlyTetHeader + past_end), "", 2, {"face", "99"}},
+      {"OBJ face past the vertex list", "path", write(d / "past.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\n"), "", 2,
+       {"line 5", "7"}},
+      {"OFF face past the vertex list", "path", write(d / "past.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n"), "", 2, {"face", "5"}},
+      {"NaN coordinate", "path", write(d / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n"), "", 2,
+       {"NaN", "vertex 3"}},
+      {"infinite coordinate", "path", write(d / "inf.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1e999 0\n0 0 1\n3 0 1 2\n3 0 1 3\n"), "", 2,
+       {"infinite"}},
+      {"all faces degenerate", "path", write(d / "degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 0 2 0\nf 1 2 3\nf 1 4 5\n"), "", 2,
+       {"degenerate"}},
+      {"points without faces", "path",
+       write(d / "points.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                               "end_header\n0 0 0\n1 0 0\n0 1 0\n"),
+       "", 2, {"no faces"}},
+      {"billion-face PLY header on a tiny file", "path",
+       write(d / "billion.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                "property float z\nelement face 1000000000\nproperty list uchar int vertex_indices\nend_header\n" +
+                                    tet_body.substr(0, 36)),
+       "", 2, {"1000000000 face"}},
+      {"billion-face OFF header", "path", write(d / "billion.off", "OFF\n3 1000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "", 2,
+       {"1000000000"}},
+      {"billion-triangle binary STL header", "path",
+       write(d / "billion.stl", std::string(80, ' ') + std::string("\x00\xca\x9a\x3b", 4) + std::string(50, '\0')), "", 2,
+       {"1000000000"}},
+      {"mesh across the up axis (flat, y up)", "path", write(d / "floor.obj", plane_obj("xz")), "", 2, {"flat", "--up"}},
+      {"scene with unknown key", "tour", write(d / "unknown.json", R"({"model": {"procedural": "sculpture"}, "colour": "red"})"),
+       kSmall, 2, {"'colour' unknown key"}},
+      {"scene with a wrong type", "tour", write(d / "type.json", R"({"model": {"procedural": "sculpture"}, "timing": {"frames": "ten"}})"),
+       "-q", 2, {"'timing.frames' must be a whole number"}},
+      {"scene without a model", "tour", write(d / "nomodel.json", R"({"up": "y"})"), kSmall, 2, {"has no 'model'"}},
+      {"scene naming a missing mesh", "tour", write(d / "missing.json", R"({"model": {"file": "nowhere.ply"}})"), kSmall, 3,
+       {"nowhere.ply", "no such file"}, false},
+      {"scene with a negative size", "tour",
+       write(d / "negative.json", R"({"model": {"procedural": "sculpture"}, "output": {"width": -64, "height": 48}})"), "-q", 2,
+       {"'output.width' must be between 2 and 16384, got -64"}},
+      {"scene with zero frames", "tour", write(d / "zero.json", R"({"model": {"procedural": "sculpture"}, "timing": {"frames": 0}})"),
+       "-q", 2, {"'timing.frames' must be between 1 and 1000000, got 0"}},
+      {"scene at 100000 x 100000", "tour",
+       write(d / "absurd.json", R"({"model": {"procedural": "sculpture"}, "output": {"width": 100000, "height": 100000}})"), "-q", 2,
+       {"'output.width' must be between 2 and 16384"}},
+      {"16384 x 16384 over a 1 GiB memory budget", "tour", write(d / "big.json", R"({"model": {"procedural": "sculpture"}, "output": {"width": 16384, "height": 16384}})"),
+       "-q --max-memory 1G", 2, {"needs an estimated", "frame buffers", "memory budget is 1.0 GiB", "--max-memory"}, false},
+      {"mesh over a 2 MiB memory budget", "path", write(d / "budget.obj", sphere_obj()), "--max-memory 2M", 2,
+       {"budget.obj", "needs an estimated", "--max-memory 2M"}, false},
+      {"--max-memory that is not a size", "path", write(d / "size.obj", sphere_obj()), "--max-memory lots", 2,
+       {"--max-memory", "not a size"}, false},
+      {"scene not JSON", "tour", write(d / "broken.json", "{\"model\": {\"procedural\": \"sculpture\"},\n  \"up\": }"), "-q", 2,
+       {"not valid JSON", "line 2"}},
+  };
+  for (const auto& c : cases) run(c);
+}
+
+TEST_F(BadInputCorpus, OddButValidMeshes) {
+  const fs::path d = dir_;
+  const std::vector<Case> cases = {
+      {"single triangle", "path", write(d / "triangle.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), "", 0, {}, false},
+      {"flat plane along the up axis", "path", write(d / "wall.obj", plane_obj("xy")), "", 0, {"warning", "flat"}},
+      {"300-gon polygons", "path", write(d / "prism300.obj", prism_obj(300)), "", 0, {}, false},
+      {"mixed CRLF and LF line endings", "path", write(d / "mixed.obj", mixed_line_endings(sphere_obj())),
+       "", 0, {}, false},
+      {"non-ASCII file and folder names", "path",
+       [&] {
+         fs::create_directories(d / "données 3D");
+         return write(d / "données 3D" / "modèle_球体.obj", sphere_obj());
+       }(),
+       "", 0, {}, false},
+      {"non-ASCII names, tour", "tour", write(d / "vidéo_ß.obj", sphere_obj()), kSmall, 0, {}, false},
+      {"more threads than cores are capped", "path", write(d / "threads.obj", sphere_obj()), "--threads 100000", 0,
+       {"capped to the"}, false},
+      {"--verbose reports every stage", "tour", write(d / "verbose.obj", sphere_obj()), "--width 64 --height 48 --frames 2 --spp 1 --verbose",
+       0, {"stage load", "stage path", "stage bvh", "stage render", "stage encode", "peak"}, false},
+  };
+  for (const auto& c : cases) run(c);
+}
+
+TEST_F(BadInputCorpus, PathFiles) {
+  const fs::path d = dir_;
+  const fs::path mesh = write(d / "sphere.obj", sphere_obj());
+  const fs::path good = d / "good.path.json";
+  const auto made = run_meshtour("path " + q(mesh) + " -q -o " + q(good));
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  std::ifstream in(good);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto edited = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) t.replace(at, from.size(), to);
+    return t;
+  };
+  const std::string tour = "--path-file ";
+  auto path_case = [&](const std::string& name, const std::string& file, const std::string& content, int code,
+                       std::vector<std::string> words) {
+    const fs::path f = write(d / file, content);
+    return Case{name, "tour", mesh, std::string(kSmall) + " --path-file " + q(f), code, std::move(words), false};
+  };
+  const std::vector<Case> cases = {
+      path_case("path file from a newer version", "newer.path.json", edited("\"format_version\": 1", "\"format_version\": 2"), 2,
+                {"newer.path.json", "format_version", "must be 1"}),
+      path_case("path file with a negative radius", "radius.path.json", edited("\"radius\": ", "\"radius\": -"), 2,
+                {"radius.path.json", "cylinder.radius", "positive"}),
+      path_case("path file with a missing key", "nokey.path.json", edited("\"start_parameter\"", "\"start_parametre\""), 2,
+                {"nokey.path.json", "curve.start_parameter", "missing"}),
+      path_case("path file hand-edited into nonsense", "nonsense.path.json", "{\"format_version\": 1, \"curve\": [1, 2}", 2,
+                {"nonsense.path.json", "not valid JSON"}),
+      path_case("path file that is a JSON array", "array.path.json", "[1, 2, 3]", 2, {"array.path.json", "format_version"}),
+      path_case("path file with a huge degree", "degree.path.json", edited("\"degree\": 3", "\"degree\": 1e300"), 2,
+                {"degree.path.json", "curve.degree"}),
+  };
+  for (const auto& c : cases) run(c);
+}
+
+}  // namespace
