@@ -66,7 +66,7 @@ TEST(FeatureOrbit, LoopsSeamlesslyLooksAtTheCentreAndKeepsItsLimits) {
   EXPECT_LT((a.eye - b.eye).norm(), 1e-9);
   EXPECT_LT((a.eye - c.eye).norm(), 1e-3);
   EXPECT_LT((a.target - mesh.bounds().center()).norm(), 1e-12);
-  const auto [speed, acceleration] = loop_angular_extremes([&](double t) { return path.pose(t).eye - path.pose(t).target; }, Eigen::Vector3d::UnitY(), 720);
+  const auto [speed, acceleration] = loop_angular_extremes([&](double t) -> Eigen::Vector3d { return path.pose(t).eye - path.pose(t).target; }, Eigen::Vector3d::UnitY(), 720);
   EXPECT_LE(speed, options.max_angular_speed * 1.001);
   EXPECT_LE(acceleration, options.max_angular_acceleration * 1.01);
   // The dolly: every pose keeps every vertex inside the planned lens (up to the smooth envelope's sampling).
