@@ -113,12 +113,7 @@ void write_summary(const BatchArgs& args, const std::vector<ItemResult>& results
   j["failed"] = counts[2];
   j["items"] = std::move(items);
   const std::string text = j.dump(2) + "\n";
-  write_file_atomically(file, [&](const std::filesystem::path& temporary) {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) throw IoError(file.string() + ": cannot write the batch summary");
-  });
+  write_text_file_atomically(file, text, "batch summary");
 }
 
 void print_table(const std::vector<ItemResult>& results) {

@@ -108,12 +108,7 @@ void run_evaluate(EvaluateArgs& a) {
   }
   if (!a.json.empty()) {
     const std::string text = evaluation_json(rows);
-    write_file_atomically(a.json, [&](const std::filesystem::path& temporary) {
-      std::ofstream out(temporary, std::ios::binary);
-      out << text;
-      out.close();
-      if (!out) throw IoError(a.json + ": cannot write the evaluation (check the folder exists and is writable)");
-    });
+    write_text_file_atomically(a.json, text, "evaluation");
   }
   if (!a.quiet) {
     std::cout << "meshtour evaluate: " << a.mesh << " (up " << scene.up.name() << ", " << scene.frames << " frames, "

@@ -66,12 +66,7 @@ std::string video_extension(const std::string& codec) {
 }
 
 void write_text(const std::filesystem::path& file, const std::string& text, bool executable) {
-  write_file_atomically(file, [&](const std::filesystem::path& temporary) {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) throw IoError(file.string() + ": cannot write");
-  });
+  write_text_file_atomically(file, text, "farm script");
   if (executable) {
     std::error_code ec;
     std::filesystem::permissions(file, std::filesystem::perms::owner_exec | std::filesystem::perms::group_exec |

@@ -125,13 +125,24 @@ PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh&
   return compute_paper_path(mesh, paper);
 }
 
+namespace {
+
+// With "fov": "auto" a geometry-driven path keeps its distances (the lens is fitted later); with a
+// fixed fov it is wrapped in FramedPath, which moves the camera back where the model would not fit.
+std::unique_ptr<CameraPath> frame_for_lens(std::unique_ptr<CameraPath> path, const Scene& scene, const TriangleMesh& mesh,
+                                           const Lens& lens) {
+  if (scene.auto_fov) return path;
+  return std::make_unique<FramedPath>(std::move(path), mesh.positions, lens);
+}
+
+}  // namespace
+
 std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens,
                                       const PaperPathOptions& paper, bool quiet) {
   if (scene.path_file) {
     auto path = read_path_file(*scene.path_file);
     if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
-    if (scene.auto_fov) return path;
-    return std::make_unique<FramedPath>(std::move(path), mesh.positions, lens);
+    return frame_for_lens(std::move(path), scene, mesh, lens);
   }
   if (scene.path_mode == "feature-orbit") {
     FeatureOrbitOptions orbit;
@@ -146,9 +157,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
                    "its views see %.1f %% of the feature area\n", e.base * deg, e.swing * deg,
                    e.swing_phase, e.ripple * deg, e.ripple_phase, 100.0 * result.feature_share_seen);
     }
-    auto orbit_path = std::make_unique<FeatureOrbitPath>(result.camera_path());
-    if (scene.auto_fov) return orbit_path;
-    return std::make_unique<FramedPath>(std::move(orbit_path), mesh.positions, lens);
+    return frame_for_lens(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, mesh, lens);
   }
   if (scene.path_mode == "turntable") {
     TurntableOptions options;

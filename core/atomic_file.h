@@ -4,7 +4,10 @@
 // the final name.
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 
@@ -43,6 +46,18 @@ inline void write_file_atomically(const std::filesystem::path& file,
     std::filesystem::remove(temporary, ignored);
     throw;
   }
+}
+
+/// Writes `text` as the whole of `file`, atomically (see write_file_atomically).
+/// \throw IoError naming `what` (e.g. "path file") and `file` if it cannot be written.
+inline void write_text_file_atomically(const std::filesystem::path& file, const std::string& text, const std::string& what) {
+  write_file_atomically(file, [&](const std::filesystem::path& temporary) {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError("cannot write " + what + " " + file.string() + ": " + std::strerror(errno));
+    out << text;
+    out.close();
+    if (!out) throw IoError("cannot write " + what + " " + file.string() + ": write failed (disk full?)");
+  });
 }
 
 }  // namespace meshtour

@@ -38,13 +38,7 @@ void write_frame_dir_info(const std::filesystem::path& dir, const FrameDirInfo& 
   j["path_file"] = info.path_file;
   const std::string text = j.dump(2) + "\n";
   const std::filesystem::path file = dir / kFrameDirManifestName;
-  write_file_atomically(file, [&](const std::filesystem::path& temporary) {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw IoError(file.string() + ": cannot write: " + std::strerror(errno));
-    out << text;
-    out.flush();
-    if (!out) throw IoError(file.string() + ": cannot write: write failed (disk full?)");
-  });
+  write_text_file_atomically(file, text, "frames manifest");
 }
 
 bool has_frame_dir_info(const std::filesystem::path& dir) {

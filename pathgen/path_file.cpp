@@ -240,13 +240,7 @@ std::string path_file_text(const PaperPathResult& r, const std::string& source) 
 
 void write_path_file(const PaperPathResult& result, const std::filesystem::path& file, const std::string& source) {
   const std::string text = path_file_text(result, source);
-  write_file_atomically(file, [&](const std::filesystem::path& temporary) {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw IoError("cannot write path file " + file.string() + ": " + std::strerror(errno));
-    out << text;
-    out.flush();
-    if (!out) throw IoError("cannot write path file " + file.string() + ": write failed (disk full?)");
-  });
+  write_text_file_atomically(file, text, "path file");
 }
 
 PaperCameraPath read_paper_path_file(const std::filesystem::path& file) {
