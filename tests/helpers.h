@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace meshtour::test {
@@ -25,6 +26,19 @@ struct CommandResult {
 CommandResult run_meshtour(const std::string& args);
 /// The meshtour executable under test (absolute), for tests that start it themselves.
 std::filesystem::path meshtour_executable();
+
+/// Sets an environment variable for its lifetime, then restores the previous value.
+class ScopedEnv {
+public:
+  ScopedEnv(const char* name, const char* value);
+  ~ScopedEnv();
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+private:
+  std::string name_;
+  std::optional<std::string> previous_;
+};
 
 }  // namespace meshtour::test
 

@@ -110,6 +110,40 @@ TEST(Renderer, SamePixelsWithOneOrTwoThreads) {
   EXPECT_EQ(0, std::memcmp(one.depth.data(), two.depth.data(), one.depth.size() * sizeof(float)));
 }
 
+// The tile kernel is compiled once per x86-64 level (tracer/CMakeLists.txt) and the CPU's widest
+// runs: a frame must not depend on which, or a farm of mixed machines would give mixed frames.
+TEST(Renderer, SamePixelsWithEveryInstructionSet) {
+  const char* const kernels[] = {"baseline", "x86-64-v3", "x86-64-v4"};
+  for (int spp : {16, 5}) {  // whole packets per pixel (summed in one tree), and packets across pixels
+    RenderOptions options;
+    options.width = 64;
+    options.height = 48;
+    options.samples_per_pixel = spp;
+    options.layers = {true, true, true};
+    const TriangleMesh sphere = uv_sphere(1.0, 48, 24);
+    std::vector<Image> images;
+    std::vector<std::string> names;
+    for (const char* kernel : kernels) {
+      test::ScopedEnv env("MESHTOUR_TILE_KERNEL", kernel);
+      try {
+        const Renderer renderer(sphere, options);
+        images.push_back(renderer.render(studio_camera(1), 3));
+        names.push_back(kernel);
+      } catch (const InputError&) {
+        // Not a level this CPU runs (or not an x86-64 build): nothing to compare.
+      }
+    }
+    ASSERT_FALSE(images.empty());
+    for (std::size_t i = 1; i < images.size(); ++i) {
+      SCOPED_TRACE(names[i] + " vs " + names[0] + ", spp " + std::to_string(spp));
+      EXPECT_EQ(0, std::memcmp(images[i].rgba.data(), images[0].rgba.data(), images[0].rgba.size() * sizeof(float)));
+      EXPECT_EQ(images[i].albedo, images[0].albedo);
+      EXPECT_EQ(images[i].normal, images[0].normal);
+      EXPECT_EQ(0, std::memcmp(images[i].depth.data(), images[0].depth.data(), images[0].depth.size() * sizeof(float)));
+    }
+  }
+}
+
 TEST(Renderer, FrameAloneEqualsFrameInSequence) {
   RenderOptions options;
   options.width = 80;

@@ -1,12 +1,14 @@
 #pragma once
-// The reconstruction filter: a separable Blackman-Harris window, tabulated once so that splatting
-// a sample costs a few table reads instead of cosines.
+// The reconstruction filter: a separable Blackman-Harris window, evaluated for 16 samples at once
+// with polynomials, and the per-pixel sums that splat samples onto their neighbours.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <numbers>
+
+#include "tracer/simd.h"
 
 namespace meshtour {
 
@@ -15,39 +17,37 @@ public:
   FilterTable() = default;
   /// `radius` in pixels: samples further than that from a pixel's centre (along x or y) do not
   /// reach it.
-  explicit FilterTable(float radius) : radius_(radius), to_index_(kEntries / radius) {
-    // Blackman-Harris (4-term) window over [-radius, radius]: smooth, nearly Gaussian, and it
-    // falls to ~0 at the radius, so truncating it leaves no visible ringing.
-    constexpr double a0 = 0.35875, a1 = 0.48829, a2 = 0.14128, a3 = 0.01168;
-    for (int i = 0; i <= kEntries; ++i) {
-      const double x = 0.5 + 0.5 * static_cast<double>(i) / kEntries;  // distance 0 -> centre of the window
-      const double w = 2.0 * std::numbers::pi * x;
-      table_[i] = static_cast<float>(a0 - a1 * std::cos(w) + a2 * std::cos(2 * w) - a3 * std::cos(3 * w));
-    }
-  }
+  explicit FilterTable(float radius) : radius_(radius) {}
   /// Pixels beyond a tile's edge that its samples can reach.
   int apron() const { return static_cast<int>(std::ceil(radius_)); }
-
-  /// |distance| must stay below radius + 1 (a sample's farthest tap is reach() + 0.5 away): the
-  /// table is padded with zeros that far, so the lookup needs no range test.
-  float weight(float distance) const {
-    const float f = std::abs(distance) * to_index_;
-    const int i = static_cast<int>(f);
-    const float t = f - static_cast<float>(i);
-    return table_[i] + t * (table_[i + 1] - table_[i]);
-  }
 
   /// Pixels on either side of a sample's own pixel that it can reach: a sample at offset o in
   /// [0, 1) from its pixel's corner is |k + 0.5 - o| from the centre of the pixel k columns away.
   int reach() const { return static_cast<int>(std::ceil(radius_ - 0.5f)); }
 
+  /// The weights along one axis of 16 samples at offsets `o` in [0, 1) inside their pixels:
+  /// w[i] for the pixel i - reach() away (2 reach() + 1 of them).
+  ///
+  /// The 4-term Blackman-Harris window over [-radius, radius] (smooth, nearly Gaussian, ~0 at the
+  /// radius, so truncating it leaves no visible ringing), evaluated directly: with
+  /// z = 1/2 + d/(2 radius), cos(2 pi z) = sin(pi (d/radius - 1/2)), an odd polynomial on
+  /// [-pi/2, pi/2], and the window's cos(4 pi z), cos(6 pi z) are Chebyshev polynomials of it.
+  MESHTOUR_SIMD_INLINE void weights(simd::F16 o, simd::F16* w) const {
+    constexpr float a0 = 0.35875f, a1 = 0.48829f, a2 = 0.14128f, a3 = 0.01168f;
+    const int r = reach();
+    for (int i = 0; i <= 2 * r; ++i) {
+      const simd::F16 d = static_cast<float>(i - r) + 0.5f - o;
+      const simd::F16 dist = simd::select(simd::lt(d, 0.0f), -d, d);
+      const simd::F16 x = (dist * (1.0f / radius_) - 0.5f) * std::numbers::pi_v<float>;
+      const simd::F16 x2 = x * x;
+      const simd::F16 c = x * (1.0f + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040 + x2 * (1.0f / 362880)))));
+      const simd::F16 window = (a0 - a2) + c * ((3.0f * a3 - a1) + c * (2.0f * a2 + c * (-4.0f * a3)));
+      w[i] = simd::select(simd::lt(dist, radius_), window, simd::broadcast(0.0f));
+    }
+  }
+
 private:
-  static constexpr int kEntries = 256;  // per radius
-  // radius + 1 <= 3 radii for every radius >= 0.5; one radius more to spare.
-  static constexpr int kPadded = 4 * kEntries + 2;
   float radius_ = 1.5f;
-  float to_index_ = kEntries / 1.5f;  // table entries per pixel of distance
-  std::array<float, kPadded> table_{};  // zero beyond kEntries
 };
 
 /// Four floats in one SIMD register (GCC and Clang vector extension; plain SSE on x86-64).
@@ -62,18 +62,19 @@ public:
   static constexpr int kTaps = 2 * Reach + 1;
   static constexpr int kWeightVectors = (kTaps + 3) / 4;
 
-  /// A sample at offset (ox, oy) in [0, 1)^2 inside the pixel, with premultiplied RGBA `value`.
-  void add(const FilterTable& filter, float ox, float oy, Float4 value) {
+  /// A sample with premultiplied RGBA `value` and tap weights `wx`, `wy` (FilterTable::weights:
+  /// wx[i] of lane `lane` is the weight of the pixel i - Reach columns away).
+  void add(const simd::F16* wx_lanes, const simd::F16* wy_lanes, int lane, Float4 value) {
     Float4 weighted[kTaps];
     float weights[kWeightVectors * 4] = {};
     for (int i = 0; i < kTaps; ++i) {
-      weights[i] = filter.weight(static_cast<float>(i - Reach) + 0.5f - ox);
+      weights[i] = wx_lanes[i][lane];
       weighted[i] = weights[i] * value;
     }
     Float4 wx[kWeightVectors];  // the horizontal weights, four taps per register
     std::memcpy(wx, weights, sizeof wx);
     for (int j = 0; j < kTaps; ++j) {
-      const float wy = filter.weight(static_cast<float>(j - Reach) + 0.5f - oy);
+      const float wy = wy_lanes[j][lane];
       for (int i = 0; i < kTaps; ++i) rgba_[j][i] += wy * weighted[i];
       for (int v = 0; v < kWeightVectors; ++v) weight_[j][v] += wy * wx[v];
     }

@@ -18,13 +18,19 @@ struct alignas(64) ValidMask {
 };
 
 /// Copies of the rays one render() traced, for the tiles whose index is a multiple of
-/// `tile_stride` (all tiles would need gigabytes at 16 spp), in the batches the renderer used.
+/// `tile_stride` (all tiles would need gigabytes at 16 spp), packet by packet as the renderer
+/// traced them: rtcIntersect16 on the camera rays, then rtcOccluded16 on the shadow rays and on
+/// the occlusion rays (each only when some lane is in use).
 struct RayRecording {
   int tile_stride = 8;
+  struct Packet {
+    RTCRayHit16 primary;  ///< camera rays, as traced (before intersection)
+    ValidMask primary_valid;
+    RTCRay16 shadow, sky;  ///< lanes not in use are uninitialised
+    ValidMask shadow_valid, sky_valid;
+  };
   struct Tile {
-    std::vector<RTCRayHit16> packets;           ///< camera rays, as traced (before intersection)
-    std::vector<ValidMask> valid;  ///< the lanes in use of each packet
-    std::vector<RTCRay> secondary;              ///< shadow and occlusion rays, one rtcOccluded1M call
+    std::vector<Packet> packets;
   };
   std::vector<Tile> tiles;  ///< one entry per recorded tile
 };

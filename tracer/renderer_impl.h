@@ -1,0 +1,147 @@
+#pragma once
+// The renderer's private parts, shared by renderer.cpp (scene set-up, frames) and
+// tile_kernel.cpp (the per-tile hot loop, compiled once per instruction set). Not public API.
+#include <Eigen/Core>
+#include <OpenImageIO/texture.h>
+#include <embree3/rtcore.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "tracer/film.h"
+#include "tracer/renderer_internal.h"
+#include "tracer/tracer.h"
+
+namespace meshtour {
+namespace render_detail {
+
+// Embree reports errors through a callback; keep the first message so the throwing site can
+// quote it (exceptions must not cross Embree's C frames).
+struct EmbreeErrorSink {
+  std::mutex mutex;
+  std::string message;
+};
+
+struct DeviceDeleter {
+  void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
+};
+struct SceneDeleter {
+  void operator()(RTCScene s) const { rtcReleaseScene(s); }
+};
+struct TextureSystemDeleter {
+  void operator()(OIIO::TextureSystem* t) const { OIIO::TextureSystem::destroy(t); }
+};
+using DevicePtr = std::unique_ptr<RTCDeviceTy, DeviceDeleter>;
+using ScenePtr = std::unique_ptr<RTCSceneTy, SceneDeleter>;
+using TextureSystemPtr = std::unique_ptr<OIIO::TextureSystem, TextureSystemDeleter>;
+
+// 16 x 16 pixels: at 16 spp a tile's rays (4096 camera rays, up to 8192 secondary) stay in the
+// L2 cache, and a 1280x720 frame has 3600 tiles, plenty to balance two or more threads.
+constexpr int kTileSize = 16;
+constexpr unsigned kModelGeometry = 0, kGroundGeometry = 1;
+constexpr unsigned kModelMask = 1, kGroundMask = 2;
+
+// A light as one frame sees it: world direction, colour and its disc's size.
+struct FrameLight {
+  Eigen::Vector3f direction;  // towards the light
+  Eigen::Vector3f tangent, bitangent;
+  Eigen::Vector3f radiance;   // colour * intensity
+  float radiance_luminance;
+  float one_minus_cos_half_angle;  // the disc's solid angle / 2 pi
+  float cos_half_angle, sin_half_angle;
+};
+
+// Everything about a frame that its tiles share: camera, lights, material, ground and sampling.
+struct Frame {
+  std::uint64_t index = 0;
+  int width = 0, height = 0, spp = 1;
+  bool transparent = false;
+  Eigen::Vector3f eye, forward;
+  // Camera ray through film position (fx, fy): corner + fx * step_x + fy * step_y, normalised.
+  Eigen::Vector3f corner, step_x, step_y;
+  unsigned camera_mask = 0;
+  std::vector<FrameLight> lights;
+  Eigen::Vector3f base_color, ambient, background_top, background_bottom;
+  bool shadows = true, ambient_occlusion = true;
+  float shininess = 1.0f, spec_scale = 0.0f, spec_cutoff = 1.0f;
+  float eps = 0.0f, ao_length = 0.0f, model_radius = 0.0f, ground_ao_reach2 = 0.0f;
+  float pixel_angle = 0.0f, inv_height = 0.0f;
+  // The ground's light choice and the shares of its light the model can take away.
+  float ground_weights[8] = {};
+  float ground_light_total = 0.0f, ground_shadow = 0.0f, ground_light_share = 0.0f, ground_sky_share = 0.0f;
+  Eigen::Vector3f up, up_t1, up_t2;  // the ground's normal and tangents, for its occlusion rays
+  // The corner of each stratum (a rows x cols grid over the unit square) and a stratum's size.
+  std::vector<float> stratum_x, stratum_y;
+  float stratum_w = 1.0f, stratum_h = 1.0f;
+  int tiles_x = 0, apron = 0, buf_w = 0;
+  Image* image = nullptr;  // the extra layers are written by the tiles directly
+};
+
+// Per-thread buffers, reused from tile to tile.
+struct Scratch {
+  RTCRayHit16 primary;
+  RTCRay16 shadow, sky;
+  OIIO::TextureSystem::Perthread* texture_thread = nullptr;
+};
+
+// One tile's ray and sample counts.
+struct TileCounts {
+  std::uint64_t primary = 0, secondary = 0;
+};
+
+}  // namespace render_detail
+
+using namespace render_detail;
+
+struct Renderer::Impl {
+  RenderOptions options;
+  EmbreeErrorSink errors;
+  DevicePtr device;
+  ScenePtr scene;
+  // The scene is stored relative to the model's centre in float; cameras are shifted the same
+  // way, so models far from the origin (georeferenced scans) keep their precision.
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  float scale = 1.0f;  // the model's bounding-box diagonal: sets ray offsets and AO length
+  std::vector<Eigen::Vector3f> positions;
+  std::vector<Eigen::Vector3f> normals;  // smooth, angle-weighted vertex normals
+  std::vector<Eigen::Vector3f> colors;   // linear vertex colours, or empty
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  // Ground: a large square perpendicular to `up`, just under the model's lowest vertex.
+  Eigen::Vector3f up = Eigen::Vector3f::UnitY();
+  float ground_height = 0.0f;  // dot(point, up) of the ground plane
+  std::vector<Eigen::Vector3f> ground_vertices;
+  std::vector<std::array<std::uint32_t, 3>> ground_triangles;
+  // Texture (OBJ map_Kd): per-corner UVs, and the texture system's handle.
+  std::vector<Eigen::Vector2f> corner_uvs;
+  std::vector<float> uv_scale;  // per triangle: sqrt(uv area / world area), for the filter footprint
+  TextureSystemPtr textures;
+  OIIO::TextureSystem::TextureHandle* texture = nullptr;
+  FilterTable filter;
+  // The frames' tile buffers, kept between frames: a 1280x720 frame's are 29 MB, which would
+  // otherwise be mapped and page-faulted afresh for every frame. One per concurrent render().
+  mutable std::mutex buffer_mutex;
+  mutable std::vector<std::vector<float>> spare_buffers;
+
+  void check(const char* what) {
+    std::lock_guard lock(errors.mutex);
+    if (!errors.message.empty()) throw RuntimeFailure(std::string(what) + ": " + errors.message);
+  }
+  Image render(const Camera& camera, std::uint64_t frame, RenderStats* stats, RayRecording* recording) const;
+  // Renders tile `tile` of frame `f` into `sums` (the tile's buffer, cleared, with an apron
+  // for the filter's reach; its pixel (apron, apron) is the tile's first pixel). One definition
+  // (tile_kernel.cpp) compiled once per instruction set; `render_tile` is the one this CPU runs.
+  using TileKernel = void (Impl::*)(const Frame& f, Scratch& scratch, int tile, float* sums, RayRecording::Tile* recorded,
+                                    TileCounts& counts) const;
+  void render_tile_baseline(const Frame&, Scratch&, int, float*, RayRecording::Tile*, TileCounts&) const;
+  void render_tile_x86_64_v3(const Frame&, Scratch&, int, float*, RayRecording::Tile*, TileCounts&) const;
+  void render_tile_x86_64_v4(const Frame&, Scratch&, int, float*, RayRecording::Tile*, TileCounts&) const;
+  TileKernel render_tile = &Impl::render_tile_baseline;
+
+};
+
+}  // namespace meshtour

@@ -1,0 +1,542 @@
+// The per-tile hot loop of the renderer. This file is compiled once per instruction set (see
+// tracer/CMakeLists.txt: MESHTOUR_TILE_KERNEL names the copy) and the renderer picks the widest
+// the CPU has; they all give the same bits (simd.h says why). A separate compilation rather than
+// GCC's target_clones: in a clone GCC 12 lowers 16-lane comparisons lane by lane, which cost a
+// third of the kernel's speed.
+#include <OpenImageIO/texture.h>
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "tracer/film.h"
+#include "tracer/random.h"
+#include "tracer/renderer_impl.h"
+#include "tracer/simd.h"
+
+#ifndef MESHTOUR_TILE_KERNEL
+#define MESHTOUR_TILE_KERNEL render_tile_baseline
+#endif
+
+namespace meshtour {
+namespace {
+
+using simd::F16;
+using simd::I16;
+
+// A vector of three 16-lane components.
+struct V3 {
+  F16 x, y, z;
+};
+MESHTOUR_SIMD_INLINE F16 dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+MESHTOUR_SIMD_INLINE V3 broadcast(const Eigen::Vector3f& v) { return {simd::broadcast(v.x()), simd::broadcast(v.y()), simd::broadcast(v.z())}; }
+MESHTOUR_SIMD_INLINE V3 select(I16 m, const V3& a, const V3& b) { return {simd::select(m, a.x, b.x), simd::select(m, a.y, b.y), simd::select(m, a.z, b.z)}; }
+
+// The orthonormal basis of Duff et al. 2017 ("Building an orthonormal basis, revisited"), 16 at once.
+MESHTOUR_SIMD_INLINE void basis(const V3& n, V3& t, V3& b) {
+  const F16 sign = simd::select(simd::lt(n.z, 0.0f), simd::broadcast(-1.0f), simd::broadcast(1.0f));
+  const F16 a = -1.0f / (sign + n.z);
+  const F16 c = n.x * n.y * a;
+  t = {1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x};
+  b = {c, sign + n.y * n.y * a, -n.y};
+}
+
+// The per-lane parameters of one light out of several.
+struct LaneLight {
+  V3 direction, tangent, bitangent, radiance;
+  F16 one_minus_cos_half_angle;
+};
+MESHTOUR_SIMD_INLINE LaneLight lane_light(const std::vector<FrameLight>& lights, I16 chosen) {
+  LaneLight l{};
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const I16 m = simd::eq(chosen, static_cast<int>(i));
+    const FrameLight& f = lights[i];
+    l.direction = select(m, broadcast(f.direction), l.direction);
+    l.tangent = select(m, broadcast(f.tangent), l.tangent);
+    l.bitangent = select(m, broadcast(f.bitangent), l.bitangent);
+    l.radiance = select(m, broadcast(f.radiance), l.radiance);
+    l.one_minus_cos_half_angle = simd::select(m, simd::broadcast(f.one_minus_cos_half_angle), l.one_minus_cos_half_angle);
+  }
+  return l;
+}
+
+// Picks light i with probability weights[i] / total per lane (u in [0, 1), total > 0 where it
+// matters): the first light whose running sum exceeds u * total; rounding at the very top falls
+// back to the last light with a weight.
+template <typename Weight>
+MESHTOUR_SIMD_INLINE I16 choose(const Weight* weights, std::size_t n, F16 total, F16 u) {
+  const F16 target = u * total;
+  F16 acc = simd::broadcast(0.0f);
+  I16 chosen = simd::broadcast_int(-1), last = simd::broadcast_int(0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const F16 w = simd::broadcast(0.0f) + weights[i];
+    const I16 has = simd::gt(w, 0.0f);
+    acc += simd::select(has, w, simd::broadcast(0.0f));
+    const I16 i_vec = simd::broadcast_int(static_cast<int>(i));
+    chosen = simd::select_int(simd::both(has, simd::both(simd::lt(chosen, 0), simd::lt(target, acc))), i_vec, chosen);
+    last = simd::select_int(has, i_vec, last);
+  }
+  return simd::select_int(simd::lt(chosen, 0), last, chosen);
+}
+
+// A direction uniform over a light's disc (a spherical cap), from stratified numbers (u, v).
+MESHTOUR_SIMD_INLINE V3 light_direction(const LaneLight& l, F16 u, F16 v) {
+  const F16 cos_t = 1.0f - u * l.one_minus_cos_half_angle;
+  const F16 sin_t = simd::sqrt(simd::max(simd::broadcast(0.0f), 1.0f - cos_t * cos_t));
+  F16 sin_phi, cos_phi;
+  simd::sincos_turns(v, sin_phi, cos_phi);
+  const F16 a = sin_t * cos_phi, b = sin_t * sin_phi;
+  return {cos_t * l.direction.x + a * l.tangent.x + b * l.bitangent.x, cos_t * l.direction.y + a * l.tangent.y + b * l.bitangent.y,
+          cos_t * l.direction.z + a * l.tangent.z + b * l.bitangent.z};
+}
+
+// A cosine-weighted direction over the hemisphere around n (tangents t1, t2): the fraction of
+// unblocked rays is then exactly the occlusion of a diffuse surface's sky light.
+MESHTOUR_SIMD_INLINE V3 sky_direction(const V3& n, const V3& t1, const V3& t2, F16 u, F16 v) {
+  const F16 rad = simd::sqrt(u);
+  F16 sin_phi, cos_phi;
+  simd::sincos_turns(v, sin_phi, cos_phi);
+  const F16 a = rad * cos_phi, b = rad * sin_phi, h = simd::sqrt(simd::max(simd::broadcast(0.0f), 1.0f - u));
+  return {a * t1.x + b * t2.x + h * n.x, a * t1.y + b * t2.y + h * n.y, a * t1.z + b * t2.z + h * n.z};
+}
+
+// Fills a 16-ray packet's rays (RTCRay16 or the ray part of RTCRayHit16).
+template <typename Packet>
+MESHTOUR_SIMD_INLINE void set_rays(Packet& p, const V3& org, const V3& dir, float tfar, unsigned mask) {
+  simd::store(p.org_x, org.x);
+  simd::store(p.org_y, org.y);
+  simd::store(p.org_z, org.z);
+  simd::store(p.dir_x, dir.x);
+  simd::store(p.dir_y, dir.y);
+  simd::store(p.dir_z, dir.z);
+  simd::store(p.tnear, simd::broadcast(0.0f));
+  simd::store(p.tfar, simd::broadcast(tfar));
+  simd::store(p.time, simd::broadcast(0.0f));
+  simd::store_int(p.mask, simd::broadcast_int(static_cast<std::int32_t>(mask)));
+  simd::store_int(p.id, simd::broadcast_int(0));
+  simd::store_int(p.flags, simd::broadcast_int(0));
+}
+
+MESHTOUR_SIMD_INLINE int popcount(I16 mask) {
+  int n = 0;
+  for (int i = 0; i < simd::kLanes; ++i) n += mask[i] != 0;
+  return n;
+}
+
+// Splats one packet's samples (premultiplied RGBA per lane) onto the tile's buffer: lanes of
+// the same pixel are summed first, then added to the pixels around it.
+template <int Reach>
+MESHTOUR_SIMD_INLINE void splat_packet(const F16 (&rgba)[4], const F16* wx, const F16* wy, const int* buffer_pixel, int lanes, float* sums,
+                  int stride) {
+  constexpr int kTaps = 2 * Reach + 1;
+  if (lanes == simd::kLanes && buffer_pixel[0] == buffer_pixel[simd::kLanes - 1]) {
+    // All 16 samples in one pixel (lanes are in sample order, so first = last means all): the
+    // sums over the samples of wx[i] wy[j] (RGBA, 1) for every tap, 16 sums per tree.
+    constexpr int kSums = kTaps * kTaps * 5, kTrees = (kSums + simd::kLanes - 1) / simd::kLanes;
+    F16 products[kTrees * simd::kLanes];
+    for (int j = 0; j < kTaps; ++j) {
+      const F16 weighted[5] = {wy[j] * rgba[0], wy[j] * rgba[1], wy[j] * rgba[2], wy[j] * rgba[3], wy[j]};
+      for (int i = 0; i < kTaps; ++i)
+        for (int c = 0; c < 5; ++c) products[(j * kTaps + i) * 5 + c] = wx[i] * weighted[c];
+    }
+    for (int k = kSums; k < kTrees * simd::kLanes; ++k) products[k] = simd::broadcast(0.0f);
+    alignas(64) float totals[kTrees * simd::kLanes];
+    for (int t = 0; t < kTrees; ++t) simd::store(totals + t * simd::kLanes, simd::sum_lanes(products + t * simd::kLanes));
+    // A row of taps is contiguous both here and in the buffer (5 floats per pixel).
+    const int x = buffer_pixel[0] % stride, y = buffer_pixel[0] / stride;
+    for (int j = 0; j < kTaps; ++j) {
+      float* dst = sums + (static_cast<std::size_t>(y + j - Reach) * stride + (x - Reach)) * 5;
+      for (int k = 0; k < kTaps * 5; ++k) dst[k] += totals[j * kTaps * 5 + k];
+    }
+    return;
+  }
+  PixelSplat<Reach> acc;
+  int current = buffer_pixel[0];
+  for (int l = 0; l < lanes; ++l) {
+    if (buffer_pixel[l] != current) {
+      acc.flush(sums, stride, current % stride, current / stride);
+      acc = PixelSplat<Reach>{};
+      current = buffer_pixel[l];
+    }
+    acc.add(wx, wy, l, Float4{rgba[0][l], rgba[1][l], rgba[2][l], rgba[3][l]});
+  }
+  acc.flush(sums, stride, current % stride, current / stride);
+}
+
+}  // namespace
+
+// The hot loop: a tile's samples, 16 at a time (one packet; one pixel at 16 spp). Each packet
+// goes through every stage before the next starts, so its data stay in registers and L1: camera
+// rays, rtcIntersect16, shading (everything but the visibility of the chosen light and the sky),
+// one rtcOccluded16 for the shadow rays and one for the occlusion rays, the filter's weights,
+// and the splat.
+void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int tile, float* sums, RayRecording::Tile* recorded,
+                                 TileCounts& counts) const {
+  RTCIntersectContext coherent;
+  rtcInitIntersectContext(&coherent);
+  coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  RTCIntersectContext incoherent;
+  rtcInitIntersectContext(&incoherent);
+  incoherent.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+
+  const int tx = tile % f.tiles_x, ty = tile / f.tiles_x;
+  const int x0 = tx * kTileSize, y0 = ty * kTileSize;
+  const int x1 = std::min(f.width, x0 + kTileSize), y1 = std::min(f.height, y0 + kTileSize);
+  const int tile_w = x1 - x0;
+  const int spp = f.spp;
+  const int nsamples = tile_w * (y1 - y0) * spp;
+  const std::size_t nlights = f.lights.size();
+  const V3 eye = broadcast(f.eye);
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  I16 lane_index;
+  for (int l = 0; l < simd::kLanes; ++l) lane_index[l] = l;
+  float light_luminance[8] = {};
+  for (std::size_t i = 0; i < nlights; ++i) light_luminance[i] = f.lights[i].radiance_luminance;
+
+  // The sample after the last one set up: its pixel (within the tile) and index in the pixel,
+  // and that pixel's random key and the shifts of its secondary rays' strata.
+  int next_pixel = 0, next_sample = 0;
+  std::uint32_t pixel_key = 0;
+  int light_shift = 0, sky_shift = 0, pixel_x = 0, pixel_y = 0;
+
+  for (int k0 = 0; k0 < nsamples; k0 += simd::kLanes) {
+    const int lanes = std::min(simd::kLanes, nsamples - k0);
+    // Lane set-up (scalar): pixel, stratum corners, random key.
+    alignas(64) float px[16] = {}, py[16] = {}, cam_sx[16] = {}, cam_sy[16] = {}, light_sx[16] = {}, light_sy[16] = {},
+                      sky_sx[16] = {}, sky_sy[16] = {};
+    alignas(64) std::uint32_t sample_key[16] = {};
+    alignas(64) int buffer_pixel[16] = {};
+    alignas(64) int image_pixel[16] = {};
+    for (int l = 0; l < lanes; ++l) {
+      const int s = next_sample;
+      if (s == 0) {
+        pixel_x = x0 + next_pixel % tile_w;
+        pixel_y = y0 + next_pixel / tile_w;
+        const std::uint64_t key = rng::pixel_key(f.index, static_cast<std::uint64_t>(pixel_y) * f.width + pixel_x);
+        pixel_key = static_cast<std::uint32_t>(key ^ (key >> 32));
+        // The secondary rays' strata are shifted per pixel, so that they do not line up with
+        // the camera-ray strata (a sample in the top row would always test the same light area).
+        light_shift = static_cast<int>(simd::hash(pixel_key ^ 0x5bd1e995U) % static_cast<std::uint32_t>(spp));
+        sky_shift = static_cast<int>(simd::hash(pixel_key ^ 0x1b873593U) % static_cast<std::uint32_t>(spp));
+      }
+      px[l] = static_cast<float>(pixel_x);
+      py[l] = static_cast<float>(pixel_y);
+      buffer_pixel[l] = (pixel_y - y0 + f.apron) * f.buf_w + (pixel_x - x0 + f.apron);
+      image_pixel[l] = pixel_y * f.width + pixel_x;
+      const int j_light = s + light_shift >= spp ? s + light_shift - spp : s + light_shift;
+      const int j_sky = s + sky_shift >= spp ? s + sky_shift - spp : s + sky_shift;
+      cam_sx[l] = f.stratum_x[s];
+      cam_sy[l] = f.stratum_y[s];
+      light_sx[l] = f.stratum_x[j_light];
+      light_sy[l] = f.stratum_y[j_light];
+      sky_sx[l] = f.stratum_x[j_sky];
+      sky_sy[l] = f.stratum_y[j_sky];
+      sample_key[l] = pixel_key + 0x9e3779b9U * static_cast<std::uint32_t>(s);
+      if (++next_sample == spp) {
+        next_sample = 0;
+        ++next_pixel;
+      }
+    }
+    const I16 valid = simd::lt(lane_index, lanes);
+    // Random numbers: one hash per pair of dimensions, from the sample's key.
+    const simd::U16 key = simd::hash(reinterpret_cast<simd::U16>(simd::load_int(sample_key)));
+    F16 u_cam, v_cam, u_light, v_light, u_sky, v_sky, u_choice, unused;
+    simd::uniform_pair(simd::hash(key ^ 0x68e31da4U), u_cam, v_cam);
+    simd::uniform_pair(simd::hash(key ^ 0xb5297a4dU), u_light, v_light);
+    simd::uniform_pair(simd::hash(key ^ 0x1b56c4e9U), u_sky, v_sky);
+    simd::uniform_pair(simd::hash(key ^ 0x8f3c2a61U), u_choice, unused);
+    u_light = simd::load(light_sx) + u_light * f.stratum_w;
+    v_light = simd::load(light_sy) + v_light * f.stratum_h;
+    u_sky = simd::load(sky_sx) + u_sky * f.stratum_w;
+    v_sky = simd::load(sky_sy) + v_sky * f.stratum_h;
+
+    // 1. Camera rays, stratified and jittered inside each pixel.
+    const F16 offset_x = simd::load(cam_sx) + u_cam * f.stratum_w, offset_y = simd::load(cam_sy) + v_cam * f.stratum_h;
+    const F16 fx = simd::load(px) + offset_x, fy = simd::load(py) + offset_y;
+    V3 dir{f.corner.x() + fx * f.step_x.x() + fy * f.step_y.x(), f.corner.y() + fx * f.step_x.y() + fy * f.step_y.y(),
+           f.corner.z() + fx * f.step_x.z() + fy * f.step_y.z()};
+    const F16 inv_len = 1.0f / simd::sqrt(dot(dir, dir));
+    dir = {dir.x * inv_len, dir.y * inv_len, dir.z * inv_len};
+    RTCRayHit16& primary = scratch.primary;
+    set_rays(primary.ray, eye, dir, std::numeric_limits<float>::infinity(), f.camera_mask);
+    simd::store_int(primary.hit.geomID, simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
+    simd::store_int(primary.hit.instID[0], simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
+    ValidMask primary_valid;
+    simd::store_int(primary_valid.data(), valid);
+    RayRecording::Packet* rec = nullptr;
+    if (recorded) {
+      rec = &recorded->packets.emplace_back();
+      rec->primary = primary;
+      rec->primary_valid = primary_valid;
+    }
+    rtcIntersect16(primary_valid.data(), scene.get(), &coherent, &primary);
+    counts.primary += static_cast<std::uint64_t>(lanes);
+
+    // 2. Shading.
+    const I16 geom = simd::load_int(primary.hit.geomID);
+    const I16 on_model = simd::both(valid, simd::eq(geom, static_cast<int>(kModelGeometry)));
+    const I16 on_ground = simd::both(valid, simd::eq(geom, static_cast<int>(kGroundGeometry)));
+    const F16 t_bg = simd::min(one, simd::max(zero, fy * f.inv_height));
+    V3 bg{zero, zero, zero};
+    if (!f.transparent)
+      bg = {(1.0f - t_bg) * f.background_top.x() + t_bg * f.background_bottom.x(),
+            (1.0f - t_bg) * f.background_top.y() + t_bg * f.background_bottom.y(),
+            (1.0f - t_bg) * f.background_top.z() + t_bg * f.background_bottom.z()};
+    // What a sample contributes: base + (shadow ray unblocked ? with_light : 0) +
+    // (occlusion ray unblocked ? with_sky : 0); RGBA each.
+    F16 base[4] = {bg.x, bg.y, bg.z, zero}, with_light[4] = {zero, zero, zero, zero}, with_sky[4] = {zero, zero, zero, zero};
+    I16 shadow_valid = simd::broadcast_int(0), sky_valid = simd::broadcast_int(0);
+    V3 shadow_dir{zero, zero, one}, sky_dir{zero, zero, one}, org = eye;
+
+    if (simd::any(simd::either(on_model, on_ground))) {
+      const F16 t = simd::load(primary.ray.tfar);
+      V3 ng{simd::load(primary.hit.Ng_x), simd::load(primary.hit.Ng_y), simd::load(primary.hit.Ng_z)};
+      const F16 ng_len2 = dot(ng, ng);
+      // Two-sided: open scans show their inside.
+      const F16 ng_scale = simd::select(simd::gt(dot(ng, dir), 0.0f), -one, one) / simd::select(simd::gt(ng_len2, 0.0f), simd::sqrt(ng_len2), one);
+      ng = {ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale};
+      org = {eye.x + t * dir.x + f.eps * ng.x, eye.y + t * dir.y + f.eps * ng.y, eye.z + t * dir.z + f.eps * ng.z};
+
+      if (simd::any(on_model)) {
+        // Smooth normal and colour: interpolated from the hit triangle's vertices (gathers).
+        alignas(64) float nx[16] = {}, ny[16] = {}, nz[16] = {}, ar[16], ag[16], ab[16];
+        for (int l = 0; l < simd::kLanes; ++l) {
+          ar[l] = f.base_color.x();
+          ag[l] = f.base_color.y();
+          ab[l] = f.base_color.z();
+          if (!on_model[l]) continue;
+          const std::size_t prim = primary.hit.primID[l];
+          const auto& tri = triangles[prim];
+          const float bu = primary.hit.u[l], bv = primary.hit.v[l], bw = 1.0f - bu - bv;
+          const Eigen::Vector3f n = bw * normals[tri[0]] + bu * normals[tri[1]] + bv * normals[tri[2]];
+          nx[l] = n.x();
+          ny[l] = n.y();
+          nz[l] = n.z();
+          if (!colors.empty()) {
+            const Eigen::Vector3f c = bw * colors[tri[0]] + bu * colors[tri[1]] + bv * colors[tri[2]];
+            ar[l] = c.x();
+            ag[l] = c.y();
+            ab[l] = c.z();
+          }
+          if (texture) {
+            const Eigen::Vector2f uv = bw * corner_uvs[3 * prim] + bu * corner_uvs[3 * prim + 1] + bv * corner_uvs[3 * prim + 2];
+            // Isotropic footprint of one sample in texture space: the pixel's width at this
+            // distance, stretched by the slant, divided by sqrt(spp) because the samples already
+            // average over the pixel.
+            const float slant = std::max(0.2f, std::abs(ng.x[l] * dir.x[l] + ng.y[l] * dir.y[l] + ng.z[l] * dir.z[l]));
+            const float width_uv = uv_scale[prim] * t[l] * f.pixel_angle / slant / std::sqrt(static_cast<float>(spp));
+            OIIO::TextureOpt opt;
+            float rgb[3] = {0, 0, 0};
+            // OBJ's v runs upwards; OpenImageIO's t runs down the image.
+            if (textures->texture(texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv, 3, rgb)) {
+              ar[l] = rgb[0];
+              ag[l] = rgb[1];
+              ab[l] = rgb[2];
+            }
+          }
+        }
+        V3 n{simd::load(nx), simd::load(ny), simd::load(nz)};
+        const F16 n_len2 = dot(n, n);
+        const F16 inv_n = 1.0f / simd::sqrt(simd::select(simd::gt(n_len2, 0.0f), n_len2, one));
+        n = select(simd::gt(n_len2, 0.0f), V3{n.x * inv_n, n.y * inv_n, n.z * inv_n}, ng);
+        n = select(simd::gt(dot(n, dir), 0.0f), V3{-n.x, -n.y, -n.z}, n);
+        const V3 albedo{simd::load(ar), simd::load(ag), simd::load(ab)};
+        const V3 view{-dir.x, -dir.y, -dir.z};
+        // Unshadowed Blinn-Phong light from a light (cos_l = cosine of its incidence, > 0).
+        auto reflected = [&](const V3& light_dir, const V3& radiance, F16 cos_l) __attribute__((always_inline)) {
+          const V3 half{light_dir.x + view.x, light_dir.y + view.y, light_dir.z + view.z};
+          const F16 cos_h = dot(n, half) / simd::sqrt(dot(half, half));
+          const F16 spec = simd::select(simd::gt(cos_h, f.spec_cutoff), f.spec_scale * simd::pow_unit(simd::max(cos_h, simd::broadcast(1e-30f)), f.shininess), zero);
+          return V3{radiance.x * (albedo.x + spec) * cos_l, radiance.y * (albedo.y + spec) * cos_l, radiance.z * (albedo.z + spec) * cos_l};
+        };
+        F16 cosines[8];
+        for (std::size_t i = 0; i < nlights; ++i) cosines[i] = dot(n, broadcast(f.lights[i].direction));
+        V3 model_base{zero, zero, zero};
+        V3 model_light{zero, zero, zero};
+        I16 model_shadow = simd::broadcast_int(0);
+        if (f.shadows) {
+          // One shadow ray to one light, chosen in proportion to the light it brings here
+          // unshadowed (its irradiance's luminance) and weighted by 1/probability: unbiased, and
+          // the light that matters most here gets most of the rays.
+          F16 weights[8];
+          F16 total = zero;
+          for (std::size_t i = 0; i < nlights; ++i) {
+            weights[i] = simd::select(simd::gt(cosines[i], 0.0f), cosines[i] * light_luminance[i], zero);
+            total += weights[i];
+          }
+          const I16 chosen = choose(weights, nlights, total, u_choice);
+          F16 chosen_weight = zero, chosen_cos = zero;
+          for (std::size_t i = 0; i < nlights; ++i) {
+            const I16 m = simd::eq(chosen, static_cast<int>(i));
+            chosen_weight = simd::select(m, weights[i], chosen_weight);
+            chosen_cos = simd::select(m, cosines[i], chosen_cos);
+          }
+          model_shadow = simd::both(on_model, simd::gt(total, 0.0f));
+          const LaneLight light = lane_light(f.lights, chosen);
+          const F16 inverse_probability = total / simd::select(model_shadow, chosen_weight, one);
+          const V3 c = reflected(light.direction, light.radiance, chosen_cos);
+          model_light = {c.x * inverse_probability, c.y * inverse_probability, c.z * inverse_probability};
+          shadow_dir = light_direction(light, u_light, v_light);
+        } else {
+          for (std::size_t i = 0; i < nlights; ++i) {
+            const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cosines[i]);
+            const I16 lit = simd::gt(cosines[i], 0.0f);
+            model_base = {model_base.x + simd::select(lit, c.x, zero), model_base.y + simd::select(lit, c.y, zero),
+                          model_base.z + simd::select(lit, c.z, zero)};
+          }
+        }
+        const V3 sky{albedo.x * f.ambient.x(), albedo.y * f.ambient.y(), albedo.z * f.ambient.z()};
+        V3 model_sky{zero, zero, zero};
+        if (f.ambient_occlusion) {
+          model_sky = sky;
+          V3 t1, t2;
+          basis(n, t1, t2);
+          sky_dir = select(on_model, sky_direction(n, t1, t2, u_sky, v_sky), sky_dir);
+          sky_valid = simd::either(sky_valid, on_model);
+        } else {
+          model_base = {model_base.x + sky.x, model_base.y + sky.y, model_base.z + sky.z};
+        }
+        shadow_valid = simd::either(shadow_valid, model_shadow);
+        base[0] = simd::select(on_model, model_base.x, base[0]);
+        base[1] = simd::select(on_model, model_base.y, base[1]);
+        base[2] = simd::select(on_model, model_base.z, base[2]);
+        base[3] = simd::select(on_model, one, base[3]);
+        with_light[0] = simd::select(model_shadow, model_light.x, with_light[0]);
+        with_light[1] = simd::select(model_shadow, model_light.y, with_light[1]);
+        with_light[2] = simd::select(model_shadow, model_light.z, with_light[2]);
+        with_sky[0] = simd::select(on_model, model_sky.x, with_sky[0]);
+        with_sky[1] = simd::select(on_model, model_sky.y, with_sky[1]);
+        with_sky[2] = simd::select(on_model, model_sky.z, with_sky[2]);
+
+        // Extra layers: averaged over the pixel's own samples (no filter: they are data, not light).
+        Image& image = *f.image;
+        if (!image.albedo.empty() || !image.normal.empty() || !image.depth.empty())
+          for (int l = 0; l < simd::kLanes; ++l) {
+            if (!on_model[l]) continue;
+            const std::size_t pixel = static_cast<std::size_t>(image_pixel[l]);
+            if (!image.albedo.empty()) {
+              image.albedo[pixel * 3 + 0] += albedo.x[l] / static_cast<float>(spp);
+              image.albedo[pixel * 3 + 1] += albedo.y[l] / static_cast<float>(spp);
+              image.albedo[pixel * 3 + 2] += albedo.z[l] / static_cast<float>(spp);
+            }
+            if (!image.normal.empty()) {
+              image.normal[pixel * 3 + 0] += n.x[l];
+              image.normal[pixel * 3 + 1] += n.y[l];
+              image.normal[pixel * 3 + 2] += n.z[l];
+            }
+            if (!image.depth.empty()) {
+              const float depth = t[l] * (dir.x[l] * f.forward.x() + dir.y[l] * f.forward.y() + dir.z[l] * f.forward.z());
+              image.depth[pixel] = std::min(image.depth[pixel], depth);
+            }
+          }
+      }
+
+      if (simd::any(on_ground)) {
+        // The ground shows the background, darkened by the share of light and sky the model
+        // takes away from it (a shadow catcher); transparent frames get the shadow as alpha. The
+        // share whose ray is traced comes back if the ray is unblocked.
+        F16 unshadowed = simd::broadcast(1.0f - f.ground_shadow);
+        const F16 alpha_sign = simd::broadcast(f.transparent ? -1.0f : 0.0f);
+        // Only the model casts shadows on the ground: a ray that misses the model's bounding
+        // sphere is known to be unblocked and is not traced (most of the visible ground).
+        const F16 dist2 = dot(org, org), dist = simd::sqrt(dist2);
+        const float radius2 = f.model_radius * f.model_radius;
+        const F16 sin_r = simd::min(one, f.model_radius / dist), cos_r = simd::sqrt(1.0f - sin_r * sin_r);
+        const I16 inside = simd::le(dist2, radius2);
+        // The same test for a light's whole disc, before sampling a direction in it: the cone
+        // around the light's centre misses the sphere when the angle between its axis and the
+        // sphere's centre exceeds the cone's half angle plus the sphere's angular radius.
+        auto disc_may_hit_model = [&](const V3& light_dir, F16 cos_half, F16 sin_half) __attribute__((always_inline)) {
+          const F16 cos_limit = cos_half * cos_r - sin_half * sin_r;  // cos(half angle + radius)
+          const F16 cos_axis = -dot(org, light_dir) / dist;
+          return simd::either(inside, simd::ge(cos_axis, cos_limit - 1e-4f));  // margin for rounding
+        };
+        if (f.ground_light_share > 0.0f) {
+          I16 shadow_possible = simd::broadcast_int(0);  // from some light with a share of the ground's light
+          if (f.shadows)
+            for (std::size_t i = 0; i < nlights; ++i)
+              if (f.ground_weights[i] > 0.0f)
+                shadow_possible = simd::either(shadow_possible, disc_may_hit_model(broadcast(f.lights[i].direction), simd::broadcast(f.lights[i].cos_half_angle),
+                                                      simd::broadcast(f.lights[i].sin_half_angle)));
+          const I16 chosen = choose(f.ground_weights, nlights, simd::broadcast(f.ground_light_total), u_choice);
+          const LaneLight light = lane_light(f.lights, chosen);
+          F16 cos_half = zero, sin_half = zero;
+          for (std::size_t i = 0; i < nlights; ++i) {
+            const I16 m = simd::eq(chosen, static_cast<int>(i));
+            cos_half = simd::select(m, simd::broadcast(f.lights[i].cos_half_angle), cos_half);
+            sin_half = simd::select(m, simd::broadcast(f.lights[i].sin_half_angle), sin_half);
+          }
+          const V3 d = light_direction(light, u_light, v_light);
+          const F16 b = dot(org, d), c = dist2 - radius2;
+          const I16 may_hit = simd::either(simd::lt(c, 0.0f), simd::both(simd::lt(b, 0.0f), simd::ge(b * b, c)));
+          const I16 traced = simd::both(simd::both(on_ground, shadow_possible), simd::both(disc_may_hit_model(light.direction, cos_half, sin_half), may_hit));
+          unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_light_share));
+          for (int ch = 0; ch < 3; ++ch)
+            with_light[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_light_share, with_light[ch]);
+          with_light[3] = simd::select(traced, alpha_sign * f.ground_light_share, with_light[3]);
+          shadow_dir = select(traced, d, shadow_dir);
+          shadow_valid = simd::either(shadow_valid, traced);
+        }
+        if (f.ground_sky_share > 0.0f) {
+          // Beyond the AO length from the model's bounding sphere nothing can occlude the sky.
+          const I16 traced = f.ambient_occlusion ? simd::both(on_ground, simd::lt(dist2, f.ground_ao_reach2)) : simd::broadcast_int(0);
+          unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_sky_share));
+          for (int ch = 0; ch < 3; ++ch)
+            with_sky[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_sky_share, with_sky[ch]);
+          with_sky[3] = simd::select(traced, alpha_sign * f.ground_sky_share, with_sky[3]);
+          const V3 up = broadcast(f.up);
+          sky_dir = select(traced, sky_direction(up, broadcast(f.up_t1), broadcast(f.up_t2), u_sky, v_sky), sky_dir);
+          sky_valid = simd::either(sky_valid, traced);
+        }
+        base[0] = simd::select(on_ground, bg.x * unshadowed, base[0]);
+        base[1] = simd::select(on_ground, bg.y * unshadowed, base[1]);
+        base[2] = simd::select(on_ground, bg.z * unshadowed, base[2]);
+        base[3] = simd::select(on_ground, f.transparent ? 1.0f - unshadowed : zero, base[3]);
+      }
+    }
+
+    // 3. Shadow and occlusion rays: Embree stops at the first hit.
+    ValidMask shadow_lanes, sky_lanes;
+    simd::store_int(shadow_lanes.data(), shadow_valid);
+    simd::store_int(sky_lanes.data(), sky_valid);
+    const bool any_shadow = simd::any(shadow_valid), any_sky = simd::any(sky_valid);
+    if (any_shadow) set_rays(scratch.shadow, org, shadow_dir, std::numeric_limits<float>::infinity(), kModelMask | kGroundMask);
+    if (any_sky) set_rays(scratch.sky, org, sky_dir, f.ao_length, kModelMask | kGroundMask);
+    if (rec) {
+      if (any_shadow) rec->shadow = scratch.shadow;
+      if (any_sky) rec->sky = scratch.sky;
+      rec->shadow_valid = shadow_lanes;
+      rec->sky_valid = sky_lanes;
+    }
+    if (any_shadow) rtcOccluded16(shadow_lanes.data(), scene.get(), &incoherent, &scratch.shadow);
+    if (any_sky) rtcOccluded16(sky_lanes.data(), scene.get(), &incoherent, &scratch.sky);
+    counts.secondary += static_cast<std::uint64_t>(popcount(shadow_valid) + popcount(sky_valid));
+    // rtcOccluded16 sets tfar to -inf where the ray is blocked.
+    const I16 light_seen = any_shadow ? simd::both(shadow_valid, simd::ge(simd::load(scratch.shadow.tfar), 0.0f)) : shadow_valid;
+    const I16 sky_seen = any_sky ? simd::both(sky_valid, simd::ge(simd::load(scratch.sky.tfar), 0.0f)) : sky_valid;
+    F16 rgba[4];
+    for (int ch = 0; ch < 4; ++ch)
+      rgba[ch] = base[ch] + simd::select(light_seen, with_light[ch], zero) + simd::select(sky_seen, with_sky[ch], zero);
+
+    // 4. Reconstruction filter: every sample is splatted onto the pixels within the radius.
+    F16 wx[5], wy[5];
+    filter.weights(offset_x, wx);
+    filter.weights(offset_y, wy);
+    switch (filter.reach()) {
+      case 0: splat_packet<0>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
+      case 1: splat_packet<1>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
+      default: splat_packet<2>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
+    }
+  }
+  if (!f.image->normal.empty())
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        float* n = &f.image->normal[(static_cast<std::size_t>(y) * f.width + x) * 3];
+        const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (len > 0.0f)
+          for (int c = 0; c < 3; ++c) n[c] /= len;
+      }
+}
+
+}  // namespace meshtour
