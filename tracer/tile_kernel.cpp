@@ -190,7 +190,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
   const V3 eye = broadcast(f.eye);
   const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
   I16 lane_index;
-  for (int l = 0; l < simd::kLanes; ++l) lane_index[l] = l;
+  for (int l = 0; l < simd::kLanes; ++l) lane_index.set(l, l);
   float light_luminance[8] = {};
   for (std::size_t i = 0; i < nlights; ++i) light_luminance[i] = f.lights[i].radiance_luminance;
 
@@ -240,7 +240,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     }
     const I16 valid = simd::lt(lane_index, lanes);
     // Random numbers: one hash per pair of dimensions, from the sample's key.
-    const simd::U16 key = simd::hash(reinterpret_cast<simd::U16>(simd::load_int(sample_key)));
+    const simd::U16 key = simd::hash(simd::load_uint(sample_key));
     F16 u_cam, v_cam, u_light, v_light, u_sky, v_sky, u_choice, unused;
     simd::uniform_pair(simd::hash(key ^ 0x68e31da4U), u_cam, v_cam);
     simd::uniform_pair(simd::hash(key ^ 0xb5297a4dU), u_light, v_light);
