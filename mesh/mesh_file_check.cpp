@@ -140,8 +140,10 @@ MeshFileSummary check_off(const std::filesystem::path& file, const std::string& 
   const auto size = std::filesystem::file_size(file);
   std::string line;
   std::size_t number = 0;
-  // The next line that is neither empty nor a comment, as words.
-  auto next = [&](std::vector<std::string>& words) {
+  // The next line that is neither empty nor a comment, as words. In the vertex and face lists
+  // (`body`) a line that is only a comment is refused: OpenMesh's reader takes it for data and
+  // loses every face after it (blank lines and comments after the numbers it handles).
+  auto next = [&](std::vector<std::string>& words, bool body = false) {
     while (std::getline(in, line)) {
       ++number;
       strip_cr(line);
@@ -149,9 +151,13 @@ MeshFileSummary check_off(const std::filesystem::path& file, const std::string& 
         if (c < 0x20 && c != '\t')
           throw InputError(name + ": line " + std::to_string(number) + ": binary data in a text OFF file (control character " +
                            std::to_string(c) + ")");
-      if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+      const auto hash = line.find('#');
+      if (hash != std::string::npos) line.resize(hash);
       words = words_of(line);
       if (!words.empty()) return true;
+      if (body && hash != std::string::npos)
+        throw InputError(name + ": line " + std::to_string(number) +
+                         ": a comment line inside the vertex or face list, which the OFF reader cannot skip; remove it");
     }
     return false;
   };
@@ -203,17 +209,31 @@ MeshFileSummary check_off(const std::filesystem::path& file, const std::string& 
                      std::to_string(nf) + " faces but the file holds only " + std::to_string(size) + " bytes");
   MeshFileSummary s{static_cast<std::size_t>(nv), static_cast<std::size_t>(nf), 0};
   const int dimensions = four_d ? 4 : 3;
+  // The keyword's prefixes say what follows the coordinates: [ST][C][N][4]OFF.
+  const std::string prefix = keyword.substr(0, keyword.size() - 3);
+  const bool coloured = prefix.find('C') != std::string::npos;
+  const std::size_t colour_start = static_cast<std::size_t>(dimensions) * (prefix.find('N') != std::string::npos ? 2 : 1);
   for (long long v = 0; v < nv; ++v) {
-    if (!next(words)) fail("truncated: the file ends after " + std::to_string(v) + " of its " + std::to_string(nv) + " vertices");
+    if (!next(words, true)) fail("truncated: the file ends after " + std::to_string(v) + " of its " + std::to_string(nv) + " vertices");
     if (static_cast<int>(words.size()) < dimensions) fail("vertex " + std::to_string(v) + " has fewer than " + std::to_string(dimensions) + " coordinates");
     for (int k = 0; k < dimensions; ++k) {
       double c = 0.0;
       if (!parse_double(words[k], c)) fail("vertex " + std::to_string(v) + " has a coordinate that is not a number: '" + words[k] + "'");
       if (!std::isfinite(c)) fail("vertex " + std::to_string(v) + " has a NaN or infinite coordinate ('" + words[k] + "')");
     }
+    // Colours (after the coordinates and, for NOFF, the normal) become bytes in OpenMesh without
+    // a range check: floats must lie in 0..1, integers in 0..255.
+    if (coloured)
+      for (std::size_t k = colour_start; k < words.size() && k < colour_start + 4; ++k) {
+        double c = 0.0;
+        if (!parse_double(words[k], c)) break;  // texture coordinates or comments: not colours
+        const bool is_float = words[k].find_first_of(".eE") != std::string::npos;
+        if (!(c >= 0.0 && c <= (is_float ? 1.0 : 255.0)))
+          fail("vertex " + std::to_string(v) + " has a colour component '" + words[k] + "' outside " + (is_float ? "0 to 1" : "0 to 255"));
+      }
   }
   for (long long f = 0; f < nf; ++f) {
-    if (!next(words)) fail("truncated: the file ends after " + std::to_string(f) + " of its " + std::to_string(nf) + " faces");
+    if (!next(words, true)) fail("truncated: the file ends after " + std::to_string(f) + " of its " + std::to_string(nf) + " faces");
     long long corners = 0;
     if (!parse_integer(words[0], corners) || corners < 3 || static_cast<long long>(words.size()) < corners + 1)
       fail("face " + std::to_string(f) + " is not a corner count (3 or more) followed by that many vertex indices");
@@ -230,6 +250,12 @@ MeshFileSummary check_off(const std::filesystem::path& file, const std::string& 
 }
 
 // ---- PLY ------------------------------------------------------------------------------------
+
+bool is_colour_property(const std::string& name) {
+  for (const char* colour : {"red", "green", "blue", "alpha", "diffuse_red", "diffuse_green", "diffuse_blue", "diffuse_alpha"})
+    if (name == colour) return true;
+  return false;
+}
 
 struct PlyProperty {
   std::string name;
@@ -403,6 +429,9 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
           const double v = reader.value(p.size, p.is_float, p.is_signed, where);
           if (e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z") && !std::isfinite(v))
             throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate (" + p.name + ")");
+          // Float colours become bytes in OpenMesh without a range check (undefined behaviour).
+          if (e.name == "vertex" && p.is_float && is_colour_property(p.name) && !(v >= 0.0 && v <= 1.0))
+            throw InputError(name + ": vertex " + std::to_string(i) + " has a colour component (" + p.name + ") outside 0 to 1");
           continue;
         }
         const double n = reader.value(p.count_size, false, p.count_signed, where);

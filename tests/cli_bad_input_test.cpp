@@ -204,6 +204,20 @@ TEST_F(BadInputCorpus, Meshes) {
       {"OBJ face past the vertex list", "path", write(d / "past.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\n"), "", 2,
        {"line 5", "7"}},
       {"OFF face past the vertex list", "path", write(d / "past.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n"), "", 2, {"face", "5"}},
+      // Float colours outside 0..1 are undefined behaviour in OpenMesh's conversion to bytes.
+      {"PLY float colour outside 0..1", "path",
+       write(d / "colour.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                               "property float red\nproperty float green\nproperty float blue\nelement face 4\n"
+                               "property list uchar int vertex_indices\nend_header\n0 0 0 0 0 0\n1 0 0 0 0 1e30\n0 1 0 0 0 0\n"
+                               "0 0 1 0 0 0\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n"),
+       "", 2, {"vertex 1", "blue", "outside 0 to 1"}},
+      {"COFF float colour outside 0..1", "path",
+       write(d / "colour.off", "COFF\n4 4 0\n0 0 0 0 0 0\n1 0 0 -3.5 0 0\n0 1 0 0 0 0\n0 0 1 0 0 0\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n"),
+       "", 2, {"line 4", "'-3.5'", "outside 0 to 1"}},
+      // OpenMesh's OFF reader takes a whole-line comment in the lists for data and drops the faces.
+      {"OFF comment line between the faces", "path",
+       write(d / "comment.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n# faces\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n"), "", 2,
+       {"line 7", "comment line"}},
       {"NaN coordinate", "path", write(d / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n"), "", 2,
        {"NaN", "vertex 3"}},
       {"infinite coordinate", "path", write(d / "inf.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1e999 0\n0 0 1\n3 0 1 2\n3 0 1 3\n"), "", 2,
@@ -258,6 +272,9 @@ TEST_F(BadInputCorpus, OddButValidMeshes) {
       {"single triangle", "path", write(d / "triangle.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), "", 0, {}, false},
       {"flat plane along the up axis", "path", write(d / "wall.obj", plane_obj("xy")), "", 0, {"warning", "flat"}},
       {"300-gon polygons", "path", write(d / "prism300.obj", prism_obj(300)), "", 0, {}, false},
+      {"OFF with blank lines and comments after the numbers", "path",
+       write(d / "commented.off", "OFF # a tetrahedron\n4 4 0\n0 0 0 # origin\n\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3 # side\n3 0 2 3\n3 1 2 3\n"),
+       "", 0, {}, false},
       {"mixed CRLF and LF line endings", "path", write(d / "mixed.obj", mixed_line_endings(sphere_obj())),
        "", 0, {}, false},
       {"non-ASCII file and folder names", "path",
