@@ -12,12 +12,12 @@
 
 namespace meshtour {
 
-class FilterTable {
+class ReconstructionFilter {
 public:
-  FilterTable() = default;
+  ReconstructionFilter() = default;
   /// `radius` in pixels: samples further than that from a pixel's centre (along x or y) do not
   /// reach it.
-  explicit FilterTable(float radius) : radius_(radius) {}
+  explicit ReconstructionFilter(float radius) : radius_(radius) {}
   /// Pixels beyond a tile's edge that its samples can reach.
   int apron() const { return static_cast<int>(std::ceil(radius_)); }
 
@@ -62,7 +62,7 @@ public:
   static constexpr int kTaps = 2 * Reach + 1;
   static constexpr int kWeightVectors = (kTaps + 3) / 4;
 
-  /// A sample with premultiplied RGBA `value` and tap weights `wx`, `wy` (FilterTable::weights:
+  /// A sample with premultiplied RGBA `value` and tap weights `wx`, `wy` (ReconstructionFilter::weights:
   /// wx[i] of lane `lane` is the weight of the pixel i - Reach columns away).
   void add(const simd::F16* wx_lanes, const simd::F16* wy_lanes, int lane, Float4 value) {
     Float4 weighted[kTaps];

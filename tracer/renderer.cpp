@@ -109,7 +109,7 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
   Impl& s = *impl_;
   s.render_tile = choose_tile_kernel();
   s.options = options;
-  s.filter = FilterTable(options.filter_radius);
+  s.filter = ReconstructionFilter(options.filter_radius);
   s.origin = mesh.bounds().center();
   s.scale = static_cast<float>(std::max(mesh.bounds().diagonal(), 1e-30));
   s.positions.reserve(mesh.positions.size() + 1);

@@ -121,7 +121,7 @@ struct Renderer::Impl {
   std::vector<float> uv_scale;  // per triangle: sqrt(uv area / world area), for the filter footprint
   TextureSystemPtr textures;
   OIIO::TextureSystem::TextureHandle* texture = nullptr;
-  FilterTable filter;
+  ReconstructionFilter filter;
   // The frames' tile buffers, kept between frames: a 1280x720 frame's are 29 MB, which would
   // otherwise be mapped and page-faulted afresh for every frame. One per concurrent render().
   mutable std::mutex buffer_mutex;

@@ -252,15 +252,9 @@ MESHTOUR_SIMD_INLINE F16 sum_lanes(const F16* x) {
 
 /// A 32-bit integer hash with good avalanche ("lowbias32", C. Wellons 2018): the random numbers
 /// of a sample are hashes of (frame, pixel, sample, dimension), computed 16 lanes at a time.
-MESHTOUR_SIMD_INLINE U16 hash(U16 x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-MESHTOUR_SIMD_INLINE constexpr std::uint32_t hash(std::uint32_t x) {
+/// For one std::uint32_t (per-pixel values) or for 16 lanes (U16).
+template <typename Uint>
+MESHTOUR_SIMD_INLINE constexpr Uint hash(Uint x) {
   x ^= x >> 16;
   x *= 0x7feb352dU;
   x ^= x >> 15;

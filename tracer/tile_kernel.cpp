@@ -45,7 +45,7 @@ MESHTOUR_SIMD_INLINE void basis(const V3& n, V3& t, V3& b) {
 // The per-lane parameters of one light out of several.
 struct LaneLight {
   V3 direction, tangent, bitangent, radiance;
-  F16 one_minus_cos_half_angle;
+  F16 one_minus_cos_half_angle, cos_half_angle, sin_half_angle;
 };
 MESHTOUR_SIMD_INLINE LaneLight lane_light(const std::vector<FrameLight>& lights, I16 chosen) {
   LaneLight l{};
@@ -57,6 +57,8 @@ MESHTOUR_SIMD_INLINE LaneLight lane_light(const std::vector<FrameLight>& lights,
     l.bitangent = select(m, broadcast(f.bitangent), l.bitangent);
     l.radiance = select(m, broadcast(f.radiance), l.radiance);
     l.one_minus_cos_half_angle = simd::select(m, simd::broadcast(f.one_minus_cos_half_angle), l.one_minus_cos_half_angle);
+    l.cos_half_angle = simd::select(m, simd::broadcast(f.cos_half_angle), l.cos_half_angle);
+    l.sin_half_angle = simd::select(m, simd::broadcast(f.sin_half_angle), l.sin_half_angle);
   }
   return l;
 }
@@ -461,16 +463,10 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
                                                       simd::broadcast(f.lights[i].sin_half_angle)));
           const I16 chosen = choose(f.ground_weights, nlights, simd::broadcast(f.ground_light_total), u_choice);
           const LaneLight light = lane_light(f.lights, chosen);
-          F16 cos_half = zero, sin_half = zero;
-          for (std::size_t i = 0; i < nlights; ++i) {
-            const I16 m = simd::eq(chosen, static_cast<int>(i));
-            cos_half = simd::select(m, simd::broadcast(f.lights[i].cos_half_angle), cos_half);
-            sin_half = simd::select(m, simd::broadcast(f.lights[i].sin_half_angle), sin_half);
-          }
           const V3 d = light_direction(light, u_light, v_light);
           const F16 b = dot(org, d), c = dist2 - radius2;
           const I16 may_hit = simd::either(simd::lt(c, 0.0f), simd::both(simd::lt(b, 0.0f), simd::ge(b * b, c)));
-          const I16 traced = simd::both(simd::both(on_ground, shadow_possible), simd::both(disc_may_hit_model(light.direction, cos_half, sin_half), may_hit));
+          const I16 traced = simd::both(simd::both(on_ground, shadow_possible), simd::both(disc_may_hit_model(light.direction, light.cos_half_angle, light.sin_half_angle), may_hit));
           unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_light_share));
           for (int ch = 0; ch < 3; ++ch)
             with_light[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_light_share, with_light[ch]);
