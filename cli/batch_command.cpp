@@ -25,7 +25,6 @@ struct BatchArgs {
   SceneArgs defaults;  // scene options for every item; the manifest's columns override them
   std::optional<int> item;
   std::string progress = "auto";
-  int threads = 0;
   bool quiet = false;
 };
 
@@ -36,24 +35,16 @@ struct ItemResult {
   std::string error;
 };
 
+// The batch's command-line values with the item's columns on top; a column replaces the option
+// it excludes too (an item's "seconds" wins over a --frames given for the whole batch).
 SceneArgs item_scene_args(const SceneArgs& defaults, const BatchItem& item) {
   SceneArgs a = defaults;
   a.input = item.mesh.string();
-  if (item.up) a.up = item.up;
-  if (item.preset) a.render.preset = item.preset;
-  if (item.path) a.path_mode = item.path;
-  if (item.frames) {
-    a.frames = item.frames;
-    a.seconds.reset();
+  for (const auto& [id, text] : item.values) {
+    const options::Option& o = options::option(id);
+    if (!o.excludes.empty()) a.values.erase(std::string(o.excludes));
+    a.values[id] = text;
   }
-  if (item.seconds) {
-    a.seconds = item.seconds;
-    a.frames.reset();
-  }
-  if (item.width) a.width = item.width;
-  if (item.height) a.height = item.height;
-  if (item.fps) a.fps = item.fps;
-  if (item.spp) a.render.spp = item.spp;
   return a;
 }
 
@@ -73,10 +64,10 @@ ItemResult run_item(const BatchArgs& args, const BatchItem& item) {
     const Scene scene = resolve_scene(item_scene_args(args.defaults, item));
     TourVideoJob job;
     job.output = video;
-    job.threads = args.threads;
+    job.threads = int_value_or(args.defaults.values, "threads", 0);
     job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
     job.quiet = args.quiet;
-    render_tour_video(scene, args.defaults.paper, job);
+    render_tour_video(scene, job);
     r.status = "rendered";
   } catch (const Interrupted&) {
     throw;  // Ctrl-C stops the whole batch
@@ -161,7 +152,8 @@ void add_batch_command(CLI::App& app) {
       "Render one tour video per item of MANIFEST into --out-dir, each by the tour pipeline.\n"
       "CSV: a header row naming the columns, then one item per line; JSON: an array of objects (or\n"
       "{\"items\": [...]}) with the same keys. Columns: mesh (required; relative to the manifest),\n"
-      "output (default <mesh name>.mp4), up, preset, path, frames, seconds, width, height, fps, spp.\n"
+      "output (default <mesh name>.mp4), and every option marked as a column in docs/OPTIONS.md (up, preset,\n"
+      "path, frames, seconds, width, height, fps, spp, crf, ...; named as the option without '--').\n"
       "The options below apply to every item; the manifest's columns override them. A bad item is\n"
       "reported and skipped; items whose video exists are skipped, so a re-run does only what is\n"
       "missing. Prints a summary table and writes DIR/batch-summary.json.\n"
@@ -171,11 +163,7 @@ void add_batch_command(CLI::App& app) {
   cmd->add_option("--out-dir", args->out_dir, "Directory for the videos and batch-summary.json (created if needed)")->required();
   cmd->add_option("--item", args->item, "Run only the item with this 0-based index (one farm array task per item)")
       ->check(CLI::NonNegativeNumber);
-  add_scene_options(*cmd, args->defaults, "--frames", /*with_input=*/false);
-  cmd->add_option("--crf", args->defaults.crf, "H.264 quality (x264 CRF), 0-51 (default 18)")->check(CLI::Range(0, 51));
-  cmd->add_option("--threads", args->threads,
-                  "Threads to render with (default: SLURM_CPUS_PER_TASK when set, else all cores); results do not depend on it")
-      ->check(CLI::Range(1, 1024));
+  add_scene_options(*cmd, args->defaults, options::batch, /*with_input=*/false);
   add_progress_option(*cmd, args->progress);
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors and the summary table");
   cmd->callback([args] { run_batch(*args); });

@@ -12,7 +12,8 @@ void add_path_command(CLI::App& app);  // the camera path of a mesh, as JSON (+ 
 void add_encode_command(CLI::App& app);  // a frames directory in, video out (H.264, ProRes, FFV1, VP9, GIF)
 void add_render_command(CLI::App& app);  // frames (all or a chunk) into a frames directory, resumable
 void add_batch_command(CLI::App& app);   // a manifest of meshes in, one video per item
-void add_farm_command(CLI::App& app);    // sbatch scripts for a Slurm job array + dependent encode
+void add_farm_command(CLI::App& app);
+void add_options_command(CLI::App& app);  // every option of every command (docs/OPTIONS.md)    // sbatch scripts for a Slurm job array + dependent encode
 
 /// Exit code of `batch` when some items failed (the others were done): main() returns it.
 inline constexpr int kSomeItemsFailedExitCode = 5;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "options/cli_options.h"
 #include "cli/progress.h"
 #include "core/error.h"
 #include "encoder/video_encoder.h"
@@ -32,6 +33,7 @@ struct EncodeArgs {
   std::optional<int> fps, crf;
   std::optional<std::string> codec, frames, input_format, tone_mapping;
   std::optional<double> exposure;
+  options::Values values;  // registry rows of `encode`: codec, crf, fps, frames, exposure
   bool quiet = false;
 };
 
@@ -254,8 +256,15 @@ std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& pla
   return rgb;
 }
 
-void run_encode(const EncodeArgs& args) {
+void run_encode(EncodeArgs args) {
   install_interrupt_handlers();
+  for (const auto& [id, text] : args.values) {
+    if (id == "codec") args.codec = text;
+    else if (id == "crf") args.crf = std::stoi(text);
+    else if (id == "fps") args.fps = std::stoi(text);
+    else if (id == "frame-selection") args.frames = text;
+    else if (id == "exposure") args.exposure = std::stod(text);
+  }
   VideoOptions video;
   video.codec = choose_codec(args);
   video.crf = args.crf;
@@ -331,18 +340,9 @@ void add_encode_command(CLI::App& app) {
       "  meshtour encode shots/ -o clip.mov --frames 0-47 --fps 24   # frames from elsewhere, no manifest");
   cmd->add_option("dir", args->dir, "Directory holding the frames (frame_000000.png ...)")->required();
   cmd->add_option("-o,--output", args->output, "Video file to write; its extension must match the codec")->required();
-  cmd->add_option("--codec", args->codec, "h264 (default for .mp4), prores, ffv1, vp9 or gif")
-      ->check(CLI::IsMember({"h264", "prores", "ffv1", "vp9", "gif"}));
-  cmd->add_option("--crf", args->crf, "Quality for h264 (0..51, default 18) and vp9 (0..63, default 31); lower is better")
-      ->check(CLI::Range(0, 63));
-  cmd->add_option("--fps", args->fps, "Frames per second (default: the manifest's, else 30)")->check(CLI::Range(1, 240));
-  cmd->add_option("--frames", args->frames,
-                  "Frames to encode, e.g. 0-119, 0-119:2, 0-9,20-29 (default: the whole tour from the manifest; "
-                  "required without one)");
+  options::add_registered_options(*cmd, options::encode, args->values);
   cmd->add_option("--input-format", args->input_format, "Frame files to read: png or exr (default: png when present)")
       ->check(CLI::IsMember({"png", "exr"}));
-  cmd->add_option("--exposure", args->exposure, "EXR frames: exposure in stops (default: from the EXR header, else 0)")
-      ->check(CLI::Range(-20.0, 20.0));
   cmd->add_option("--tone-mapping", args->tone_mapping, "EXR frames: filmic or clamp (default: from the EXR header, else filmic)")
       ->check(CLI::IsMember({"filmic", "clamp"}));
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");

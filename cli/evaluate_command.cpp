@@ -22,20 +22,12 @@ namespace meshtour::cli {
 namespace {
 
 struct EvaluateArgs {
-  std::string mesh;
-  std::string up = "y";
-  std::string path_mode = "feature-orbit";  // the tour's default
-  std::string path_file;
-  int frames = 120;
-  int width = 1280, height = 720;
-  std::string fov = "auto";
+  SceneArgs scene;  // the mesh and the tour's registry options (size, frames, camera, path search)
   std::string json;
   bool compare = false;
-  int threads = 0;
   bool quiet = false;
   double feature_quantile = 0.75;
   EvaluationOptions evaluation;
-  PaperPathOptions paper;
 };
 
 void print_table(const std::vector<std::pair<std::string, PathEvaluation>>& rows, std::ostream& out) {
@@ -54,32 +46,22 @@ void print_table(const std::vector<std::pair<std::string, PathEvaluation>>& rows
 
 void run_evaluate(EvaluateArgs& a) {
   install_interrupt_handlers();
-  std::optional<tbb::global_control> thread_limit;
-  if (a.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, a.threads);
-  a.paper.surface.threads = a.threads;
-  a.paper.validate();
+  const options::Values& values = a.scene.values;
+  const int threads = render_threads(int_value_or(values, "threads", 0));
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   a.evaluation.validate();
-  if (a.compare && !a.path_file.empty()) throw InputError("--compare evaluates the built-in path modes; leave out --path-file");
+  const bool path_file = values.count("path-file") != 0;
+  if (a.compare && path_file) throw InputError("--compare evaluates the built-in path modes; leave out --path-file");
+  if (values.count("path") && path_file) throw InputError("give --path or --path-file, not both");
 
-  Scene scene = default_scene();
-  scene.source = a.mesh;
-  scene.mesh_file = a.mesh;
-  scene.up = Axis::parse(a.up);
-  scene.frames = a.frames;
-  scene.render.width = a.width;
-  scene.render.height = a.height;
-  if (a.fov == "auto") {
-    scene.auto_fov = true;
-  } else {
-    scene.vertical_fov_deg = std::stod(a.fov);
-    scene.auto_fov = false;
-  }
-  if (!a.path_file.empty()) scene.path_file = a.path_file;
+  Scene scene = resolve_scene(a.scene);
+  const PaperPathOptions paper = paper_path_options(scene.path_search);
+  paper.validate();
 
   const TriangleMesh mesh = load_scene_model(scene);
   throw_if_interrupted();
   // Feature faces once per mesh, whatever the path mode: w(f) of §8 at the paper's settings.
-  const SurfaceAnalysis surface = analyze_surface(mesh, a.paper.surface);
+  const SurfaceAnalysis surface = analyze_surface(mesh, paper.surface);
   const std::vector<std::uint8_t> features =
       feature_faces(input_face_weights(surface, mesh.triangles.size()), face_areas(mesh), a.feature_quantile);
   const PathEvaluator evaluator(mesh, features, a.evaluation);
@@ -92,11 +74,11 @@ void run_evaluate(EvaluateArgs& a) {
   if (a.compare)
     modes = {"turntable", "paper", "feature-orbit"};
   else
-    modes = {a.path_file.empty() ? a.path_mode : std::string("path-file")};
+    modes = {path_file ? std::string("path-file") : scene.path_mode};
   std::vector<std::pair<std::string, PathEvaluation>> rows;
   for (const std::string& mode : modes) {
     if (mode != "path-file") scene.path_mode = mode;
-    const auto path = make_path(scene, mesh, lens, a.paper, true);
+    const auto path = make_path(scene, mesh, lens, true);
     const double fov = choose_fov(scene, *path, mesh, lens, true);
     std::vector<Camera> cameras;
     for (int k = 0; k < scene.frames; ++k) {
@@ -111,7 +93,7 @@ void run_evaluate(EvaluateArgs& a) {
     write_text_file_atomically(a.json, text, "evaluation");
   }
   if (!a.quiet) {
-    std::cout << "meshtour evaluate: " << a.mesh << " (up " << scene.up.name() << ", " << scene.frames << " frames, "
+    std::cout << "meshtour evaluate: " << a.scene.input << " (up " << scene.up.name() << ", " << scene.frames << " frames, "
               << mesh.triangles.size() << " faces, " << evaluator.regions().count << " feature regions)\n";
     print_table(rows, std::cout);
     if (!a.json.empty()) std::cout << "wrote " << a.json << "\n";
@@ -141,23 +123,9 @@ void add_evaluate_command(CLI::App& app) {
       "at least --region-share of its area is. Motion is measured around the loop including the jump "
       "from the last frame back to the first.");
   cmd->option_defaults()->always_capture_default();
-  cmd->add_option("mesh", args->mesh, "Mesh file (" + supported_mesh_formats() + ")")->required()->type_name("MESH");
-  cmd->add_option("--up", args->up, "The model's up axis: x, y, z, -x, -y or -z")
-      ->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"}, CLI::ignore_case))
-      ->capture_default_str();
-  auto* path_file = cmd->add_option("--path-file", args->path_file, "Evaluate the camera path in this file (from 'meshtour path -o')")
-                        ->check(CLI::ExistingFile);
-  cmd->add_option("--path", args->path_mode, "Path mode to evaluate, as for 'meshtour tour --path': feature-orbit, paper or turntable")
-      ->check(CLI::IsMember({"paper", "turntable", "feature-orbit"}))
-      ->excludes(path_file)
-      ->capture_default_str();
+  cmd->add_option("mesh", args->scene.input, "Mesh file (" + supported_mesh_formats() + ")")->required()->type_name("MESH");
+  add_scene_options(*cmd, args->scene, options::evaluate, /*with_input=*/false);
   cmd->add_flag("--compare", args->compare, "Evaluate turntable, paper and feature-orbit and print one table");
-  cmd->add_option("--frames", args->frames, "Frames in one loop of the tour")->check(CLI::Range(1, 100000))->capture_default_str();
-  cmd->add_option("--width", args->width, "Frame width of the tour (sets the aspect ratio)")->check(CLI::Range(2, 16384))->capture_default_str();
-  cmd->add_option("--height", args->height, "Frame height of the tour")->check(CLI::Range(2, 16384))->capture_default_str();
-  cmd->add_option("--fov", args->fov, "Vertical field of view as for 'meshtour tour': degrees or auto")
-      ->check(CLI::IsMember({"auto"}) | CLI::Range(5.0, 120.0))
-      ->capture_default_str();
   cmd->add_option("--json", args->json,
                   "Also write the numbers as JSON: {\"modes\": {\"<mode>\": {\"feature_coverage\": ..., "
                   "\"surface_coverage\": ..., \"feature_min_frames\": ..., \"feature_median_frames\": ..., "
@@ -179,11 +147,7 @@ void add_evaluate_command(CLI::App& app) {
                   "Share of a feature region's area that must be seen well for the region to count as seen in a frame")
       ->check(CLI::Range(0.01, 1.0))
       ->capture_default_str();
-  cmd->add_option("--threads", args->threads, "Worker threads; 0 = all cores. Results do not depend on it")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
-  add_paper_path_options(*cmd, args->paper);
   cmd->callback([args] { run_evaluate(*args); });
 }
 

@@ -31,9 +31,6 @@ struct FarmArgs {
   std::string out_dir;
   std::string output;  // video name inside out_dir
   std::string executable;
-  std::string codec = "h264";
-  std::optional<int> crf;
-  std::string format = "png";
   std::string partition, time_limit;
   int chunk_size = 10;
   int cpus_per_task = 1;
@@ -121,6 +118,11 @@ void run_farm_slurm(const FarmArgs& args) {
   if (!args.manifest.empty() && !args.scene.input.empty())
     throw InputError("give either a SCENE|MESH or --manifest, not both");
   const std::filesystem::path out = std::filesystem::absolute(args.out_dir).lexically_normal();
+  const std::string codec = value_or(args.scene.values, "codec", "h264");
+  const std::string format = value_or(args.scene.values, "format", "png");
+  if (const auto crf = args.scene.values.find("crf"); crf != args.scene.values.end())
+    if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
+      throw InputError("--crf " + problem);
   const std::filesystem::path exe = this_executable(args);
   std::error_code ec;
   std::filesystem::create_directories(out / "logs", ec);
@@ -136,9 +138,8 @@ void run_farm_slurm(const FarmArgs& args) {
     const std::vector<BatchItem> items = read_batch_manifest(manifest);
     tasks = static_cast<int>(items.size());
     std::vector<std::string> cmd = {exe.string(), "batch", manifest.string(), "--out-dir", out.string()};
-    const auto overrides = scene_override_args(args.scene, "--frames");
-    cmd.insert(cmd.end(), overrides.begin(), overrides.end());
-    if (args.crf) cmd.insert(cmd.end(), {"--crf", std::to_string(*args.crf)});
+    const auto forwarded = options::forwarded_args(args.scene.values, options::batch_tasks, options::batch);
+    cmd.insert(cmd.end(), forwarded.begin(), forwarded.end());
     cmd.insert(cmd.end(), {"--progress", "json"});
     std::string script = sbatch_header(args, "meshtour-batch", (out / "logs" / "batch_%A_%a.log").string());
     script += "#SBATCH --array=0-" + std::to_string(tasks - 1) + "\n";
@@ -148,11 +149,11 @@ void run_farm_slurm(const FarmArgs& args) {
     first_sbatch = " " + shell_quote((out / "batch.sbatch").string());
     submit_script += "batch=$(sbatch --parsable" + first_sbatch + ")\necho \"batch_job=${batch%%;*}\"\n";
   } else {
-    const Scene scene = resolve_scene(args.scene);
+    const Scene scene = resolve_scene(args.scene, codec);
     const std::filesystem::path frames_dir = out / "frames";
     std::vector<std::string> render = {exe.string(), "render"};
     if (!args.scene.input.empty()) render.push_back(std::filesystem::absolute(args.scene.input).string());
-    render.insert(render.end(), {"--out-dir", frames_dir.string(), "--format", args.format});
+    render.insert(render.end(), {"--out-dir", frames_dir.string(), "--format", format});
 
     // The path, once: every chunk must render the very same path (and it is the expensive part
     // of a process's start-up).
@@ -163,14 +164,15 @@ void run_farm_slurm(const FarmArgs& args) {
       // Only the paper path has a path file; the turntable and the feature orbit are cheap and
       // deterministic (thread-count invariant), so every task computes the same one itself.
       const TriangleMesh mesh = load_scene_model(scene);
-      const PaperPathResult path = compute_scene_paper_path(scene, mesh, args.scene.paper);
+      const PaperPathResult path = compute_scene_paper_path(scene, mesh);
       path_file = out / "path.json";
       write_path_file(path, path_file, scene.source);
       if (!args.quiet) std::fprintf(stderr, "camera path computed once: %s\n", path_file.string().c_str());
     }
     if (!path_file.empty()) render.insert(render.end(), {"--path-file", path_file.string()});
-    const auto overrides = scene_override_args(args.scene, "--frame-count");
-    render.insert(render.end(), overrides.begin(), overrides.end());
+    // Every option that changes pixels or the path, so each task renders the tour `tour` would.
+    const auto forwarded = options::forwarded_args(args.scene.values, options::render_tasks, options::render);
+    render.insert(render.end(), forwarded.begin(), forwarded.end());
     render.insert(render.end(), {"--progress", "json"});
 
     // The frames directory and its manifest now, so that a directory of another tour is refused
@@ -180,7 +182,7 @@ void run_farm_slurm(const FarmArgs& args) {
     info.fps = scene.fps;
     info.width = scene.render.width;
     info.height = scene.render.height;
-    info.image_formats = args.format == "png+exr" ? std::vector<std::string>{"png", "exr"} : std::vector<std::string>{args.format};
+    info.image_formats = format == "png+exr" ? std::vector<std::string>{"png", "exr"} : std::vector<std::string>{format};
     info.source = scene.source;
     info.path_file = path_file.string();
     prepare_frame_dir(frames_dir, info);
@@ -201,10 +203,13 @@ void run_farm_slurm(const FarmArgs& args) {
     const std::string video = args.output.empty()
                                   ? (args.scene.input.empty() ? std::string("meshtour-default")
                                                               : std::filesystem::path(args.scene.input).stem().string()) +
-                                        video_extension(args.codec)
+                                        video_extension(codec)
                                   : args.output;
-    std::vector<std::string> encode = {exe.string(), "encode", frames_dir.string(), "-o", (out / video).string(), "--codec", args.codec};
-    if (args.crf) encode.insert(encode.end(), {"--crf", std::to_string(*args.crf)});
+    std::vector<std::string> encode = {exe.string(), "encode", frames_dir.string(), "-o", (out / video).string(), "--codec", codec};
+    const auto forwarded_to_encode = options::forwarded_args(args.scene.values, options::encode_job, options::encode);
+    for (std::size_t i = 0; i < forwarded_to_encode.size(); i += 2)
+      if (forwarded_to_encode[i] != "--codec")  // given above, with its default
+        encode.insert(encode.end(), {forwarded_to_encode[i], forwarded_to_encode[i + 1]});
     std::string enc = sbatch_header(args, "meshtour-encode", (out / "logs" / "encode_%j.log").string());
     enc += "# runs after every render task succeeded (submitted with --dependency=afterok:<render array job>)\n";
     enc += "set -euo pipefail\nexec" + join_quoted(encode) + "\n";
@@ -254,7 +259,7 @@ void add_farm_command(CLI::App& app) {
       "With --manifest, one array task per batch item instead ('meshtour batch --item i'), printing\n"
       "batch_job=ID. Paths in the scripts are absolute: DIR must be on a filesystem every node shares.\n"
       "Re-submitting resumes: frames and videos that exist are skipped.");
-  add_scene_options(*cmd, args->scene, "--frames");
+  add_scene_options(*cmd, args->scene, options::farm);
   cmd->add_option("--manifest", args->manifest, "A batch manifest (CSV or JSON, see 'meshtour batch --help'): one array task per item")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out-dir", args->out_dir, "Directory for the scripts, the path, the frames, logs and the video (shared by all nodes)")
@@ -265,12 +270,6 @@ void add_farm_command(CLI::App& app) {
   cmd->add_option("--time", args->time_limit, "Time limit of each task (sbatch --time, e.g. 30 or 2:00:00)");
   cmd->add_option("--cpus-per-task", args->cpus_per_task, "CPUs per task (sbatch --cpus-per-task); render uses that many threads (default 1)")
       ->check(CLI::Range(1, 1024));
-  cmd->add_option("--codec", args->codec, "Codec of the encode job: h264 (default, .mp4), prores (.mov), ffv1 (.mkv), vp9 (.webm), gif")
-      ->check(CLI::IsMember({"h264", "prores", "ffv1", "vp9", "gif"}));
-  cmd->add_option("--crf", args->crf, "Quality for the encode job (see 'meshtour encode --help'; default: the codec's)")
-      ->check(CLI::Range(0, 63));
-  cmd->add_option("--format", args->format, "Frame image format: png (default; what encode reads), exr or png+exr")
-      ->check(CLI::IsMember({"png", "exr", "png+exr"}));
   cmd->add_option("--executable", args->executable, "The meshtour executable the jobs run (default: this one)");
   cmd->add_flag("--submit", args->submit, "Submit the jobs with sbatch and print their ids");
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors and the job ids");

@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   meshtour::cli::add_batch_command(app);
   meshtour::cli::add_farm_command(app);
   meshtour::cli::add_evaluate_command(app);
+  meshtour::cli::add_options_command(app);
 
   try {
     app.parse(argc, argv);

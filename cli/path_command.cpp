@@ -33,7 +33,7 @@ struct PathArgs {
   std::string plot;
   std::string debug_dir;
   std::string mode = "paper";
-  int frames = 120;
+  options::Values values;  // registry rows of `path`: frames, threads, exports, path search
   std::string gltf, camera_frames, overview;
   std::string overview_size = "1200x900";
   int threads = 0;
@@ -89,7 +89,11 @@ void print_summary(const PaperPathResult& r, const PathArgs& a, const LoadReport
 
 void run_path(PathArgs& a) {
   install_interrupt_handlers();
+  a.options = paper_path_options(a.values, a.options);
   a.options.up = UpDirection::parse(a.up);
+  a.threads = int_value_or(a.values, "threads", 0);
+  a.gltf = value_or(a.values, "gltf", "");
+  a.camera_frames = value_or(a.values, "camera-frames", "");
   if (a.threads > 0) a.threads = capped_threads(a.threads, a.quiet);
   a.options.surface.threads = a.threads;
   a.options.validate();
@@ -134,7 +138,7 @@ void run_path(PathArgs& a) {
   Scene scene = default_scene();
   scene.source = a.mesh;
   scene.mesh_file = a.mesh;
-  scene.frames = a.frames;
+  apply_options(scene, a.values);  // --frames and the path search, as `tour` applies them
   scene.path_mode = a.mode;
   Eigen::Vector3d up_vector = result ? result->up : Eigen::Vector3d::UnitY();
   if (!paper) {
@@ -154,7 +158,7 @@ void run_path(PathArgs& a) {
     if (paper)
       camera_path = std::make_unique<PaperCameraPath>(result->camera_path());
     else
-      camera_path = make_path(scene, mesh, lens, a.options, a.quiet);
+      camera_path = make_path(scene, mesh, lens, a.quiet);
     fov = choose_fov(scene, *camera_path, mesh, lens, true);
   }
   // Everything that can fail for a reason other than the file system happens before the first
@@ -263,16 +267,6 @@ void add_path_command(CLI::App& app) {
                   "feature-orbit (see 'meshtour evaluate --help'); the other modes need a coordinate --up axis")
       ->check(CLI::IsMember({"paper", "turntable", "feature-orbit"}))
       ->capture_default_str();
-  cmd->add_option("--frames", args->frames, "Frames of the tour the exports describe (as 'meshtour tour --frames')")
-      ->check(CLI::Range(1, 1000000))
-      ->capture_default_str();
-  cmd->add_option("--gltf", args->gltf,
-                  "Also write the tour's camera as glTF 2.0: FILE.gltf + FILE.bin, an animated camera node (translation "
-                  "and rotation keys at the frame times, 30 fps) with the tour's vertical field of view and 16:9 aspect")
-      ->type_name("FILE.gltf");
-  cmd->add_option("--camera-frames", args->camera_frames,
-                  "Also write every frame's eye, target, up and field of view, as CSV (.csv) or JSON (.json)")
-      ->type_name("FILE");
   cmd->add_option("--overview", args->overview,
                   "Also render a picture of the path (PNG): the model, its bounding cylinder (blue-grey), the camera "
                   "positions (magenta), the points looked at (cyan), sight lines (yellow) and the start (red)")
@@ -284,11 +278,8 @@ void add_path_command(CLI::App& app) {
                   "Samples per loop K in samples.csv (§13.3)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cmd->add_option("--threads", args->threads, "Worker threads; 0 = all cores. Results do not depend on it")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
-  add_paper_path_options(*cmd, args->options);
+  options::add_registered_options(*cmd, options::path, args->values);
   add_resource_options(*cmd, args->resources);
   cmd->callback([args] { run_path(*args); });
 }

@@ -1,17 +1,16 @@
 #pragma once
-// Command-line options of the toroidal-patch path (ALGORITHM.md §2), shared by `meshtour path`
-// and `meshtour tour`.
+// The path search's settings (registry rows with scene keys "patches.*" and "paper.*"; their
+// flags, ranges and help are rows of options/option_registry.cpp) turned into the options of the
+// toroidal-patch stage, which the feature orbit shares.
 #include <CLI/CLI.hpp>
 
+#include "options/option_registry.h"
 #include "pathgen/paper_path.h"
 
 namespace meshtour::cli {
 
-/// Adds every option of `options` except the up direction (the caller owns --up, which means
-/// the same for every path mode) and the thread count, in help groups by stage, with the
-/// defaults currently held in `options` shown. Parsed values are written into `options`, which
-/// must outlive the parse (hold it in the command's shared state).
-void add_paper_path_options(CLI::App& cmd, PaperPathOptions& options);
+/// `base` with every path-search value of `values` applied (checked text, see options::check_value).
+PaperPathOptions paper_path_options(const options::Values& values, PaperPathOptions base = {});
 
 /// Help text of --up for the paper path (axis, vector, longest-aabb or pca; I-18).
 extern const char* const kPaperUpHelp;

@@ -23,11 +23,8 @@ namespace {
 struct RenderCommandArgs {
   SceneArgs scene;
   std::string out_dir;
-  std::string frames = "all";
-  std::string format = "png";
   std::string progress = "auto";
   ResourceArgs resources;  // --max-memory, --verbose
-  int threads = 0;
   bool overwrite = false;
   bool quiet = false;
 };
@@ -41,8 +38,9 @@ void run_render(const RenderCommandArgs& args) {
   install_interrupt_handlers();
   const Scene scene = resolve_scene(args.scene);
   const std::filesystem::path dir = args.out_dir;
-  const std::vector<int> selected = parse_frame_range(args.frames, scene.frames);
-  const std::vector<std::string> formats = formats_of(args.format);
+  const options::Values& values = args.scene.values;
+  const std::vector<int> selected = parse_frame_range(value_or(values, "frame-selection", "all"), scene.frames);
+  const std::vector<std::string> formats = formats_of(value_or(values, "format", "png"));
 
   FrameDirInfo info;
   info.frame_count = scene.frames;
@@ -72,13 +70,13 @@ void run_render(const RenderCommandArgs& args) {
     return;
   }
 
-  const int threads = capped_threads(render_threads(args.threads), args.quiet);
+  const int threads = capped_threads(render_threads(int_value_or(values, "threads", 0)), args.quiet);
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", threads);
   StageLog log(args.resources.verbose);
   log.start("check");
   check_tour_memory(scene, args.resources);
-  const PreparedTour tour = prepare_tour(scene, args.scene.paper, args.quiet, &log);
+  const PreparedTour tour = prepare_tour(scene, args.quiet, &log);
 
   Progress progress("frame", static_cast<int>(todo.size()), mode);  // from here: frames/s are rendering only
 
@@ -104,25 +102,9 @@ void add_render_command(CLI::App& app) {
       "already exist are skipped (each file appears only when complete), so a killed job is resumed by\n"
       "running it again. Any split of the frames over processes gives the same bytes as one run.\n"
       "SIGINT/SIGTERM stop after the current frame (exit 130).");
-  add_scene_options(*cmd, args->scene, "--frame-count");
+  add_scene_options(*cmd, args->scene, options::render);
   cmd->add_option("--out-dir", args->out_dir, "Directory for the frames and the manifest (created if needed)")->required();
-  cmd->add_option("--frames", args->frames,
-                  "Frames to render, numbered from 0: all (default), A, A-B, A-B:S (every S-th), or a comma-separated\n"
-                  "list of these, e.g. 0-9,20,30-40:2; clamped to the tour's frame count")
-      ->check([](const std::string& s) {
-        try {
-          (void)parse_frame_range(s, 1'000'000'000);
-          return std::string();
-        } catch (const std::exception& e) {
-          return std::string(e.what());
-        }
-      });
-  cmd->add_option("--format", args->format, "Frame image format: png (8-bit sRGB), exr (half float, linear) or png+exr")
-      ->check(CLI::IsMember({"png", "exr", "png+exr"}));
   cmd->add_flag("--overwrite", args->overwrite, "Render the selected frames again even if they exist");
-  cmd->add_option("--threads", args->threads,
-                  "Threads to render with (default: SLURM_CPUS_PER_TASK when set, else all cores); results do not depend on it")
-      ->check(CLI::Range(1, 1024));
   add_progress_option(*cmd, args->progress);
   add_resource_options(*cmd, args->resources);
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");

@@ -26,11 +26,8 @@ struct TourArgs {
   SceneArgs scene;  // model, size, timing, camera, look: shared with render, batch and farm
   std::string output;
   std::string frames_dir;
-  std::string format = "png";
   std::string progress = "auto";
-  std::string gltf, camera_frames;  // camera exports (glTF 2.0 animated camera, per-frame table)
-  ResourceArgs resources;           // --max-memory, --verbose
-  int threads = 0;
+  ResourceArgs resources;  // --max-memory, --verbose
   bool quiet = false;
 };
 
@@ -45,19 +42,20 @@ void run_tour(const TourArgs& args) {
   TourVideoJob job;
   job.output = args.output.empty() ? default_output(args) : std::filesystem::path(args.output);
   job.frames_dir = args.frames_dir;
-  job.format = args.format;
-  job.threads = args.threads;
+  const options::Values& values = args.scene.values;
+  job.format = value_or(values, "format", "png");
+  job.threads = int_value_or(values, "threads", 0);
   job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
   job.quiet = args.quiet;
   job.resources = args.resources;
-  job.gltf = args.gltf;
-  job.camera_frames = args.camera_frames;
-  render_tour_video(scene, args.scene.paper, job);
+  job.gltf = value_or(values, "gltf", "");
+  job.camera_frames = value_or(values, "camera-frames", "");
+  render_tour_video(scene, job);
 }
 
 }  // namespace
 
-void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const TourVideoJob& job) {
+void render_tour_video(const Scene& scene, const TourVideoJob& job) {
   const std::filesystem::path& output = job.output;
   if (output.extension() != ".mp4") throw InputError(output.string() + ": the video is written as H.264 MP4; name it *.mp4");
   const bool keep_frames = !job.frames_dir.empty();
@@ -80,7 +78,7 @@ void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const 
   video.crf = scene.crf;
   VideoEncoder encoder(output, video);
 
-  const PreparedTour tour = prepare_tour(scene, paper, job.quiet, &log);
+  const PreparedTour tour = prepare_tour(scene, job.quiet, &log);
   // The frames directory and its manifest only once the tour could be prepared: a bad model or
   // path file leaves nothing behind.
   if (keep_frames) {
@@ -136,16 +134,9 @@ void add_tour_command(CLI::App& app) {
       "Render a tour video: load the model, compute the camera path, render every frame with the\n"
       "ray tracer and encode them to an H.264 MP4. With no INPUT, renders the built-in default scene.\n"
       "Options given here override the scene file; a mesh file gets the default scene's settings.");
-  add_scene_options(*cmd, args->scene, "--frames");
+  add_scene_options(*cmd, args->scene, options::tour);
   cmd->add_option("-o,--output", args->output, "Video file to write (.mp4); default: <input name>.mp4 in the current directory");
-  cmd->add_option("--crf", args->scene.crf, "H.264 quality (x264 CRF): 18 looks lossless, 23 is x264's default, 51 worst; 0 is lossless but High 4:4:4, which browsers do not play (default 18)")->check(CLI::Range(0, 51));
   cmd->add_option("--frames-dir", args->frames_dir, "Also write every frame as an image into this directory (frame_000000.png, ...)");
-  cmd->add_option("--format", args->format, "Frame image format for --frames-dir: png (8-bit sRGB), exr (half float, linear) or png+exr")
-      ->check(CLI::IsMember({"png", "exr", "png+exr"}));
-  cmd->add_option("--threads", args->threads, "Threads to render with (default: SLURM_CPUS_PER_TASK when set, else all cores); results do not depend on it")
-      ->check(CLI::Range(1, 1024));
-  cmd->add_option("--gltf", args->gltf, "Also write the camera path as glTF 2.0 (FILE.gltf + FILE.bin: an animated camera with the tour's field of view)");
-  cmd->add_option("--camera-frames", args->camera_frames, "Also write every frame's eye, target, up and field of view (.csv or .json)");
   add_progress_option(*cmd, args->progress);
   add_resource_options(*cmd, args->resources);
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");

@@ -18,41 +18,17 @@
 
 namespace meshtour::cli {
 
-void add_scene_options(CLI::App& cmd, SceneArgs& args, const std::string& frame_count_option, bool with_input) {
+void add_scene_options(CLI::App& cmd, SceneArgs& args, options::Command command, bool with_input) {
   if (with_input)
     cmd.add_option("input", args.input, "Mesh (" + supported_mesh_formats() + ") or scene file (.json); default: built-in scene");
-  cmd.add_option("--width", args.width, "Frame width in pixels, even (default 1280)")->check(CLI::Range(2, 16384));
-  cmd.add_option("--height", args.height, "Frame height in pixels, even (default 720)")->check(CLI::Range(2, 16384));
-  cmd.add_option("--fps", args.fps, "Frames per second (default 30)")->check(CLI::Range(1, 240));
-  auto* frames = cmd.add_option(frame_count_option, args.frames, "Frames in one loop of the path (default 120)")->check(CLI::Range(1, 1000000));
-  cmd.add_option("--seconds", args.seconds, "Length of the video in seconds (sets " + frame_count_option + " = seconds x fps)")
-      ->check(CLI::PositiveNumber)->excludes(frames);
-  cmd.add_option("--up", args.up, "The model's up axis: x, y, z, -x, -y or -z (default y)")
-      ->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"}, CLI::ignore_case));
-  cmd.add_option("--path", args.path_mode,
-                 "Camera path: feature-orbit (default; an orbit whose elevation and distance are chosen to show the most\n"
-                 "feature area smoothly; it beats paper and turntable on every test mesh, see 'meshtour evaluate --compare'),\n"
-                 "paper (the toroidal-patch method of Choi et al. 2024, see 'meshtour path --help') or turntable\n"
-                 "(circular orbit around the up axis)")
-      ->check(CLI::IsMember({"turntable", "paper", "feature-orbit"}));
-  cmd.add_option("--path-file", args.path_file, "Use the camera path in this file, written by 'meshtour path -o' (overrides --path)")
-      ->check(CLI::ExistingFile);
-  cmd.add_option("--fov", args.fov,
-                 "Vertical field of view: degrees (5-120), or auto (default): the paper path keeps its camera distance\n"
-                 "and the fov is fitted so every vertex stays in frame at every frame; the turntable uses 35 degrees\n"
-                 "and fits its radius. A fixed fov moves the paper path's camera back where needed instead.")
-      ->check(CLI::IsMember({"auto"}) | CLI::Range(5.0, 120.0));
-  cmd.add_option("--elevation", args.elevation, "Turntable: camera elevation above the model's centre, degrees (default 18)")
-      ->check(CLI::Range(-80.0, 80.0));
-  add_render_options(cmd, args.render);
-  add_paper_path_options(cmd, args.paper);
+  options::add_registered_options(cmd, command, args.values);
 }
 
 namespace {
 bool is_scene_file(const std::filesystem::path& p) { return p.extension() == ".json"; }
 }  // namespace
 
-Scene resolve_scene(const SceneArgs& a) {
+Scene resolve_scene(const SceneArgs& a, std::string_view codec) {
   Scene scene;
   if (a.input.empty()) {
     scene = default_scene();
@@ -63,64 +39,25 @@ Scene resolve_scene(const SceneArgs& a) {
     scene.source = a.input;
     scene.mesh_file = a.input;
   }
-  if (a.up) scene.up = Axis::parse(*a.up);
-  if (a.width) scene.render.width = *a.width;
-  if (a.height) scene.render.height = *a.height;
-  if (a.fps) scene.fps = *a.fps;
-  if (a.frames) scene.frames = *a.frames;
-  if (a.seconds) {
-    const double frames = *a.seconds * scene.fps;
-    if (!(frames >= 1.0 && frames <= 1e6)) throw InputError("--seconds gives " + std::to_string(frames) + " frames; it must give 1 to 1000000");
-    scene.frames = static_cast<int>(std::lround(frames));
-  }
-  if (a.crf) scene.crf = *a.crf;
-  if (a.fov && *a.fov == "auto") {
-    scene.auto_fov = true;
-  } else if (a.fov) {
-    scene.vertical_fov_deg = std::stod(*a.fov);
-    scene.auto_fov = false;
-  }
-  if (a.elevation) scene.elevation_deg = *a.elevation;
-  if (a.path_mode) scene.path_mode = *a.path_mode;
-  if (a.path_file) scene.path_file = *a.path_file;
-  apply_render_options(a.render, scene);
+  if (const auto crf = a.values.find("crf"); crf != a.values.end())
+    if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
+      throw InputError("--crf " + problem);
+  apply_options(scene, a.values);
   return scene;
 }
 
-std::vector<std::string> scene_override_args(const SceneArgs& a, const std::string& frame_count_option) {
-  std::vector<std::string> out;
-  const auto add = [&](const char* name, const std::string& value) {
-    out.emplace_back(name);
-    out.push_back(value);
-  };
-  if (a.width) add("--width", std::to_string(*a.width));
-  if (a.height) add("--height", std::to_string(*a.height));
-  if (a.fps) add("--fps", std::to_string(*a.fps));
-  const auto number = [](double v) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.17g", v);
-    return std::string(text);
-  };
-  if (a.frames) add(frame_count_option.c_str(), std::to_string(*a.frames));
-  if (a.seconds) add("--seconds", number(*a.seconds));
-  if (a.up) add("--up", *a.up);
-  if (a.path_mode) add("--path", *a.path_mode);
-  if (a.fov) add("--fov", *a.fov);
-  if (a.elevation) add("--elevation", number(*a.elevation));
-  const RenderArgs& r = a.render;
-  if (r.preset) add("--preset", *r.preset);
-  if (r.spp) add("--spp", std::to_string(*r.spp));
-  if (r.background) add("--background", *r.background);
-  if (r.exposure) add("--exposure", number(*r.exposure));
-  if (!r.exr_layers.empty()) {
-    std::string layers;
-    for (const auto& l : r.exr_layers) layers += (layers.empty() ? "" : ",") + l;
-    add("--exr-layers", layers);
-  }
-  return out;
+std::string value_or(const options::Values& values, std::string_view id, std::string fallback) {
+  const auto it = values.find(id);
+  return it == values.end() ? fallback : it->second;
 }
 
-PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh, PaperPathOptions paper) {
+int int_value_or(const options::Values& values, std::string_view id, int fallback) {
+  const auto it = values.find(id);
+  return it == values.end() ? fallback : std::stoi(it->second);
+}
+
+PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh) {
+  PaperPathOptions paper = paper_path_options(scene.path_search);
   paper.up = UpDirection{UpDirection::Kind::axis, scene.up, scene.up.vector()};
   return compute_paper_path(mesh, paper);
 }
@@ -137,8 +74,7 @@ std::unique_ptr<CameraPath> frame_for_lens(std::unique_ptr<CameraPath> path, con
 
 }  // namespace
 
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens,
-                                      const PaperPathOptions& paper, bool quiet) {
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet) {
   if (scene.path_file) {
     auto path = read_path_file(*scene.path_file);
     if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
@@ -146,7 +82,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
   }
   if (scene.path_mode == "feature-orbit") {
     FeatureOrbitOptions orbit;
-    orbit.surface = paper.surface;
+    orbit.surface = paper_path_options(scene.path_search).surface;
     orbit.up = scene.up;
     orbit.aspect = lens.aspect;
     const FeatureOrbitResult result = compute_feature_orbit(mesh, orbit);
@@ -167,7 +103,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     return std::make_unique<TurntablePath>(mesh.positions, options);
   }
   const std::string model = scene.mesh_file ? scene.mesh_file->string() : std::string("the built-in model");
-  const PaperPathResult result = with_file_name(model, [&] { return compute_scene_paper_path(scene, mesh, paper); });
+  const PaperPathResult result = with_file_name(model, [&] { return compute_scene_paper_path(scene, mesh); });
   if (!quiet) warn_if_flat(mesh, result.up, model);
   if (!quiet) {
     double seconds = 0;
@@ -231,7 +167,7 @@ void check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
   check_memory(e, memory_budget(resources), "this tour");
 }
 
-PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, bool quiet, StageLog* log) {
+PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log) {
   const auto stage = [&](const char* name) {
     if (log) log->start(name);
   };
@@ -253,7 +189,7 @@ PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, boo
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
   stage("path");
-  tour.path = make_path(scene, mesh, lens, paper, quiet);
+  tour.path = make_path(scene, mesh, lens, quiet);
   tour.fov = choose_fov(scene, *tour.path, mesh, lens, quiet);
   stage("bvh");
   tour.renderer = std::make_unique<Renderer>(mesh, scene.render);

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "cli/progress.h"
-#include "cli/render_options.h"
+#include "options/cli_options.h"
 #include "cli/resource_options.h"
 #include "pathgen/camera_path.h"
 #include "pathgen/paper_path.h"
@@ -20,38 +20,30 @@
 
 namespace meshtour::cli {
 
-/// The options that say which tour to render (model, size, timing, camera, look).
+/// The options that say which tour to render: the input and every registry value the command
+/// line gave (model, size, timing, camera, look, path search, and the command's own rows).
 struct SceneArgs {
   std::string input;  // mesh or .json scene; empty = built-in default scene
-  std::optional<int> width, height, fps, frames, crf;
-  std::optional<double> seconds, elevation;
-  std::optional<std::string> fov;  // degrees or "auto"
-  std::optional<std::string> up, path_mode, path_file;
-  PaperPathOptions paper;  // options of the toroidal-patch path (ALGORITHM.md §2)
-  RenderArgs render;
+  options::Values values;
 };
 
-/// Adds the options of SceneArgs (not --crf, which only commands that encode offer) to `cmd`.
-/// `frame_count_option` names the tour-length option: "--frames" for tour, "--frame-count" for
-/// the commands where --frames selects frames. `with_input` adds the INPUT positional.
-void add_scene_options(CLI::App& cmd, SceneArgs& args, const std::string& frame_count_option, bool with_input = true);
+/// Adds the INPUT positional (when `with_input`) and every registry row `command` takes to `cmd`.
+void add_scene_options(CLI::App& cmd, SceneArgs& args, options::Command command, bool with_input = true);
 
 /// The scene file (or default scene, or mesh with the default scene's settings) with the command
-/// line's overrides applied.
-Scene resolve_scene(const SceneArgs& args);
+/// line's values applied; a --crf is checked for `codec` (the video the command makes).
+Scene resolve_scene(const SceneArgs& args, std::string_view codec = "h264");
 
-/// Command-line arguments that make another process resolve the same scene from the same input
-/// (every override given; the frame count under `frame_count_option`), for `render` invocations.
-/// Neither the input, --path-file nor the paper-path options are included.
-std::vector<std::string> scene_override_args(const SceneArgs& args, const std::string& frame_count_option = "--frame-count");
+/// A registry value of the command line, or `fallback` when it was not given.
+std::string value_or(const options::Values& values, std::string_view id, std::string fallback);
+int int_value_or(const options::Values& values, std::string_view id, int fallback);
 
 /// The toroidal-patch path of the scene's model (deterministic: the same for any thread count).
-PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh, PaperPathOptions paper);
+PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh);
 
 /// The camera path of the scene. Geometry-driven paths are wrapped in FramedPath when the fov is
 /// fixed: the paper's 4r/6r distance rule frames typical models, but every vertex is checked.
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens,
-                                      const PaperPathOptions& paper, bool quiet);
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet);
 
 /// The field of view to render with. With "auto", a geometry-driven path keeps its distances and
 /// the lens is fitted to the model over EVERY frame of the tour (one fov for the whole tour, so
@@ -72,7 +64,7 @@ struct PreparedTour {
 
 /// Loads the model (printing a summary unless `quiet`), computes the path and the fov and builds
 /// the renderer; each of these is a stage of `log` (--verbose) when given.
-PreparedTour prepare_tour(const Scene& scene, const PaperPathOptions& paper, bool quiet, StageLog* log = nullptr);
+PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log = nullptr);
 
 /// Refuses (InputError) a tour of `scene` whose estimated memory exceeds the budget, before
 /// anything big is allocated: the model's counts come from its file's structure (or the
@@ -96,6 +88,6 @@ struct TourVideoJob {
   ResourceArgs resources;  // --max-memory, --verbose
   bool quiet = false;
 };
-void render_tour_video(const Scene& scene, const PaperPathOptions& paper, const TourVideoJob& job);
+void render_tour_video(const Scene& scene, const TourVideoJob& job);
 
 }  // namespace meshtour::cli

@@ -16,7 +16,23 @@
 namespace meshtour {
 namespace {
 
-const std::set<std::string> kKeys = {"mesh", "output", "up", "preset", "path", "frames", "seconds", "width", "height", "fps", "spp"};
+// A column is "mesh", "output" or a registry row marked as a manifest column, named by its id; the
+// tour length's id is "frame-count", and "frames" (its flag) names it too.
+const options::Option* column_option(const std::string& key) {
+  const std::string id = key == "frames" ? "frame-count" : key;
+  for (const options::Option& o : options::registry())
+    if (o.manifest_column && o.id == id) return &o;
+  return nullptr;
+}
+
+bool known_column(const std::string& key) { return key == "mesh" || key == "output" || column_option(key) != nullptr; }
+
+std::string column_list() {
+  std::string list = "mesh, output";
+  for (const options::Option& o : options::registry())
+    if (o.manifest_column) list += ", " + std::string(o.id == "frame-count" ? "frames" : o.id);
+  return list;
+}
 
 std::string trim(std::string s) {
   const auto space = [](unsigned char c) { return std::isspace(c) != 0; };
@@ -60,44 +76,16 @@ std::vector<std::string> split_csv(const std::string& line) {
 // Sets one field of `item` from text; a bad value becomes the item's error.
 void set_field(BatchItem& item, const std::string& key, const std::string& value, const std::filesystem::path& base) {
   if (value.empty() || !item.error.empty()) return;
-  const auto integer = [&](std::optional<int>& out, int lo, int hi) {
-    int v = 0;
-    const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
-    if (ec != std::errc() || end != value.data() + value.size() || v < lo || v > hi)
-      item.error = key + " '" + value + "' is not a whole number in " + std::to_string(lo) + ".." + std::to_string(hi);
-    else
-      out = v;
-  };
   if (key == "mesh") {
     const std::filesystem::path p(value);
     item.mesh = p.is_absolute() ? p : base / p;
   } else if (key == "output") {
     item.output = value;
-  } else if (key == "up") {
-    static const std::set<std::string> axes = {"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"};
-    if (!axes.count(lower(value))) item.error = "up '" + value + "' is not one of x, y, z, -x, -y, -z";
-    else item.up = lower(value);
-  } else if (key == "preset") {
-    if (value != "studio" && value != "plain") item.error = "preset '" + value + "' is not studio or plain";
-    else item.preset = value;
-  } else if (key == "path") {
-    if (value != "paper" && value != "turntable") item.error = "path '" + value + "' is not paper or turntable";
-    else item.path = value;
-  } else if (key == "frames") {
-    integer(item.frames, 1, 1'000'000);
-  } else if (key == "width") {
-    integer(item.width, 2, 16384);
-  } else if (key == "height") {
-    integer(item.height, 2, 16384);
-  } else if (key == "fps") {
-    integer(item.fps, 1, 240);
-  } else if (key == "spp") {
-    integer(item.spp, 1, 4096);
-  } else if (key == "seconds") {
-    char* end = nullptr;
-    const double v = std::strtod(value.c_str(), &end);
-    if (end != value.c_str() + value.size() || !(v > 0 && v <= 1e5)) item.error = "seconds '" + value + "' is not a positive number";
-    else item.seconds = v;
+  } else if (const options::Option* o = column_option(key)) {
+    // Checked by the row, as on the command line; a tour's video is H.264.
+    const std::string problem = options::check_value_for_codec(*o, value, "h264");
+    if (!problem.empty()) item.error = key + (problem.starts_with("'") ? " " : " '" + value + "': ") + problem;
+    else item.values[std::string(o->id)] = options::normalize_value(*o, value);
   }
 }
 
@@ -142,9 +130,9 @@ std::vector<BatchItem> read_csv(const std::filesystem::path& file, const std::st
     if (header.empty()) {
       for (auto& f : fields) {
         f = lower(f);
-        if (!kKeys.count(f))
+        if (!known_column(f))
           throw InputError(file.string() + ":" + std::to_string(line_no) + ": unknown column '" + f +
-                           "' in the header row (columns: mesh, output, up, preset, path, frames, seconds, width, height, fps, spp)");
+                           "' in the header row (columns: " + column_list() + ")");
       }
       if (std::find(fields.begin(), fields.end(), "mesh") == fields.end())
         throw InputError(file.string() + ":" + std::to_string(line_no) + ": the header row has no 'mesh' column");
@@ -178,14 +166,15 @@ std::vector<BatchItem> read_json(const std::filesystem::path& file, const std::s
       item.error = "item is not a JSON object";
     } else {
       for (const auto& [key, value] : entry.items()) {
-        if (!kKeys.count(key)) {
+        if (!known_column(key)) {
           if (item.error.empty()) item.error = "unknown key '" + key + "'";
           continue;
         }
         std::string v;
         if (value.is_string()) v = value.get<std::string>();
         else if (value.is_number_integer()) v = std::to_string(value.get<long long>());
-        else if (value.is_number()) v = nlohmann::json(value).dump();
+        else if (value.is_number()) v = options::number_text(value.get<double>());
+        else if (value.is_boolean()) v = value.get<bool>() ? "true" : "false";
         else if (item.error.empty()) item.error = "'" + key + "' must be a string or a number";
         set_field(item, key, v, base);
       }

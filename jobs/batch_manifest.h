@@ -1,12 +1,15 @@
 #pragma once
 // Batch manifests: the list of models of a catalogue job, one video per item, as CSV (a header
 // row naming the columns) or JSON (an array of objects, or {"items": [...]}). Columns / keys:
-//   mesh (required), output, up, preset, path, frames, seconds, width, height, fps, spp
+//   mesh (required), output, and every option-registry row marked as a manifest column (named by
+//   the row's id: up, preset, path, frame-count (also "frames"), seconds, width, ..., see docs/OPTIONS.md)
 // A bad value makes only its item bad (it is reported and skipped), never the whole manifest.
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "options/option_registry.h"
 
 namespace meshtour {
 
@@ -15,9 +18,7 @@ struct BatchItem {
   int line = 0;      ///< CSV line or JSON array position (1-based), for messages
   std::filesystem::path mesh;  ///< resolved against the manifest's folder
   std::string output;          ///< video file name inside the output directory (default <mesh stem>.mp4)
-  std::optional<std::string> up, preset, path;
-  std::optional<int> frames, width, height, fps, spp;
-  std::optional<double> seconds;
+  options::Values values;      ///< the item's option columns (checked text)
   std::string error;  ///< why this item cannot be rendered ("" if it is fine)
 };
 

@@ -3,6 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -93,6 +95,46 @@ public:
     }
     out = value;
   }
+  /// The value of `key` as the registry row `o` checks it (numbers, strings, booleans and string
+  /// arrays become the row's text), or nullopt when the key is absent.
+  std::optional<std::string> read_registered(const std::string& key, const options::Option& o) {
+    if (!has(key)) return std::nullopt;
+    const json& v = raw(key);
+    std::string text;
+    if (v.is_string()) text = v.get<std::string>();
+    else if (v.is_boolean()) text = v.get<bool>() ? "true" : "false";
+    else if (v.is_number_integer()) text = std::to_string(v.get<long long>());
+    else if (v.is_number()) text = options::number_text(v.get<double>());
+    else if (v.is_array() && o.kind == options::Kind::choice_list) {
+      for (const auto& item : v) {
+        if (!item.is_string()) fail_key(key, "must be an array of names, e.g. [\"albedo\", \"normal\", \"depth\"]");
+        text += (text.empty() ? "" : ",") + item.get<std::string>();
+      }
+    } else {
+      fail_key(key, "must be " + std::string(o.kind == options::Kind::choice_list ? "an array of names" : "a number or a string"));
+    }
+    // Scene files describe tours, whose video is H.264: a codec-dependent value is checked for it.
+    const std::string problem = o.codec_ranges.empty() ? options::check_value(o, text) : options::check_value_for_codec(o, text, "h264");
+    if (!problem.empty()) fail_key(key, problem);
+    return options::normalize_value(o, text);
+  }
+  /// Reads every registry row whose scene key lies directly in this object and applies it.
+  void read_registered_keys(Scene& scene, const std::filesystem::path& base_dir) {
+    for (const options::Option& o : options::registry()) {
+      const std::string_view key = o.scene_key;
+      const auto dot = key.rfind('.');
+      const std::string_view parent = dot == std::string_view::npos ? std::string_view() : key.substr(0, dot);
+      if (key.empty() || parent != path_ || parent == "look") continue;
+      const std::string leaf(dot == std::string_view::npos ? key : key.substr(dot + 1));
+      std::optional<std::string> text = read_registered(leaf, o);
+      if (!text) continue;
+      if (o.kind == options::Kind::existing_file) {
+        const std::filesystem::path p(*text);
+        text = (p.is_absolute() ? p : base_dir / p).string();
+      }
+      apply_option(scene, o, *text);
+    }
+  }
   /// Rejects keys that were never asked for.
   void finish() const {
     for (const auto& [key, value] : object_.items())
@@ -121,12 +163,17 @@ private:
   std::set<std::string> known_;
 };
 
+// The look values that are also command-line options (registry rows "background", "exposure").
+void apply_look_value(Shading& sh, std::string_view id, const std::string& text) {
+  if (id == "background") sh.background = text == "transparent" ? BackgroundKind::transparent : BackgroundKind::gradient;
+  if (id == "exposure") sh.exposure = std::stof(text);
+}
+
 // The "look" object: a preset, then any of its values overridden. `preset_override`, when not
 // empty, replaces the file's preset (the command line's --preset).
 void apply_look(const json& look_json, const std::string& source, Shading& sh, const std::string& preset_override) {
   ObjectReader look(look_json, source, "look");
-  std::string preset = sh.preset;
-  look.read_choice("preset", preset, {"studio", "plain"});
+  std::string preset = look.read_registered("preset", options::option("preset")).value_or(sh.preset);
   if (!preset_override.empty()) preset = preset_override;
   sh = look_preset(preset);
   Material& m = sh.material;
@@ -167,12 +214,10 @@ void apply_look(const json& look_json, const std::string& source, Shading& sh, c
   look.read("ao_distance", sh.ao_distance, 0.0, 100.0);
   look.read("ground", sh.ground);
   look.read("ground_shadow", sh.ground_shadow, 0.0, 1.0);
-  std::string background = sh.background == BackgroundKind::transparent ? "transparent" : "gradient";
-  look.read_choice("background", background, {"gradient", "transparent"});
-  sh.background = background == "transparent" ? BackgroundKind::transparent : BackgroundKind::gradient;
+  if (auto background = look.read_registered("background", options::option("background"))) apply_look_value(sh, "background", *background);
   look.read("background_top", sh.background_top);
   look.read("background_bottom", sh.background_bottom);
-  look.read("exposure", sh.exposure, -20.0, 20.0);
+  if (auto exposure = look.read_registered("exposure", options::option("exposure"))) apply_look_value(sh, "exposure", *exposure);
   std::string tone = sh.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp";
   look.read_choice("tone_mapping", tone, {"filmic", "clamp"});
   sh.tone_mapping = tone == "filmic" ? ToneMapping::filmic : ToneMapping::clamp;
@@ -217,62 +262,13 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     }
     model.finish();
   }
-  if (top.has("up")) {
-    std::string up;
-    top.read("up", up);
-    try {
-      scene.up = Axis::parse(up);
-    } catch (const InputError& e) {
-      top.fail_key("up", std::string("is invalid: ") + e.what());
-    }
-  }
-  if (top.has("camera")) {
-    ObjectReader camera = top.child("camera");
-    camera.read("path", scene.path_mode);
-    if (scene.path_mode != "turntable" && scene.path_mode != "paper" && scene.path_mode != "feature-orbit")
-      camera.fail_key("path", "is '" + scene.path_mode + "'; use \"turntable\", \"paper\" or \"feature-orbit\"");
-    std::string path_file;
-    camera.read("path_file", path_file);
-    if (!path_file.empty()) {
-      const std::filesystem::path p(path_file);
-      scene.path_file = p.is_absolute() ? p : base_dir / p;
-    }
-    if (camera.has("fov") && camera.raw("fov").is_string()) {
-      if (camera.raw("fov").get<std::string>() != "auto")
-        camera.fail_key("fov", "must be \"auto\" or a number of degrees between 5 and 120");
-      scene.auto_fov = true;
-    } else if (camera.has("fov")) {
-      camera.read("fov", scene.vertical_fov_deg, 5.0, 120.0);
-      scene.auto_fov = false;
-    }
-    camera.read("elevation", scene.elevation_deg, -80.0, 80.0);
-    camera.finish();
-  }
-  if (top.has("timing")) {
-    ObjectReader timing = top.child("timing");
-    timing.read("fps", scene.fps, 1, 240);
-    timing.read("frames", scene.frames, 1, 1000000);
-    timing.finish();
-  }
-  if (top.has("output")) {
-    ObjectReader output = top.child("output");
-    output.read("width", scene.render.width, 2, 16384);
-    output.read("height", scene.render.height, 2, 16384);
-    output.read("spp", scene.render.samples_per_pixel, 1, 4096);
-    output.read("crf", scene.crf, 0, 51);
-    output.read("filter_radius", scene.render.filter_radius, 0.5, 2.0);
-    if (output.has("exr_layers")) {
-      const json& layers = output.raw("exr_layers");
-      if (!layers.is_array()) output.fail_key("exr_layers", "must be an array, e.g. [\"albedo\", \"normal\", \"depth\"]");
-      for (const auto& layer : layers) {
-        const std::string name = layer.is_string() ? layer.get<std::string>() : layer.dump();
-        if (name == "albedo") scene.render.layers.albedo = true;
-        else if (name == "normal") scene.render.layers.normal = true;
-        else if (name == "depth") scene.render.layers.depth = true;
-        else output.fail_key("exr_layers", "has '" + name + "'; the extra layers are \"albedo\", \"normal\" and \"depth\" (alpha is always there)");
-      }
-    }
-    output.finish();
+  top.read_registered_keys(scene, base_dir);  // "up"
+  for (const char* section : {"camera", "timing", "output", "patches", "paper"}) {
+    if (!top.has(section)) continue;
+    ObjectReader object = top.child(section);
+    object.read_registered_keys(scene, base_dir);
+    if (std::string_view(section) == "output") object.read("filter_radius", scene.render.filter_radius, 0.5, 2.0);
+    object.finish();
   }
   if (top.has("look")) {
     scene.look_json = top.raw("look").dump();
@@ -280,6 +276,60 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   }
   top.finish();
   return scene;
+}
+
+void apply_option(Scene& scene, const options::Option& o, const std::string& text) {
+  using options::Target;
+  if (options::target(o) == Target::path_search) {
+    scene.path_search[std::string(o.id)] = text;
+    return;
+  }
+  const std::string_view id = o.id;
+  const auto integer = [&] { return static_cast<int>(std::stol(text)); };
+  if (id == "width") scene.render.width = integer();
+  else if (id == "height") scene.render.height = integer();
+  else if (id == "fps") scene.fps = integer();
+  else if (id == "frame-count") scene.frames = integer();
+  else if (id == "seconds") {
+    const double frames = std::stod(text) * scene.fps;
+    if (!(frames >= 1.0 && frames <= 1e6)) throw InputError("--seconds gives " + std::to_string(frames) + " frames; it must give 1 to 1000000");
+    scene.frames = static_cast<int>(std::lround(frames));
+  } else if (id == "up") {
+    scene.up = Axis::parse(text);
+  } else if (id == "path") {
+    scene.path_mode = text;
+  } else if (id == "path-file") {
+    scene.path_file = std::filesystem::path(text);
+  } else if (id == "fov") {
+    scene.auto_fov = text == "auto";
+    if (!scene.auto_fov) scene.vertical_fov_deg = std::stod(text);
+  } else if (id == "elevation") {
+    scene.elevation_deg = std::stod(text);
+  } else if (id == "preset") {
+    set_look_preset(scene, text);
+  } else if (id == "spp") {
+    scene.render.samples_per_pixel = integer();
+  } else if (id == "background" || id == "exposure") {
+    apply_look_value(scene.render.shading, id, text);
+  } else if (id == "exr-layers") {
+    for (std::size_t begin = 0; begin <= text.size();) {
+      const std::size_t end = std::min(text.find(',', begin), text.size());
+      const std::string_view layer = std::string_view(text).substr(begin, end - begin);
+      if (layer == "albedo") scene.render.layers.albedo = true;
+      if (layer == "normal") scene.render.layers.normal = true;
+      if (layer == "depth") scene.render.layers.depth = true;
+      begin = end + 1;
+    }
+  } else if (id == "crf") {
+    scene.crf = integer();  // checked for the codec by the reader (scene file: h264; command line: --codec)
+  }
+}
+
+void apply_options(Scene& scene, const options::Values& values) {
+  for (const options::Option& o : options::registry())
+    if (const auto it = values.find(o.id); it != values.end()) apply_option(scene, o, it->second);
+  // The ground lies under the model's up axis, whichever way the file or --up gave it.
+  scene.render.world_up = scene.up.vector();
 }
 
 void set_look_preset(Scene& scene, const std::string& preset) {

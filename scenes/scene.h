@@ -7,6 +7,7 @@
 
 #include "core/axis.h"
 #include "mesh/mesh.h"
+#include "options/option_registry.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
@@ -38,7 +39,18 @@ struct Scene {
   /// The file's "look" object as JSON text ("" if none), kept so that a preset chosen on the
   /// command line can be applied under the file's own overrides (set_look_preset).
   std::string look_json;
+  /// Settings of the path search (registry rows with scene keys "patches.*" and "paper.*"), as
+  /// checked text; turned into the path stage's options by cli/path_options.h.
+  options::Values path_search;
 };
+
+/// Applies one registry value (checked text, see options::check_value) to the scene: the one
+/// place where a tour setting given on the command line, in a scene file or in a batch manifest
+/// takes effect. Rows of the path search are kept in scene.path_search; rows only a command reads
+/// are ignored. \throw InputError when the value is valid alone but not for this scene.
+void apply_option(Scene& scene, const options::Option& option, const std::string& text);
+/// Applies every value of `values` in registry order, then points the ground under the up axis.
+void apply_options(Scene& scene, const options::Values& values);
 
 /// Switches the scene's look to another preset, keeping the values the scene file's "look" sets
 /// explicitly. \throw InputError for an unknown preset.

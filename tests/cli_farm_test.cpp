@@ -378,6 +378,34 @@ TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
   EXPECT_FALSE(std::filesystem::exists(dir / "orbit" / "path.json"));
 }
 
+// Every option that changes the path or the pixels reaches the array tasks: with non-default
+// path-search and look options, the tasks render the frames `tour` renders with the same options
+// (and those differ from the default options' frames, so the comparison can tell).
+TEST(FarmSlurm, TasksRenderTheTourOfNonDefaultPathAndLookOptions) {
+  const auto dir = test::scratch_dir();
+  write_obj(test_meshes::bumpy_sphere(3), dir / "bumpy.obj");  // small, with features the path search sees
+  const std::string tour = q(dir / "bumpy.obj") + " --frames 4 --width 64 --height 48 --spp 1";
+  const std::string custom = " --smoothing none --tolerance 0.004 --seed-order index --preset plain --exposure 0.5";
+  auto r = run_meshtour("farm slurm --out-dir " + q(dir / "farm") + " " + tour + custom + " --chunk-size 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* task : {"0", "1"}) {
+    r = run_meshtour("--version && SLURM_ARRAY_TASK_ID=" + std::string(task) + " SLURM_CPUS_PER_TASK=1 bash " +
+                     q(dir / "farm" / "render.sbatch"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  r = run_meshtour("tour -o " + q(dir / "t.mp4") + " " + tour + custom + " --frames-dir " + q(dir / "tour") + " --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("tour -o " + q(dir / "d.mp4") + " " + tour + " --preset plain --exposure 0.5 --frames-dir " + q(dir / "default") +
+                   " --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  bool differs_from_default = false;
+  for (const char* frame : {"frame_000000.png", "frame_000001.png", "frame_000002.png", "frame_000003.png"}) {
+    EXPECT_TRUE(read_bytes(dir / "farm" / "frames" / frame) == read_bytes(dir / "tour" / frame)) << frame;
+    differs_from_default = differs_from_default || read_bytes(dir / "tour" / frame) != read_bytes(dir / "default" / frame);
+  }
+  EXPECT_TRUE(differs_from_default) << "the path options changed no frame; the test cannot tell forwarded options from dropped ones";
+}
+
 TEST(FarmSlurm, ManifestGivesOneArrayTaskPerItem) {
   const auto dir = test::scratch_dir();
   std::ofstream(dir / "m.csv") << "mesh,output\na.obj,a.mp4\nb.obj,b.mp4\nc.obj,c.mp4\n";

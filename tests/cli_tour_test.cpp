@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "helpers.h"
 #include "video_probe.h"
@@ -177,6 +178,23 @@ TEST(Cli, HelpAndVersion) {
   EXPECT_NE(version.output.find("meshtour "), std::string::npos);
   EXPECT_NE(run_meshtour("").exit_code, 0);
   EXPECT_NE(run_meshtour("frobnicate").exit_code, 0);
+}
+
+}  // namespace
+}  // namespace meshtour
+
+namespace meshtour {
+namespace {
+
+// docs/OPTIONS.md is generated from the option registry; a stale copy fails here.
+TEST(OptionsDoc, IsWhatTheRegistrySays) {
+  const auto r = test::run_meshtour("options");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(test::source_dir() / "docs" / "OPTIONS.md", std::ios::binary);
+  std::stringstream committed;
+  committed << in.rdbuf();
+  EXPECT_TRUE(r.output == committed.str())
+      << "docs/OPTIONS.md is stale; regenerate it with: build/cli/meshtour options > docs/OPTIONS.md";
 }
 
 }  // namespace

@@ -29,19 +29,19 @@ TEST(BatchManifest, CsvColumnsDefaultsQuotingAndComments) {
   ASSERT_EQ(items.size(), 3u);
   EXPECT_EQ(items[0].mesh, dir / "a.ply");  // relative to the manifest's folder
   EXPECT_EQ(items[0].output, "a.mp4");       // default: the mesh's name
-  EXPECT_EQ(items[0].up, "z");
-  EXPECT_EQ(items[0].preset, "plain");
-  EXPECT_EQ(items[0].path, "turntable");
-  EXPECT_EQ(items[0].frames, 24);
-  EXPECT_EQ(items[0].width, 640);
-  EXPECT_EQ(items[0].height, 360);
-  EXPECT_EQ(items[0].fps, 25);
-  EXPECT_EQ(items[0].spp, 4);
+  EXPECT_EQ(items[0].values.at("up"), "z");
+  EXPECT_EQ(items[0].values.at("preset"), "plain");
+  EXPECT_EQ(items[0].values.at("path"), "turntable");
+  EXPECT_EQ(items[0].values.at("frame-count"), "24");
+  EXPECT_EQ(items[0].values.at("width"), "640");
+  EXPECT_EQ(items[0].values.at("height"), "360");
+  EXPECT_EQ(items[0].values.at("fps"), "25");
+  EXPECT_EQ(items[0].values.at("spp"), "4");
   EXPECT_EQ(items[0].line, 3);
   EXPECT_EQ(items[1].mesh, dir / "sub dir/b, c.obj");
   EXPECT_EQ(items[1].output, "b.mp4");
-  EXPECT_FALSE(items[1].up.has_value());
-  EXPECT_EQ(items[1].seconds, 2.5);
+  EXPECT_EQ(items[1].values.count("up"), 0u);
+  EXPECT_EQ(items[1].values.at("seconds"), "2.5");
   EXPECT_EQ(items[2].mesh, std::filesystem::path("/abs/c.stl"));
   EXPECT_EQ(items[2].index, 2);
   for (const auto& i : items) EXPECT_EQ(i.error, "") << i.index;
@@ -74,8 +74,8 @@ TEST(BatchManifest, JsonArrayOrItemsObject) {
   const auto dir = test::scratch_dir();
   auto items = read_batch_manifest(write(dir / "a.json", R"([{"mesh": "a.ply", "frames": 12, "seconds": 1.5}, {"mesh": "b.ply", "colour": 1}, 7])"));
   ASSERT_EQ(items.size(), 3u);
-  EXPECT_EQ(items[0].frames, 12);
-  EXPECT_EQ(items[0].seconds, 1.5);
+  EXPECT_EQ(items[0].values.at("frame-count"), "12");
+  EXPECT_EQ(items[0].values.at("seconds"), "1.5");
   EXPECT_NE(items[1].error.find("unknown key 'colour'"), std::string::npos);
   EXPECT_NE(items[2].error.find("not a JSON object"), std::string::npos);
   items = read_batch_manifest(write(dir / "b.json", R"({"items": [{"mesh": "x/y.off", "output": "z.mp4"}]})"));

@@ -1,0 +1,468 @@
+#include "options/option_registry.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "jobs/frame_range.h"
+
+// Each row names only the fields it sets (designated initializers); the others keep the defaults
+// of their declarations, which is what GCC's -Wmissing-field-initializers would complain about.
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+
+namespace meshtour::options {
+namespace {
+
+constexpr unsigned kRendering = tour | render | batch | farm;  // commands that render a tour
+constexpr unsigned kAll = tour | render | batch | farm | path | evaluate | encode;
+constexpr unsigned kToTasks = render_tasks | batch_tasks;
+
+const std::string_view kPatches = "Toroidal patches (ALGORITHM.md §3-§8)";
+const std::string_view kGrid = "Cylinder and grid (§9-§11)";
+const std::string_view kCurve = "Curve and camera (§12-§13)";
+
+// The table. Order matters only where one value is applied on top of another (seconds after
+// fps; look values after the preset).
+std::vector<Option> make_registry() {
+  std::vector<Option> r;
+  const auto add = [&r](Option o) { r.push_back(std::move(o)); };
+  // ---- Tour: size, timing, camera
+  add({.id = "width", .flag = "--width", .kind = Kind::integer, .lo = 2, .hi = 16384, .default_text = "1280",
+       .help = "Frame width in pixels, even (default 1280)", .scene_key = "output.width", .manifest_column = true,
+       .commands = kRendering | evaluate, .farm = kToTasks});
+  add({.id = "height", .flag = "--height", .kind = Kind::integer, .lo = 2, .hi = 16384, .default_text = "720",
+       .help = "Frame height in pixels, even (default 720)", .scene_key = "output.height", .manifest_column = true,
+       .commands = kRendering | evaluate, .farm = kToTasks});
+  add({.id = "fps", .flag = "--fps", .kind = Kind::integer, .lo = 1, .hi = 240, .default_text = "30",
+       .help = "Frames per second (default 30; encode: the manifest's, else 30)", .scene_key = "timing.fps",
+       .manifest_column = true, .commands = kRendering | encode, .farm = kToTasks | encode_job});
+  add({.id = "frame-count", .flag = "--frames", .kind = Kind::integer, .lo = 1, .hi = 1000000, .default_text = "120",
+       .help = "Frames in one loop of the path (default 120)",
+       .long_help = "The tour's length. `render` spells it --frame-count, because its --frames selects frames.",
+       .scene_key = "timing.frames", .manifest_column = true, .commands = kRendering | path | evaluate,
+       .farm = kToTasks, .alt_flag = "--frame-count", .alt_flag_commands = render, .excludes = "seconds"});
+  add({.id = "seconds", .flag = "--seconds", .kind = Kind::number, .lo = 0.001, .hi = 100000,
+       .help = "Length of the video in seconds (sets the frame count = seconds x fps)", .manifest_column = true,
+       .commands = kRendering, .farm = kToTasks, .excludes = "frame-count"});
+  add({.id = "up", .flag = "--up", .kind = Kind::choice, .choices = {"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"},
+       .ignore_case = true, .default_text = "y", .help = "The model's up axis: x, y, z, -x, -y or -z (default y)",
+       .scene_key = "up", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
+  add({.id = "path", .flag = "--path", .kind = Kind::choice, .choices = {"feature-orbit", "paper", "turntable"},
+       .default_text = "feature-orbit",
+       .help = "Camera path: feature-orbit (default; an orbit whose elevation and distance are chosen to show the most\n"
+               "feature area smoothly; see 'meshtour evaluate --compare' for how it compares on your meshes),\n"
+               "paper (the toroidal-patch method of Choi et al. 2024, see 'meshtour path --help') or turntable\n"
+               "(circular orbit around the up axis)",
+       .scene_key = "camera.path", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
+  add({.id = "path-file", .flag = "--path-file", .kind = Kind::existing_file,
+       .help = "Use the camera path in this file, written by 'meshtour path -o' (overrides --path)",
+       .long_help = "Not forwarded as given by `farm slurm`: the farm passes its tasks the file's absolute path.",
+       .scene_key = "camera.path_file", .commands = kRendering | evaluate});
+  add({.id = "fov", .flag = "--fov", .kind = Kind::number_or_choice, .lo = 5, .hi = 120, .choices = {"auto"},
+       .default_text = "auto",
+       .help = "Vertical field of view: degrees (5-120), or auto (default): the paper path keeps its camera distance\n"
+               "and the fov is fitted so every vertex stays in frame at every frame; the turntable uses 35 degrees\n"
+               "and fits its radius. A fixed fov moves the paper path's camera back where needed instead.",
+       .scene_key = "camera.fov", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
+  add({.id = "elevation", .flag = "--elevation", .kind = Kind::number, .lo = -80, .hi = 80, .default_text = "18",
+       .help = "Turntable: camera elevation above the model's centre, degrees (default 18)",
+       .scene_key = "camera.elevation", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  // ---- Look and samples
+  add({.id = "preset", .flag = "--preset", .kind = Kind::choice, .choices = {"studio", "plain"},
+       .help = "Look: studio (key, fill and rim lights, soft shadows, ambient occlusion, shadow-catching ground, "
+               "gradient) or plain (even light, no shadows, for catalogues); the scene file's own look values still apply "
+               "(default: the scene's, else studio)",
+       .scene_key = "look.preset", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "spp", .flag = "--spp", .kind = Kind::integer, .lo = 1, .hi = 4096, .default_text = "16",
+       .help = "Samples per pixel, stratified; noise falls as 1/sqrt(spp) (default 16)", .scene_key = "output.spp",
+       .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "background", .flag = "--background", .kind = Kind::choice, .choices = {"gradient", "transparent"},
+       .help = "gradient, or transparent (PNG frames get alpha; the ground's shadows stay, as alpha)",
+       .scene_key = "look.background", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "exposure", .flag = "--exposure", .kind = Kind::number, .lo = -20, .hi = 20,
+       .help = "Exposure in stops for PNG frames and the video (EXR stays linear; encode: for EXR frames, default from\n"
+               "the EXR header)",
+       .scene_key = "look.exposure", .manifest_column = true, .commands = kRendering | encode, .farm = kToTasks});
+  add({.id = "exr-layers", .flag = "--exr-layers", .kind = Kind::choice_list, .choices = {"albedo", "normal", "depth"},
+       .help = "Extra layers in EXR frames: albedo, normal, depth (alpha is always there)", .scene_key = "output.exr_layers",
+       .commands = kRendering, .farm = kToTasks});
+  // ---- Video
+  add({.id = "crf", .flag = "--crf", .kind = Kind::integer, .lo = 0, .hi = 63,
+       .help = "Video quality (CRF), lower is better: h264 0..51 (default 18; 18 looks lossless, 23 is x264's default,\n"
+               "0 is lossless but High 4:4:4, which browsers do not play), vp9 0..63 (default 31); prores, ffv1 and gif\n"
+               "take none",
+       .scene_key = "output.crf", .manifest_column = true, .commands = tour | batch | farm | encode,
+       .farm = encode_job | batch_tasks, .codec_ranges = {{"h264", 0, 51, 18}, {"vp9", 0, 63, 31}}});
+  add({.id = "codec", .flag = "--codec", .kind = Kind::choice, .choices = {"h264", "prores", "ffv1", "vp9", "gif"},
+       .default_text = "h264", .help = "Video codec: h264 (default, .mp4), prores (.mov), ffv1 (.mkv), vp9 (.webm) or gif",
+       .commands = farm | encode, .farm = encode_job});
+  // ---- Frames and jobs
+  add({.id = "frame-selection", .flag = "--frames", .kind = Kind::frame_selection, .default_text = "all",
+       .help = "Frames to use, numbered from 0: all (default), A, A-B, A-B:S (every S-th), or a comma-separated\n"
+               "list of these, e.g. 0-9,20,30-40:2; clamped to the tour's frame count",
+       .commands = render | encode});
+  add({.id = "format", .flag = "--format", .kind = Kind::choice, .choices = {"png", "exr", "png+exr"}, .default_text = "png",
+       .help = "Frame image format: png (8-bit sRGB; what encode reads by default), exr (half float, linear) or png+exr",
+       .commands = tour | render | farm});
+  add({.id = "threads", .flag = "--threads", .kind = Kind::integer, .lo = 0, .hi = 1000000, .default_text = "0",
+       .help = "Worker threads; 0 (default) = SLURM_CPUS_PER_TASK when set, else all cores; more than the cores are capped.\n"
+               "Results do not depend on it",
+       .commands = tour | render | batch | path | evaluate});
+  add({.id = "gltf", .flag = "--gltf", .kind = Kind::text,
+       .help = "Also write the camera path as glTF 2.0 (FILE.gltf + FILE.bin: an animated camera with the tour's field of view)",
+       .commands = tour | path});
+  add({.id = "camera-frames", .flag = "--camera-frames", .kind = Kind::text,
+       .help = "Also write every frame's eye, target, up and field of view (.csv or .json)", .commands = tour | path});
+  // ---- The toroidal-patch path (ALGORITHM.md); the feature orbit uses the patch options too.
+  const unsigned kPathCommands = kRendering | path | evaluate;
+  add({.id = "tolerance", .flag = "--tolerance", .kind = Kind::positive, .default_text = "0.001",
+       .help = "Patch tolerance epsilon: largest distance between a face and the torus of its patch, "
+               "in units of the model's bounding-box diagonal. Smaller = more, smaller patches",
+       .scene_key = "patches.tolerance", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "smoothing", .flag = "--smoothing", .kind = Kind::choice, .choices = {"implicit", "none", "taubin", "pmp-default"},
+       .ignore_case = true, .default_text = "implicit",
+       .help = "Smoothing before curvature estimation (I-2, I-3): implicit = one backward-Euler "
+               "cotangent-Laplacian step with dt = strength * (mean edge length)^2; none; taubin "
+               "(lambda|mu, 10 iterations); pmp-default (dt = 1e-3, strong)",
+       .scene_key = "patches.smoothing", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "smoothing-strength", .flag = "--smoothing-strength", .kind = Kind::positive, .default_text = "1",
+       .help = "c_s of dt = c_s * (mean edge length)^2 for --smoothing implicit (I-2). 1 halves "
+               "wiggles about 6 edges long; 0.25-0.5 keeps more detail",
+       .scene_key = "patches.smoothing_strength", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
+       .group = kPatches});
+  add({.id = "curvature-fit", .flag = "--curvature-fit", .kind = Kind::choice, .choices = {"cubic", "quadratic"},
+       .ignore_case = true, .default_text = "cubic",
+       .help = "Principal-curvature fit over the 1-ring (I-4): cubic = Goldfeather-Interrante with "
+               "positions and normals; quadratic = the 3 quadratic terms only",
+       .scene_key = "patches.curvature_fit", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "kappa-min", .flag = "--kappa-min", .kind = Kind::positive, .default_text = "1e-06",
+       .help = "Smallest curvature magnitude used for a torus, per diagonal (I-9): flat and "
+               "cylindrical points get radii up to 1/kappa-min",
+       .scene_key = "patches.kappa_min", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "face-samples", .flag = "--face-samples", .kind = Kind::choice, .choices = {"seven", "vertices"},
+       .ignore_case = true, .default_text = "seven",
+       .help = "Points of a face tested against a torus (I-11): seven = corners, edge midpoints "
+               "and centroid; vertices = the 3 corners",
+       .scene_key = "patches.face_samples", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "seed-order", .flag = "--seed-order", .kind = Kind::choice, .choices = {"best-fit-first", "index"},
+       .ignore_case = true, .default_text = "best-fit-first",
+       .help = "Order in which vertices start patches (I-10): best-fit-first (independent of the "
+               "file's numbering) or index (file order)",
+       .scene_key = "patches.seed_order", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "leftovers", .flag = "--leftovers", .kind = Kind::choice, .choices = {"single", "grow-leftovers"},
+       .ignore_case = true, .default_text = "single",
+       .help = "Faces no grown patch covers (I-13): single = a one-face patch from the best of its "
+               "3 vertex tori; grow-leftovers = grow a patch from it",
+       .scene_key = "patches.leftovers", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "keep-inaccurate", .flag = "--keep-inaccurate", .kind = Kind::flag,
+       .help = "Keep one-face patches that miss the tolerance instead of leaving the face without "
+               "a patch (an orphan) (I-14)",
+       .scene_key = "patches.keep_inaccurate", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
+       .group = kPatches});
+  add({.id = "weight-neighbourhood", .flag = "--weight-neighbourhood", .kind = Kind::choice,
+       .choices = {"vertex-3-ring", "vertex-2-ring", "edge-2-ring"}, .ignore_case = true, .default_text = "vertex-3-ring",
+       .help = "Faces around a face whose distinct patches make its weight w(f) (I-15): "
+               "vertex-3-ring = faces touching the vertices within 2 edges (73 faces on a regular "
+               "mesh, R5); vertex-2-ring = 37 faces (R1); edge-2-ring = 10 faces (R3)",
+       .scene_key = "patches.weight_neighbourhood", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
+       .group = kPatches});
+  add({.id = "keep-duplicate-vertices", .flag = "--keep-duplicate-vertices", .kind = Kind::flag,
+       .help = "Do not merge vertices with identical coordinates (by default they are merged, "
+               "which stitches STL-style triangle soups)",
+       .scene_key = "patches.keep_duplicate_vertices", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
+       .group = kPatches});
+  add({.id = "axis-point", .flag = "--axis-point", .kind = Kind::choice, .choices = {"centroid", "aabb-center"},
+       .ignore_case = true, .default_text = "centroid",
+       .help = "Where the cylinder axis passes (I-19): centroid = area-weighted centre of the "
+               "surface; aabb-center = centre of the bounding box",
+       .scene_key = "paper.axis_point", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kGrid});
+  add({.id = "rows", .flag = "--rows", .kind = Kind::integer, .lo = 1, .hi = 1000, .default_text = "11",
+       .help = "Grid rows m along the cylinder height (§10)", .scene_key = "paper.rows", .manifest_column = true,
+       .commands = kPathCommands, .farm = kToTasks, .group = kGrid});
+  add({.id = "columns", .flag = "--columns", .kind = Kind::integer, .lo = 3, .hi = 1000, .default_text = "20",
+       .help = "Grid columns n around the axis = number of control points of the curve (§10, §11)",
+       .scene_key = "paper.columns", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kGrid});
+  add({.id = "cell-averaging", .flag = "--cell-averaging", .kind = Kind::choice, .choices = {"mean", "area-weighted"},
+       .ignore_case = true, .default_text = "mean",
+       .help = "How a cell's weight averages the w(f) of the faces whose centroids fall in it (I-17)",
+       .scene_key = "paper.cell_averaging", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kGrid});
+  add({.id = "empty-columns", .flag = "--empty-columns", .kind = Kind::choice, .choices = {"middle-row", "interpolate"},
+       .ignore_case = true, .default_text = "middle-row",
+       .help = "Height of a control point in a column without any face (I-21): middle-row, or "
+               "interpolate between the nearest non-empty columns",
+       .scene_key = "paper.empty_columns", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kGrid});
+  add({.id = "degree", .flag = "--degree", .kind = Kind::integer, .lo = 2, .hi = 3, .default_text = "3",
+       .help = "Degree of the closed B-spline (I-23): 3 = cubic (C2), 2 = quadratic (C1)", .scene_key = "paper.degree",
+       .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kCurve});
+  add({.id = "gaze-scale", .flag = "--gaze-scale", .kind = Kind::number, .lo = 0, .hi = 1, .default_text = "0.5",
+       .help = "s_g: the point looked at follows the curve's height deviation times this (§13.1)",
+       .scene_key = "paper.gaze_scale", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kCurve});
+  add({.id = "position-scale", .flag = "--position-scale", .kind = Kind::number, .lo = 0, .hi = 1, .default_text = "0.25",
+       .help = "s_p: the camera follows the curve's height deviation times this (§13.1)", .scene_key = "paper.position_scale",
+       .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kCurve});
+  add({.id = "height-reference", .flag = "--height-reference", .kind = Kind::choice, .choices = {"mid-height", "curve-mean"},
+       .ignore_case = true, .default_text = "mid-height",
+       .help = "Height the deviations are scaled about (I-25): mid-height of the cylinder, or the "
+               "mean height of the curve",
+       .scene_key = "paper.height_reference", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
+       .group = kCurve});
+  add({.id = "gaze-radius", .flag = "--gaze-radius", .kind = Kind::choice, .choices = {"cylinder", "scaled"},
+       .ignore_case = true, .default_text = "cylinder",
+       .help = "Radius of the path looked at (I-26): cylinder = r, scaled = gaze-scale * r", .scene_key = "paper.gaze_radius",
+       .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kCurve});
+  return r;
+}
+
+bool parse_number(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  const char* begin = text.data();
+  const char* end = begin + text.size();
+  if (*begin == '+') ++begin;
+  const auto [p, ec] = std::from_chars(begin, end, value);
+  return ec == std::errc() && p == end && std::isfinite(value);
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string choice_list_text(const Option& o) {
+  std::string list;
+  for (std::size_t i = 0; i < o.choices.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == o.choices.size() ? " or " : ", ") + std::string(o.choices[i]);
+  return list;
+}
+
+bool is_choice(const Option& o, const std::string& text) {
+  const std::string t = o.ignore_case ? lower(text) : text;
+  return std::find(o.choices.begin(), o.choices.end(), t) != o.choices.end();
+}
+
+std::string range_text(const Option& o) { return number_text(o.lo) + " and " + number_text(o.hi); }
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out(1);
+  for (const char c : text) {
+    if (c == ',') out.emplace_back();
+    else if (c != ' ') out.back() += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+const std::vector<Option>& registry() {
+  static const std::vector<Option> rows = make_registry();
+  return rows;
+}
+
+const Option& option(std::string_view id) {
+  for (const Option& o : registry())
+    if (o.id == id) return o;
+  throw std::logic_error("meshtour: no option '" + std::string(id) + "' in the registry");
+}
+
+const Option* option_for_scene_key(std::string_view key) {
+  for (const Option& o : registry())
+    if (!o.scene_key.empty() && o.scene_key == key) return &o;
+  return nullptr;
+}
+
+std::string number_text(double value) {
+  char text[64];
+  if (value == std::floor(value) && std::fabs(value) < 1e15) {
+    std::snprintf(text, sizeof text, "%lld", static_cast<long long>(value));
+    return text;
+  }
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, value);
+    double back = 0;
+    if (parse_number(text, back) && back == value) break;
+  }
+  return text;
+}
+
+std::string check_value(const Option& o, const std::string& text) {
+  double v = 0;
+  switch (o.kind) {
+    case Kind::integer: {
+      long long i = 0;
+      const auto [p, ec] = std::from_chars(text.data() + (text.starts_with('+') ? 1 : 0), text.data() + text.size(), i);
+      if (text.empty() || ec != std::errc() || p != text.data() + text.size())
+        return "must be a whole number between " + range_text(o) + ", got '" + text + "'";
+      if (i < o.lo || i > o.hi) return "must be between " + range_text(o) + ", got " + text;
+      return {};
+    }
+    case Kind::number:
+      if (!parse_number(text, v)) return "'" + text + "' is not a number";
+      if (!(v >= o.lo && v <= o.hi)) return "must be between " + range_text(o) + ", got " + text;
+      return {};
+    case Kind::positive:
+      if (!parse_number(text, v)) return "'" + text + "' is not a number";
+      if (!(v > 0.0)) return "must be greater than 0, got " + text;
+      return {};
+    case Kind::choice:
+      if (!is_choice(o, text)) return "'" + text + "' is not one of " + choice_list_text(o);
+      return {};
+    case Kind::choice_list:
+      for (const std::string& item : split_list(text))
+        if (!is_choice(o, item)) return "has '" + item + "'; the choices are " + choice_list_text(o);
+      return {};
+    case Kind::number_or_choice:
+      if (is_choice(o, text)) return {};
+      if (!parse_number(text, v) || !(v >= o.lo && v <= o.hi))
+        return "must be " + choice_list_text(o) + " or a number between " + range_text(o) + ", got '" + text + "'";
+      return {};
+    case Kind::frame_selection:
+      try {
+        (void)parse_frame_range(text, 1'000'000'000);
+      } catch (const std::exception& e) {
+        return e.what();
+      }
+      return {};
+    case Kind::text:
+      if (text.empty()) return "must not be empty";
+      return {};
+    case Kind::existing_file:
+      return {};  // checked where the file is opened, with the reader's own message
+    case Kind::flag:
+      if (text != "true" && text != "false") return "must be true or false, got '" + text + "'";
+      return {};
+  }
+  return {};
+}
+
+std::string normalize_value(const Option& o, const std::string& text) {
+  switch (o.kind) {
+    case Kind::choice:
+    case Kind::number_or_choice:
+      return o.ignore_case || o.kind == Kind::number_or_choice ? lower(text) : text;
+    case Kind::choice_list: {
+      std::string out;
+      for (const std::string& item : split_list(text)) out += (out.empty() ? "" : ",") + (o.ignore_case ? lower(item) : item);
+      return out;
+    }
+    default:
+      return text;
+  }
+}
+
+std::string check_value_for_codec(const Option& o, const std::string& text, std::string_view codec) {
+  if (std::string problem = check_value(o, text); !problem.empty()) return problem;
+  if (o.codec_ranges.empty()) return {};
+  const CodecRange c = codec_range(o, codec);
+  if (c.lo == 0 && c.hi == 0) return "does not apply to " + std::string(codec) + " (it takes none)";
+  const long long v = std::stoll(text);
+  if (v < c.lo || v > c.hi)
+    return "must be between " + std::to_string(c.lo) + " and " + std::to_string(c.hi) + " for " + std::string(codec) + ", got " + text;
+  return {};
+}
+
+Target target(const Option& o) {
+  if (o.scene_key.starts_with("patches.") || o.scene_key.starts_with("paper.")) return Target::path_search;
+  if (!o.scene_key.empty()) return Target::scene;
+  return Target::command;
+}
+
+CodecRange codec_range(const Option& o, std::string_view codec) {
+  for (const CodecRange& c : o.codec_ranges)
+    if (c.codec == codec) return c;
+  return {codec, 0, 0, 0};
+}
+
+std::vector<std::string> forwarded_args(const Values& values, FarmPass pass, Command command) {
+  std::vector<std::string> out;
+  for (const Option& o : registry()) {
+    if (!(o.farm & pass) || !(o.commands & command)) continue;
+    const auto it = values.find(o.id);
+    if (it == values.end()) continue;
+    if (o.kind == Kind::flag) {
+      if (it->second == "true") out.emplace_back(o.flag_in(command));
+      continue;
+    }
+    out.emplace_back(o.flag_in(command));
+    out.push_back(it->second);
+  }
+  return out;
+}
+
+std::string_view command_name(Command c) {
+  switch (c) {
+    case tour: return "tour";
+    case render: return "render";
+    case batch: return "batch";
+    case farm: return "farm slurm";
+    case path: return "path";
+    case evaluate: return "evaluate";
+    case encode: return "encode";
+  }
+  return "?";
+}
+
+namespace {
+std::string kind_text(const Option& o) {
+  switch (o.kind) {
+    case Kind::integer: return "integer " + number_text(o.lo) + "..." + number_text(o.hi);
+    case Kind::number: return "number " + number_text(o.lo) + "..." + number_text(o.hi);
+    case Kind::positive: return "number > 0";
+    case Kind::choice: return "one of " + choice_list_text(o);
+    case Kind::choice_list: return "comma-separated list of " + choice_list_text(o);
+    case Kind::number_or_choice: return choice_list_text(o) + " or number " + number_text(o.lo) + "..." + number_text(o.hi);
+    case Kind::frame_selection: return "frame selection (all, A, A-B, A-B:S, lists)";
+    case Kind::text: return "text";
+    case Kind::existing_file: return "existing file";
+    case Kind::flag: return "flag";
+  }
+  return "";
+}
+
+std::string one_line(std::string_view text) {
+  std::string s(text);
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  std::string out;
+  for (const char c : s) {
+    if (c == '|') out += "\\|";
+    else out += c;
+  }
+  return out;
+}
+}  // namespace
+
+std::string options_markdown() {
+  std::string md =
+      "# meshtour options\n\n"
+      "Generated from the option registry (`options/option_registry.cpp`) by `meshtour options > docs/OPTIONS.md`;\n"
+      "do not edit by hand (a test fails when this file is stale). Every option is declared once there:\n"
+      "its command-line flag, range, help, scene-file key and batch-manifest column all come from that row.\n\n"
+      "Columns: **commands** that take it; **scene key** in a scene file (`meshtour-scene/1`); **column**\n"
+      "= also a batch-manifest column (named by the option's id); **farm** = what `farm slurm` passes it to.\n\n";
+  const Command all[] = {tour, render, batch, farm, path, evaluate, encode};
+  for (const Option& o : registry()) {
+    md += "## `" + std::string(o.flag) + "`";
+    if (o.alt_flag_commands) md += " (`" + std::string(o.alt_flag) + "` in render)";
+    md += " — " + std::string(o.id) + "\n\n" + one_line(o.help) + "\n\n";
+    if (!o.long_help.empty()) md += one_line(o.long_help) + "\n\n";
+    std::string commands;
+    for (const Command c : all)
+      if (o.commands & c) commands += (commands.empty() ? "" : ", ") + std::string(command_name(c));
+    std::string farm;
+    if (o.farm & render_tasks) farm += "render tasks";
+    if (o.farm & encode_job) farm += std::string(farm.empty() ? "" : ", ") + "encode job";
+    if (o.farm & batch_tasks) farm += std::string(farm.empty() ? "" : ", ") + "batch tasks";
+    md += "| type | default | commands | scene key | column | farm |\n|---|---|---|---|---|---|\n";
+    md += "| " + kind_text(o) + " | " + (o.default_text.empty() ? "—" : std::string(o.default_text)) + " | " + commands + " | " +
+          (o.scene_key.empty() ? "—" : "`" + std::string(o.scene_key) + "`") + " | " +
+          (o.manifest_column ? "`" + std::string(o.id) + "`" : "—") + " | " + (farm.empty() ? "—" : farm) + " |\n";
+    for (const CodecRange& c : o.codec_ranges)
+      md += "\n- " + std::string(c.codec) + ": " + std::to_string(c.lo) + "..." + std::to_string(c.hi) + ", default " +
+            std::to_string(c.fallback);
+    md += o.codec_ranges.empty() ? "\n" : "\n\n";
+  }
+  return md;
+}
+
+}  // namespace meshtour::options

@@ -1,0 +1,127 @@
+#pragma once
+// The option registry: every setting a user can give meshtour is one row of one table
+// (option_registry.cpp), and everything that knows about settings is derived from that table:
+// the command-line options of every command (add_registered_options), the scene-file keys
+// (scenes/scene.cpp reads the row's scene_key), the batch-manifest columns (jobs/batch_manifest.cpp),
+// the arguments a farm passes to its tasks (forwarded_args) and docs/OPTIONS.md (options_markdown).
+//
+// Adding an option = one row in option_registry.cpp plus its use: one case in the function that
+// applies values of its kind (scenes/scene_options.cpp for tour settings, cli/path_options.cpp for
+// path-search settings) or a read of Values in the command that uses it. Ranges, choices, help
+// and names live only in the row; every reader checks text with check_value(), so a value is
+// accepted or refused the same way on the command line, in a scene file and in a manifest.
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace meshtour::options {
+
+/// The commands that take options (a bit set in Option::commands).
+enum Command : unsigned {
+  tour = 1u << 0,
+  render = 1u << 1,
+  batch = 1u << 2,
+  farm = 1u << 3,
+  path = 1u << 4,
+  evaluate = 1u << 5,
+  encode = 1u << 6,
+};
+
+/// Where a farm must pass an option given to `farm slurm` (a bit set in Option::farm).
+enum FarmPass : unsigned {
+  not_passed = 0,
+  render_tasks = 1u << 0,  ///< each `meshtour render` array task (it changes pixels or the path)
+  encode_job = 1u << 1,    ///< the dependent `meshtour encode` job
+  batch_tasks = 1u << 2,   ///< each `meshtour batch --item` array task
+};
+
+enum class Kind {
+  integer,           ///< whole number in [lo, hi]
+  number,            ///< real number in [lo, hi]
+  positive,          ///< real number > 0 (lo, hi unused)
+  choice,            ///< one of `choices`
+  choice_list,       ///< comma-separated subset of `choices`
+  number_or_choice,  ///< a number in [lo, hi] or one of `choices` (e.g. --fov auto)
+  frame_selection,   ///< jobs/frame_range.h syntax
+  text,              ///< free text (a file name)
+  existing_file,     ///< a file that must exist
+  flag,              ///< present or not ("true")
+};
+
+/// A range that depends on the codec (e.g. CRF: x264 0..51, libvpx-vp9 0..63).
+struct CodecRange {
+  std::string_view codec;
+  int lo, hi, fallback;  ///< fallback: the value used when the option is not given
+};
+
+struct Option {
+  std::string_view id;    ///< the concept's name (Values key), e.g. "frame-count"
+  std::string_view flag;  ///< command-line name, e.g. "--frames"
+  Kind kind;
+  double lo = 0, hi = 0;
+  std::vector<std::string_view> choices;
+  bool ignore_case = false;
+  std::string_view default_text;  ///< shown in help and docs ("" = none / computed)
+  std::string_view help;          ///< one line (may wrap with \n in --help)
+  std::string_view long_help;     ///< extra paragraph for docs/OPTIONS.md ("" = none)
+  std::string_view scene_key;     ///< scene-file key path, e.g. "output.spp" ("" = not in scene files)
+  bool manifest_column = false;   ///< a batch-manifest column (named id)
+  unsigned commands = 0;          ///< Command bits
+  unsigned farm = not_passed;     ///< FarmPass bits
+  std::string_view group;         ///< help group ("" = the command's options)
+  /// Commands that spell the flag differently (e.g. render's tour length is --frame-count,
+  /// because its --frames selects frames).
+  std::string_view alt_flag;
+  unsigned alt_flag_commands = 0;
+  std::string_view excludes;        ///< id of an option that cannot be given together with this one
+  std::vector<CodecRange> codec_ranges;
+
+  /// The flag this option has in `command`.
+  std::string_view flag_in(Command command) const { return (alt_flag_commands & command) ? alt_flag : flag; }
+};
+
+/// Every row, in the order values are applied (so that e.g. --seconds sees the final --fps).
+const std::vector<Option>& registry();
+/// The row of `id`. \throw std::logic_error for an unknown id (a programming error).
+const Option& option(std::string_view id);
+/// The row whose scene_key is `key`, or nullptr.
+const Option* option_for_scene_key(std::string_view key);
+
+/// Checks `text` against the row: "" when valid, else what is wrong ("must be between 1 and 4096,
+/// got 0"), without the option's name (each reader adds its own context).
+std::string check_value(const Option& o, const std::string& text);
+/// The canonical text of a valid value (lower case where case is ignored, lists without blanks).
+std::string normalize_value(const Option& o, const std::string& text);
+/// check_value, and for a codec-dependent option also the codec's own range ("must be between 0
+/// and 51 for h264, got 60").
+std::string check_value_for_codec(const Option& o, const std::string& text, std::string_view codec);
+/// Range of a codec-dependent option for `codec` ({0,0,0} when the codec has none).
+CodecRange codec_range(const Option& o, std::string_view codec);
+
+/// Values given for a set of options: id -> canonical text. Only what the user gave.
+using Values = std::map<std::string, std::string, std::less<>>;
+
+/// Where a row's value goes: the tour's Scene (scenes/scene_options.h), the path search's options
+/// (cli/path_options.h; scene keys "patches.*" and "paper.*"), or only the command that reads it.
+enum class Target { scene, path_search, command };
+Target target(const Option& o);
+
+
+
+
+
+/// The registry's text form of a number (shortest text that reads back to the same double).
+std::string number_text(double value);
+
+/// Command-line arguments that give `values` to `command` again (--flag text ...), for the rows
+/// whose FarmPass includes `pass` and that `command` takes. Deterministic order (the registry's).
+std::vector<std::string> forwarded_args(const Values& values, FarmPass pass, Command command);
+
+/// docs/OPTIONS.md: every option with its commands, type, range, default, scene key and column.
+std::string options_markdown();
+
+/// The name of a command bit ("tour").
+std::string_view command_name(Command c);
+
+}  // namespace meshtour::options
