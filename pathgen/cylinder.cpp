@@ -9,7 +9,7 @@
 #include <tuple>
 
 #include "core/error.h"
-#include "pathgen/paper_path.h"
+#include "pathgen/cylinder.h"
 
 namespace meshtour {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "pathgen/paper_path.h"
+#include "pathgen/grid.h"
 
 namespace meshtour {
 namespace {

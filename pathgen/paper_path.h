@@ -19,38 +19,15 @@
 #include "mesh/mesh.h"
 #include "pathgen/bspline.h"
 #include "pathgen/camera_path.h"
+#include "pathgen/cylinder.h"
+#include "pathgen/grid.h"
 #include "pathgen/surface.h"
 
 namespace meshtour {
 
-/// How the cylinder axis direction û is chosen (I-18).
-struct UpDirection {
-  enum class Kind {
-    axis,          ///< a signed coordinate axis (default +Y)
-    vector,        ///< any direction given by the user
-    longest_aabb,  ///< the longest side of the (normalized, smoothed) model's bounding box
-    pca,           ///< principal axis of largest variance of the surface (area-weighted)
-  };
-  Kind kind = Kind::axis;
-  Axis axis{1, false};
-  Eigen::Vector3d vector = Eigen::Vector3d::UnitY();  ///< unit length; used when kind == vector
-
-  /// Parses "y", "-z", "0,1,0.2" (any non-zero vector), "longest-aabb" or "pca".
-  /// \throw InputError with the accepted forms otherwise.
-  static UpDirection parse(std::string_view text);
-  /// The form parse() accepts: "+y", "0.1,1,0", "longest-aabb", "pca".
-  std::string name() const;
-};
-
-enum class AxisPointMode { surface_centroid, aabb_center };  ///< I-19
-enum class CellAveraging { mean, area_weighted };            ///< I-17
-enum class EmptyColumnMode { middle_row, interpolate };      ///< I-21: columns without any face
 enum class HeightReference { mid_height, curve_mean };       ///< I-25: u_ref of the stabilization
 enum class GazeRadiusMode { cylinder, scaled };              ///< I-26: r or s_g·r
 
-std::string to_string(AxisPointMode mode);
-std::string to_string(CellAveraging mode);
-std::string to_string(EmptyColumnMode mode);
 std::string to_string(HeightReference mode);
 std::string to_string(GazeRadiusMode mode);
 
@@ -73,74 +50,6 @@ struct PaperPathOptions {
   /// \throw InputError naming the option when a value is out of range.
   void validate() const;
 };
-
-/// The bounding cylinder of §9 and its angular frame, in normalized units.
-struct Cylinder {
-  Eigen::Vector3d up = Eigen::Vector3d::UnitY();   ///< û
-  Eigen::Vector3d e_x = Eigen::Vector3d::UnitZ();  ///< angle 0
-  Eigen::Vector3d e_y = Eigen::Vector3d::UnitX();  ///< angle π/2; (e_x, e_y, û) right-handed
-  Eigen::Vector3d axis_point = Eigen::Vector3d::Zero();  ///< c
-  double base = 0.0;    ///< b = min η
-  double height = 0.0;  ///< h
-  double radius = 0.0;  ///< r
-
-  /// O(η): the point of the axis at height η = p·û.
-  Eigen::Vector3d axis_foot(double eta) const { return axis_point + (eta - axis_point.dot(up)) * up; }
-  /// Q(u, θ, ρ): normalized height u, angle θ, distance ρ from the axis.
-  Eigen::Vector3d point(double u, double theta, double rho) const;
-  /// Distance of p from the axis line.
-  double axis_distance(const Eigen::Vector3d& p) const;
-};
-
-/// §9.1: the angular frame (e_x, e_y) for the unit up vector (table for ±X/±Y/±Z).
-std::pair<Eigen::Vector3d, Eigen::Vector3d> angular_frame(const Eigen::Vector3d& up);
-
-/// The unit up vector for `up` on this (normalized) surface; longest-aabb and pca look at it.
-Eigen::Vector3d resolve_up(const UpDirection& up, const std::vector<Eigen::Vector3d>& positions,
-                           const std::vector<std::array<std::uint32_t, 3>>& triangles);
-
-/// §9.2. \throw InputError if h or r is below 1e-9 (suggesting another up axis).
-Cylinder fit_cylinder(const std::vector<Eigen::Vector3d>& positions,
-                      const std::vector<std::array<std::uint32_t, 3>>& triangles, const Eigen::Vector3d& up,
-                      AxisPointMode axis_point = AxisPointMode::surface_centroid);
-
-/// The cell weights of §10.
-struct CellGrid {
-  int rows = 0;
-  int columns = 0;
-  std::vector<double> weight;    ///< W_ij, row-major (i * columns + j); 0 for empty cells
-  std::vector<int> face_count;   ///< n_ij
-  std::vector<int> face_cell;    ///< cell index i * columns + j of every face
-
-  double at(int i, int j) const { return weight[static_cast<std::size_t>(i) * columns + j]; }
-  bool empty(int i, int j) const { return face_count[static_cast<std::size_t>(i) * columns + j] == 0; }
-  int empty_cells() const;
-};
-
-/// §10.2 for one point (a face centroid): its (row, column).
-std::pair<int, int> grid_cell(const Cylinder& cylinder, const Eigen::Vector3d& point, int rows, int columns);
-
-/// §10: projects every face centroid onto the grid and averages w(f) per cell.
-CellGrid build_grid(const std::vector<Eigen::Vector3d>& positions,
-                    const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                    const std::vector<double>& face_weight, const Cylinder& cylinder, int rows, int columns,
-                    CellAveraging averaging = CellAveraging::mean);
-
-/// §11: one control point per column.
-struct ControlPoints {
-  std::vector<int> rows;        ///< i*_j (the tie rule's row, also for interpolated columns)
-  std::vector<double> heights;  ///< u_j, normalized height in [0, 1]
-  std::vector<double> angles;   ///< θ_j = (j + 0.5)·2π/n
-};
-ControlPoints choose_control_points(const CellGrid& grid, EmptyColumnMode empty_columns = EmptyColumnMode::middle_row);
-
-/// §13.2: the heaviest cell (ties: nearest the middle row, then smallest j, then smallest i).
-struct StartCell {
-  int row = 0;
-  int column = 0;
-  double parameter = 0.0;  ///< t0 = j0 / n
-};
-StartCell choose_start_cell(const CellGrid& grid);
 
 /// The gaze and position paths of §13 and the map back to model units: all read_path_file needs
 /// to rebuild the camera path.
