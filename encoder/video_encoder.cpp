@@ -1,5 +1,6 @@
 #include "encoder/video_encoder.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 extern "C" {
@@ -142,48 +143,6 @@ struct FilterInOut {
   FilterInOut(const FilterInOut&) = delete;
   FilterInOut& operator=(const FilterInOut&) = delete;
   ~FilterInOut() { avfilter_inout_free(&list); }
-};
-
-/// The partially written file: removed on destruction unless commit() moved it to its final name.
-/// Only a file this object created (created() was called) is ever removed, so a failure to
-/// create it cannot delete something else that happens to have the same name.
-class TempFile {
-public:
-  explicit TempFile(fs::path path) : path_(std::move(path)) {}
-  ~TempFile() { discard(); }
-  TempFile(const TempFile&) = delete;
-  TempFile& operator=(const TempFile&) = delete;
-
-  const fs::path& path() const { return path_; }
-  void created() { owned_ = true; }
-
-  void discard() noexcept {
-    if (!owned_) return;
-    std::error_code ec;  // best effort: nothing useful to do if removal fails during cleanup
-    fs::remove(path_, ec);
-    owned_ = false;
-  }
-
-  /// fsync, then rename: after a crash either the old file or the complete new one is visible.
-  void commit(const fs::path& final_path) {
-    const int fd = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0 || ::fsync(fd) != 0) {
-      const std::error_code err(errno, std::generic_category());
-      if (fd >= 0) ::close(fd);
-      throw IoError("could not flush video file " + quoted(path_) + " to disk: " + err.message());
-    }
-    ::close(fd);
-    std::error_code ec;
-    fs::rename(path_, final_path, ec);
-    if (ec)
-      throw IoError("could not move finished video " + quoted(path_) + " to " + quoted(final_path) +
-                    ": " + ec.message());
-    owned_ = false;
-  }
-
-private:
-  fs::path path_;
-  bool owned_ = false;
 };
 
 std::string lowercase(std::string s) {
@@ -336,7 +295,7 @@ struct VideoEncoder::Impl {
   fs::path output;
   VideoOptions options;
   // Declared before the muxer so the file is closed (muxer destroyed) before it is removed.
-  TempFile temp;
+  PendingFile temp;
   FormatContextPtr format;
   CodecContextPtr codec;
   FramePtr frame;
@@ -354,22 +313,12 @@ struct VideoEncoder::Impl {
   State state = State::Open;
 
   Impl(const fs::path& out, const VideoOptions& opts)
-      : output(out), options(opts), temp(temp_name(out, opts.codec)) {
+      // The temporary's extension is the codec's, whatever the output is called.
+      : output(out), options(opts), temp(out, std::string(video_codec_info(opts.codec).extension)) {
     quiet_libav_logging();
     open();
   }
 
-  static fs::path temp_name(const fs::path& out, VideoCodec codec) {
-    // Same directory as the output so the final rename() stays on one filesystem (atomic); a
-    // leading dot hides it, the pid keeps two concurrent runs apart.
-    // Built with += : GCC 12 warns falsely (-Wrestrict, PR 105651) on "literal" + std::string&&.
-    std::string name = ".";
-    name += out.filename().string();
-    name += ".partial-";
-    name += std::to_string(::getpid());
-    name += video_codec_info(codec).extension;
-    return out.parent_path() / name;
-  }
 
   [[noreturn]] void fail_libav(const std::string& what, int code) {
     throw RuntimeFailure("video encoder for " + quoted(output) + ": " + what + " failed: " +
@@ -454,7 +403,7 @@ struct VideoEncoder::Impl {
     const VideoCodecInfo& info = video_codec_info(options.codec);
     // The "file:" prefix makes libav treat the path as a plain file even if it contains a ':'
     // (it would otherwise be parsed as a protocol name).
-    const std::string url = "file:" + temp.path().string();
+    const std::string url = "file:" + temp.temporary().string();
 
     AVFormatContext* raw_format = nullptr;
     // Named explicitly: the temporary name's extension must not decide the container.
@@ -489,9 +438,8 @@ struct VideoEncoder::Impl {
 
     ret = avio_open(&format->pb, url.c_str(), AVIO_FLAG_WRITE);
     if (ret < 0)
-      throw IoError("could not create temporary video file " + quoted(temp.path()) + ": " +
+      throw IoError("could not create temporary video file " + quoted(temp.temporary()) + ": " +
                     av_error_text(ret));
-    temp.created();
 
     Dictionary muxer_opts;
     // faststart moves the index (moov) in front of the data when the trailer is written, so a
@@ -620,7 +568,7 @@ struct VideoEncoder::Impl {
       ret = av_interleaved_write_frame(format.get(), packet.get());
       av_packet_unref(packet.get());  // already blank on success; frees the data on failure
       if (ret < 0)
-        throw IoError("could not write video data to " + quoted(temp.path()) + ": " +
+        throw IoError("could not write video data to " + quoted(temp.temporary()) + ": " +
                       av_error_text(ret));
     }
   }
@@ -719,11 +667,11 @@ struct VideoEncoder::Impl {
       encode(nullptr);
       int ret = av_write_trailer(format.get());
       if (ret < 0)
-        throw IoError("could not finish video file " + quoted(temp.path()) + ": " + av_error_text(ret));
+        throw IoError("could not finish video file " + quoted(temp.temporary()) + ": " + av_error_text(ret));
       ret = avio_closep(&format->pb);  // reports write errors buffered until now (e.g. disk full)
       if (ret < 0)
-        throw IoError("could not close video file " + quoted(temp.path()) + ": " + av_error_text(ret));
-      temp.commit(output);
+        throw IoError("could not close video file " + quoted(temp.temporary()) + ": " + av_error_text(ret));
+      temp.commit();
       state = State::Finished;
     } catch (...) {
       abandon();

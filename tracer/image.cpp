@@ -7,6 +7,7 @@
 #include <cmath>
 #include <system_error>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "tracer/color.h"
 #include "tracer/tracer.h"
@@ -68,11 +69,9 @@ void write_image(const Image& image, const std::filesystem::path& file) {
     throw InputError(file.string() + ": the image's layers do not match its size " + std::to_string(image.width) + "x" +
                      std::to_string(image.height));
 
-  // Same directory, same extension (OpenImageIO picks the format from it), hidden temporary name.
-  // (Built by appending: GCC 12 warns falsely (-Wrestrict) about `"." + std::string`.)
-  std::string temp_name = ".";
-  temp_name.append(file.stem().string()).append(".partial-").append(std::to_string(::getpid())).append(ext);
-  const auto temp = file.parent_path() / temp_name;
+  // The temporary keeps the extension: OpenImageIO picks the format from it.
+  PendingFile pending(file);
+  const std::filesystem::path& temp = pending.temporary();
   auto out = OIIO::ImageOutput::create(temp.string());
   if (!out) throw IoError(file.string() + ": no image writer for '" + ext + "': " + OIIO::geterror());
 
@@ -133,16 +132,8 @@ void write_image(const Image& image, const std::filesystem::path& file) {
   }
   const std::string error = ok ? "" : out->geterror();
   ok = out->close() && ok;
-  std::error_code ec;
-  if (!ok) {
-    std::filesystem::remove(temp, ec);
-    throw IoError(file.string() + ": cannot write image: " + (error.empty() ? "write failed" : error));
-  }
-  std::filesystem::rename(temp, file, ec);
-  if (ec) {
-    std::filesystem::remove(temp, ec);
-    throw IoError(file.string() + ": cannot write image: " + ec.message());
-  }
+  if (!ok) throw IoError(file.string() + ": cannot write image: " + (error.empty() ? "write failed" : error));
+  pending.commit();
 }
 
 }  // namespace meshtour
