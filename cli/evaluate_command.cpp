@@ -83,7 +83,7 @@ void run_evaluate(EvaluateArgs& a) {
     std::vector<Camera> cameras;
     for (int k = 0; k < scene.frames; ++k) {
       const CameraPose pose = frame_pose(*path, k, scene.frames);
-      cameras.push_back(Camera{pose.eye, pose.target, pose.up, fov});
+      cameras.push_back(Camera::at(pose, fov));
     }
     rows.emplace_back(mode, evaluator.evaluate(cameras, lens.aspect));
     throw_if_interrupted();

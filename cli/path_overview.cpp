@@ -177,7 +177,7 @@ Image render_overview(const TriangleMesh& mesh, const CameraPath& path, const Ov
   options.samples_per_pixel = samples_per_pixel;
   options.world_up = cylinder.up;
   const Renderer renderer(scene, options);
-  return renderer.render(Camera{pose.eye, pose.target, pose.up, lens.vertical_fov_deg});
+  return renderer.render(Camera::at(pose, lens.vertical_fov_deg));
 }
 
 }  // namespace meshtour::cli

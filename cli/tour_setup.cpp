@@ -128,7 +128,7 @@ double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh
   cameras.reserve(static_cast<std::size_t>(scene.frames));
   for (int k = 0; k < scene.frames; ++k) {
     const CameraPose pose = frame_pose(path, k, scene.frames);
-    cameras.push_back(Camera{pose.eye, pose.target, pose.up, lens.vertical_fov_deg});
+    cameras.push_back(Camera::at(pose, lens.vertical_fov_deg));
   }
   const double fov = fit_vertical_fov(cameras, mesh.positions, lens.aspect, lens.margin);
   if (fov > 120.0)
@@ -140,7 +140,7 @@ double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh
 
 Image PreparedTour::render_frame(int k) const {
   const CameraPose pose = frame_pose(*path, k, scene.frames);
-  return renderer->render(Camera{pose.eye, pose.target, pose.up, fov}, static_cast<std::uint64_t>(k));
+  return renderer->render(Camera::at(pose, fov), static_cast<std::uint64_t>(k));
 }
 
 void check_tour_memory(const Scene& scene, const ResourceArgs& resources) {

@@ -32,11 +32,10 @@ struct CameraFrame {
 
 CameraFrame camera_frame(const Camera& camera) {
   CameraFrame f;
-  f.forward = (camera.target - camera.eye).normalized();
-  f.right = f.forward.cross(camera.up);
-  if (!(f.right.norm() > 1e-9)) f.right = f.forward.unitOrthogonal();
-  f.right.normalize();
-  f.up = f.right.cross(f.forward);
+  const LookAtFrame view = look_at(camera);
+  f.forward = view.forward;
+  f.right = view.right;
+  f.up = view.up;
   f.tan_half = std::tan(camera.vertical_fov_deg * std::numbers::pi / 360.0);
   return f;
 }

@@ -53,11 +53,8 @@ TourCameras sample_tour(const CameraPath& path, int frames, double vertical_fov_
 }
 
 Eigen::Vector4d gltf_camera_rotation(const CameraPose& pose) {
-  const Eigen::Vector3d forward = (pose.target - pose.eye).normalized();
-  Eigen::Vector3d right = forward.cross(pose.up);
-  if (!(right.norm() > 1e-9)) right = forward.unitOrthogonal();
-  right.normalize();
-  const Eigen::Vector3d up = right.cross(forward);
+  const LookAtFrame frame = look_at(pose);
+  const Eigen::Vector3d &forward = frame.forward, &right = frame.right, &up = frame.up;
   Eigen::Matrix3d rotation;
   rotation.col(0) = right;     // local +X
   rotation.col(1) = up;        // local +Y

@@ -19,11 +19,9 @@ double Lens::horizontal_fov_deg() const {
 double fit_pullback(std::span<const Eigen::Vector3d> points, const CameraPose& pose, const Lens& lens) {
   const Eigen::Vector3d view = pose.target - pose.eye;
   if (!(view.norm() > 0.0)) throw InputError("camera eye and target coincide; cannot frame the model");
-  const Eigen::Vector3d forward = view.normalized();
-  const Eigen::Vector3d right = forward.cross(pose.up);
-  if (!(right.norm() > 1e-9)) throw InputError("camera looks along its up axis; cannot frame the model");
-  const Eigen::Vector3d r = right.normalized();
-  const Eigen::Vector3d u = r.cross(forward);
+  const LookAtFrame frame = look_at(pose);
+  if (frame.up_along_view) throw InputError("camera looks along its up axis; cannot frame the model");
+  const Eigen::Vector3d &forward = frame.forward, &r = frame.right, &u = frame.up;
   // A point (x, y, z) in camera coordinates is in frame when |x| <= tx*z and |y| <= ty*z. Moving
   // the eye back by s adds s to every z, so each point needs s >= max(|x|/tx, |y|/ty) - z.
   const double keep = std::clamp(1.0 - lens.margin, 0.05, 1.0);

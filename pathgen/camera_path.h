@@ -5,14 +5,11 @@
 #include <memory>
 #include <span>
 
+#include "core/camera.h"
+
 namespace meshtour {
 
 /// A camera placement in model units: eye position, the point looked at, and the up direction.
-struct CameraPose {
-  Eigen::Vector3d eye = Eigen::Vector3d::Zero();
-  Eigen::Vector3d target = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d up = Eigen::Vector3d::UnitY();
-};
 
 /// What the camera sees: the vertical field of view and the image aspect ratio (width / height).
 struct Lens {

@@ -112,11 +112,8 @@ std::pair<double, double> loop_angular_extremes(const std::function<Eigen::Vecto
 std::vector<std::uint32_t> faces_seen_well(const TriangleMesh& mesh, const Eigen::Vector3d& eye,
                                            const Eigen::Vector3d& target, const Eigen::Vector3d& up, double fov_deg,
                                            int pixels, double seen_angle_deg) {
-  const Eigen::Vector3d forward = (target - eye).normalized();
-  Eigen::Vector3d right = forward.cross(up);
-  if (!(right.norm() > 1e-9)) right = forward.unitOrthogonal();
-  right.normalize();
-  const Eigen::Vector3d cam_up = right.cross(forward);
+  const LookAtFrame frame = look_at(eye, target, up);
+  const Eigen::Vector3d &forward = frame.forward, &right = frame.right, &cam_up = frame.up;
   const double tan_half = std::tan(0.5 * fov_deg * kDegree);
   const double size = static_cast<double>(pixels);
 

@@ -70,8 +70,8 @@ double TurntablePath::vertical_imbalance(std::span<const Eigen::Vector3d> points
   double sum = 0.0;
   for (int k = 0; k < kAngles; ++k) {
     const CameraPose p = pose(static_cast<double>(k) / kAngles);
-    const Eigen::Vector3d forward = (p.target - p.eye).normalized();
-    const Eigen::Vector3d up = forward.cross(p.up).normalized().cross(forward);
+    const LookAtFrame frame = look_at(p);
+    const Eigen::Vector3d &forward = frame.forward, &up = frame.up;
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (const auto& q : points) {
       const Eigen::Vector3d d = q - p.eye;

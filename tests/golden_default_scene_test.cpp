@@ -43,7 +43,7 @@ protected:
   }
   static Image frame(int k) {
     const CameraPose pose = frame_pose(*path_, k, scene_->frames);
-    return renderer_->render(Camera{pose.eye, pose.target, pose.up, scene_->vertical_fov_deg}, static_cast<std::uint64_t>(k));
+    return renderer_->render(Camera::at(pose, scene_->vertical_fov_deg), static_cast<std::uint64_t>(k));
   }
   static inline Scene* scene_ = nullptr;
   static inline TriangleMesh* mesh_ = nullptr;

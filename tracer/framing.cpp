@@ -18,11 +18,8 @@ double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Ei
   double needed = 0.0;
   bool any = false;
   for (const Camera& c : cameras) {
-    const Eigen::Vector3d f = (c.target - c.eye).normalized();
-    Eigen::Vector3d r = f.cross(c.up);
-    if (!(r.norm() > 1e-9)) r = f.unitOrthogonal();
-    r.normalize();
-    const Eigen::Vector3d u = r.cross(f);
+    const LookAtFrame view = look_at(c);
+    const Eigen::Vector3d &f = view.forward, &r = view.right, &u = view.up;
     for (const auto& p : positions) {
       const Eigen::Vector3d d = p - c.eye;
       const double z = d.dot(f);

@@ -231,11 +231,10 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   f.image = &image;
 
   // Camera frame, in the scene's local (centred) coordinates.
-  const Eigen::Vector3d forward_d = (camera.target - camera.eye).normalized();
-  Eigen::Vector3d right_d = forward_d.cross(camera.up);
-  if (!(right_d.norm() > 1e-9)) right_d = forward_d.unitOrthogonal();
-  right_d.normalize();
-  const Eigen::Vector3d up_d = right_d.cross(forward_d);
+  const LookAtFrame view = look_at(camera);
+  const Eigen::Vector3d& forward_d = view.forward;
+  const Eigen::Vector3d& right_d = view.right;
+  const Eigen::Vector3d& up_d = view.up;
   f.eye = (camera.eye - origin).cast<float>();
   f.forward = forward_d.cast<float>();
   const Eigen::Vector3f right = right_d.cast<float>(), cam_up = up_d.cast<float>();

@@ -9,17 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "core/camera.h"
 #include "mesh/mesh.h"
 
 namespace meshtour {
 
 /// A pinhole camera in model units.
-struct Camera {
-  Eigen::Vector3d eye = Eigen::Vector3d(0, 0, 5);
-  Eigen::Vector3d target = Eigen::Vector3d::Zero();
-  Eigen::Vector3d up = Eigen::Vector3d::UnitY();
-  double vertical_fov_deg = 40.0;
-};
 
 /// A distant disc light (like the sun, or a large softbox far away) placed relative to the
 /// camera, so that the lighting stays the same as the camera travels around the model. Its
