@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_reader.h"
 
 namespace meshtour {
 namespace {
@@ -107,13 +108,6 @@ void finish_items(std::vector<BatchItem>& items) {
   }
 }
 
-std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw IoError(file.string() + ": cannot read the batch manifest: " + std::strerror(errno));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::vector<BatchItem> read_csv(const std::filesystem::path& file, const std::string& text) {
   const std::filesystem::path base = file.parent_path();
@@ -153,8 +147,9 @@ std::vector<BatchItem> read_csv(const std::filesystem::path& file, const std::st
 
 std::vector<BatchItem> read_json(const std::filesystem::path& file, const std::string& text) {
   const std::filesystem::path base = file.parent_path();
-  nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) throw InputError(file.string() + ": not valid JSON");
+  // Parsed by the one JSON reader; each item's keys are then checked by the registry, and a bad
+  // one makes only its item bad.
+  nlohmann::json j = parse_json_document(text, file.string());
   if (j.is_object() && j.contains("items")) j = j["items"];
   if (!j.is_array()) throw InputError(file.string() + ": expected an array of items, or an object with an \"items\" array");
   std::vector<BatchItem> items;
@@ -187,7 +182,7 @@ std::vector<BatchItem> read_json(const std::filesystem::path& file, const std::s
 }  // namespace
 
 std::vector<BatchItem> read_batch_manifest(const std::filesystem::path& file) {
-  const std::string text = read_text(file);
+  const std::string text = read_json_file_text(file, "batch manifest");
   const std::string ext = lower(file.extension().string());
   std::vector<BatchItem> items;
   if (ext == ".json") items = read_json(file, text);

@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json_reader.h"
 
 namespace meshtour {
 
@@ -53,38 +54,30 @@ FrameDirInfo read_frame_dir_info(const std::filesystem::path& dir) {
   if (!std::filesystem::exists(file, ec))
     throw InputError(dir.string() + ": no " + std::string(kFrameDirManifestName) +
                      " (it is written by 'meshtour render --out-dir'); give the tour's frames with --frames instead");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw IoError(file.string() + ": cannot read: " + std::strerror(errno));
-  std::stringstream text;
-  text << in.rdbuf();
+  const std::string text = read_json_file_text(file, "frames manifest");
   const auto fail = [&](const std::string& why) -> InputError { return InputError(file.string() + ": " + why); };
-  nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded() || !j.is_object()) throw fail("not a JSON object (the manifest is damaged; re-run 'meshtour render')");
-  if (j.value("format", std::string()) != "meshtour-frames") throw fail("not a meshtour frames manifest");
-  const auto integer = [&](const char* key, int lo, int hi) {
-    const auto it = j.find(key);
-    if (it == j.end() || !it->is_number_integer()) throw fail(std::string("'") + key + "' is missing or not an integer");
-    const auto v = it->get<long long>();
-    if (v < lo || v > hi) throw fail(std::string("'") + key + "' is " + std::to_string(v) + ", outside " + std::to_string(lo) + ".." + std::to_string(hi));
-    return static_cast<int>(v);
-  };
-  const int version = integer("version", 1, 1'000'000);
+  // Keys this version does not know are left alone: a newer meshtour may add some.
+  JsonReader r(j, file.string(), "", " (the manifest is damaged; re-run 'meshtour render')");
+  std::string format;
+  r.read("format", format);
+  if (format != "meshtour-frames") throw fail("not a meshtour frames manifest");
+  const int version = r.integer("version", 1, 1'000'000);
   if (version > kFrameDirFormatVersion)
     throw fail("written by a newer meshtour (manifest version " + std::to_string(version) + ", this one reads " +
                std::to_string(kFrameDirFormatVersion) + "); encode with that version");
   FrameDirInfo info;
-  info.frame_count = integer("frame_count", 1, 1'000'000'000);
-  info.fps = integer("fps", 1, 1000);
-  info.width = integer("width", 1, 1 << 16);
-  info.height = integer("height", 1, 1 << 16);
-  const auto formats = j.find("image_formats");
-  if (formats == j.end() || !formats->is_array() || formats->empty()) throw fail("'image_formats' is missing or empty");
-  for (const auto& f : *formats) {
-    if (!f.is_string() || (f != "png" && f != "exr")) throw fail("'image_formats' may hold only \"png\" and \"exr\"");
-    info.image_formats.push_back(f.get<std::string>());
-  }
-  if (const auto s = j.find("source"); s != j.end() && s->is_string()) info.source = s->get<std::string>();
-  if (const auto p = j.find("path_file"); p != j.end() && p->is_string()) info.path_file = p->get<std::string>();
+  info.frame_count = r.integer("frame_count", 1, 1'000'000'000);
+  info.fps = r.integer("fps", 1, 1000);
+  info.width = r.integer("width", 1, 1 << 16);
+  info.height = r.integer("height", 1, 1 << 16);
+  info.image_formats = r.strings("image_formats");
+  if (info.image_formats.empty()) r.fail_key("image_formats", "is empty");
+  for (const auto& f : info.image_formats)
+    if (f != "png" && f != "exr") r.fail_key("image_formats", "may hold only \"png\" and \"exr\"");
+  r.read("source", info.source);
+  r.read("path_file", info.path_file);
   return info;
 }
 

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_reader.h"
 
 namespace meshtour {
 namespace {
@@ -63,70 +64,6 @@ OrderedJson options_json(const PaperPathOptions& o) {
 
 // ---- reading ------------------------------------------------------------------------------
 
-class Reader {
-public:
-  Reader(const nlohmann::json& root, std::filesystem::path file) : root_(root), file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-    throw InputError("path file " + file_.string() + ": key '" + key + "' " + problem +
-                     " (write the file again with 'meshtour path')");
-  }
-
-  const nlohmann::json& at(const std::string& dotted) const {
-    const nlohmann::json* node = &root_;
-    std::size_t begin = 0;
-    while (begin <= dotted.size()) {
-      const std::size_t end = std::min(dotted.find('.', begin), dotted.size());
-      const std::string part = dotted.substr(begin, end - begin);
-      if (!node->is_object() || !node->contains(part)) fail(dotted, "is missing");
-      node = &(*node)[part];
-      begin = end + 1;
-    }
-    return *node;
-  }
-
-  double number(const std::string& key) const {
-    const auto& v = at(key);
-    if (!v.is_number()) fail(key, "must be a number");
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) fail(key, "must be finite");
-    return d;
-  }
-
-  double positive(const std::string& key) const {
-    const double d = number(key);
-    if (!(d > 0.0)) fail(key, "must be positive");
-    return d;
-  }
-
-  Eigen::Vector3d vector3(const std::string& key) const {
-    const auto& v = at(key);
-    if (!v.is_array() || v.size() != 3) fail(key, "must be an array of 3 numbers");
-    Eigen::Vector3d out;
-    for (int k = 0; k < 3; ++k) {
-      if (!v[k].is_number()) fail(key, "must be an array of 3 numbers");
-      out[k] = v[k].get<double>();
-      if (!std::isfinite(out[k])) fail(key, "must hold finite numbers");
-    }
-    return out;
-  }
-
-  std::vector<double> numbers(const std::string& key) const {
-    const auto& v = at(key);
-    if (!v.is_array()) fail(key, "must be an array of numbers");
-    std::vector<double> out;
-    for (const auto& e : v) {
-      if (!e.is_number()) fail(key, "must be an array of numbers");
-      out.push_back(e.get<double>());
-      if (!std::isfinite(out.back())) fail(key, "must hold finite numbers");
-    }
-    return out;
-  }
-
-private:
-  const nlohmann::json& root_;
-  std::filesystem::path file_;
-};
 
 }  // namespace
 
@@ -244,24 +181,19 @@ void write_path_file(const PaperPathResult& result, const std::filesystem::path&
 }
 
 PaperCameraPath read_paper_path_file(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw IoError("cannot read path file " + file.string() + ": " + std::strerror(errno));
-  nlohmann::json root;
-  try {
-    root = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    // parse_error, and out_of_range for numbers beyond double's range (1e999): found by fuzzing.
-    throw InputError("path file " + file.string() + " is not valid JSON (" + e.what() +
-                     "); write it again with 'meshtour path'");
-  }
-  const Reader rd(root, file);
-  const auto& version = rd.at("format_version");
+  const std::string source = "path file " + file.string();
+  const std::string hint = " (write the file again with 'meshtour path')";
+  const nlohmann::json root = parse_json_document(read_json_file_text(file, "path file"), source, hint);
+  // Its version first: a document of another kind is reported by what it lacks.
+  if (!root.is_object()) throw InputError(source + ": 'format_version' is missing: the document must be a JSON object" + hint);
+  JsonReader rd(root, source, "", hint);
+  const auto& version = rd.raw("format_version");
   if (!version.is_number_integer() || version.get<long long>() != kPathFormatVersion)
-    rd.fail("format_version", "must be " + std::to_string(kPathFormatVersion) + " but is " + version.dump());
+    rd.fail_key("format_version", "must be " + std::to_string(kPathFormatVersion) + " but is " + version.dump());
 
   PaperPathGeometry g;
   g.cylinder.up = rd.vector3("cylinder.up");
-  if (std::abs(g.cylinder.up.norm() - 1.0) > 1e-9) rd.fail("cylinder.up", "must be a unit vector");
+  if (std::abs(g.cylinder.up.norm() - 1.0) > 1e-9) rd.fail_key("cylinder.up", "must be a unit vector");
   // The angular frame is a function of û (§9.1); recomputing it keeps the file free of
   // redundant data that could disagree with it.
   std::tie(g.cylinder.e_x, g.cylinder.e_y) = angular_frame(g.cylinder.up);
@@ -271,9 +203,9 @@ PaperCameraPath read_paper_path_file(const std::filesystem::path& file) {
   g.cylinder.radius = rd.positive("cylinder.radius");
 
   const double degree = rd.number("curve.degree");
-  if (degree != 2.0 && degree != 3.0) rd.fail("curve.degree", "must be 2 or 3");
+  if (degree != 2.0 && degree != 3.0) rd.fail_key("curve.degree", "must be 2 or 3");
   const std::vector<double> heights = rd.numbers("curve.control_heights");
-  if (heights.size() < 3) rd.fail("curve.control_heights", "must hold at least 3 heights");
+  if (heights.size() < 3) rd.fail_key("curve.control_heights", "must hold at least 3 heights");
   g.curve = PeriodicBSpline(heights, static_cast<int>(degree));
   g.start_parameter = rd.number("curve.start_parameter");
 
@@ -281,7 +213,7 @@ PaperCameraPath read_paper_path_file(const std::filesystem::path& file) {
   g.gaze_scale = rd.number("paths.gaze_scale");
   g.position_scale = rd.number("paths.position_scale");
   g.gaze_radius = rd.number("paths.gaze_radius");
-  if (g.gaze_radius < 0.0) rd.fail("paths.gaze_radius", "must not be negative");
+  if (g.gaze_radius < 0.0) rd.fail_key("paths.gaze_radius", "must not be negative");
   g.position_radius = rd.positive("paths.position_radius");
 
   g.scale = rd.positive("transform.scale");

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_reader.h"
 #include "default_scene.h"
 
 namespace meshtour {
@@ -17,151 +18,66 @@ namespace {
 
 using nlohmann::json;
 
-// Reads one JSON object strictly: every key must be known (a typo must not be silently ignored),
-// every value must have the right type and range. Messages name the file and the key path.
-class ObjectReader {
-public:
-  ObjectReader(const json& object, std::string source, std::string path)
-      : object_(object), source_(std::move(source)), path_(std::move(path)) {
-    if (!object_.is_object()) fail(path_.empty() ? "the document must be a JSON object" : "must be a JSON object");
+// A string that must be one of `choices` (listed in the message otherwise).
+void read_choice(JsonReader& r, const std::string& key, std::string& out, const std::vector<std::string>& choices) {
+  if (!r.has(key)) return;
+  std::string value;
+  r.read(key, value);
+  if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
+    std::string list;
+    for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+    r.fail_key(key, "is '" + value + "'; use one of " + list);
   }
+  out = value;
+}
 
-  bool has(const std::string& key) {
-    known_.insert(key);
-    return object_.contains(key);
-  }
-  const json& raw(const std::string& key) {
-    known_.insert(key);
-    return object_.at(key);
-  }
-  ObjectReader child(const std::string& key) { return ObjectReader(raw(key), source_, join(key)); }
+// A linear RGB colour.
+void read_color(JsonReader& r, const std::string& key, Eigen::Vector3f& out) {
+  r.read_vector(key, out, 0.0, 1000.0, "components must be between 0 and 1000 (linear RGB)");
+}
 
-  void read(const std::string& key, std::string& out) {
-    if (!has(key)) return;
-    const json& v = raw(key);
-    if (!v.is_string()) fail_key(key, "must be a string");
-    out = v.get<std::string>();
-  }
-  void read(const std::string& key, double& out, double lo, double hi) {
-    if (!has(key)) return;
-    const json& v = raw(key);
-    if (!v.is_number()) fail_key(key, "must be a number");
-    const double d = v.get<double>();
-    if (!(d >= lo && d <= hi)) fail_key(key, "must be between " + number(lo) + " and " + number(hi) + ", got " + v.dump());
-    out = d;
-  }
-  void read(const std::string& key, float& out, double lo, double hi) {
-    double d = out;
-    read(key, d, lo, hi);
-    out = static_cast<float>(d);
-  }
-  void read(const std::string& key, int& out, int lo, int hi) {
-    if (!has(key)) return;
-    const json& v = raw(key);
-    if (!v.is_number_integer()) fail_key(key, "must be a whole number");
-    const auto i = v.get<long long>();
-    if (i < lo || i > hi) fail_key(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + v.dump());
-    out = static_cast<int>(i);
-  }
-  void read(const std::string& key, Eigen::Vector3f& out) {
-    read_vector(key, out, 0.0, 1000.0, "components must be between 0 and 1000 (linear RGB)");
-  }
-  void read_vector(const std::string& key, Eigen::Vector3f& out, double lo, double hi, const std::string& range_message) {
-    if (!has(key)) return;
-    const json& v = raw(key);
-    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
-      fail_key(key, "must be an array of three numbers, e.g. [0.8, 0.8, 0.8]");
-    for (int k = 0; k < 3; ++k) {
-      const double c = v[k].get<double>();
-      if (!(c >= lo && c <= hi)) fail_key(key, range_message);
-      out[k] = static_cast<float>(c);
+// The value of `key` as the registry row `o` checks it (numbers, strings, booleans and string
+// arrays become the row's text), or nullopt when the key is absent.
+std::optional<std::string> read_registered(JsonReader& r, const std::string& key, const options::Option& o) {
+  if (!r.has(key)) return std::nullopt;
+  const json& v = r.raw(key);
+  std::string text;
+  if (v.is_string()) text = v.get<std::string>();
+  else if (v.is_boolean()) text = v.get<bool>() ? "true" : "false";
+  else if (v.is_number_integer()) text = std::to_string(v.get<long long>());
+  else if (v.is_number()) text = options::number_text(v.get<double>());
+  else if (v.is_array() && o.kind == options::Kind::choice_list) {
+    for (const auto& item : v) {
+      if (!item.is_string()) r.fail_key(key, "must be an array of names, e.g. [\"albedo\", \"normal\", \"depth\"]");
+      text += (text.empty() ? "" : ",") + item.get<std::string>();
     }
+  } else {
+    r.fail_key(key, "must be " + std::string(o.kind == options::Kind::choice_list ? "an array of names" : "a number or a string"));
   }
-  void read(const std::string& key, bool& out) {
-    if (!has(key)) return;
-    const json& v = raw(key);
-    if (!v.is_boolean()) fail_key(key, "must be true or false");
-    out = v.get<bool>();
-  }
-  /// A string that must be one of `choices` (listed in the message otherwise).
-  void read_choice(const std::string& key, std::string& out, const std::vector<std::string>& choices) {
-    if (!has(key)) return;
-    std::string value;
-    read(key, value);
-    if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
-      std::string list;
-      for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-      fail_key(key, "is '" + value + "'; use one of " + list);
-    }
-    out = value;
-  }
-  /// The value of `key` as the registry row `o` checks it (numbers, strings, booleans and string
-  /// arrays become the row's text), or nullopt when the key is absent.
-  std::optional<std::string> read_registered(const std::string& key, const options::Option& o) {
-    if (!has(key)) return std::nullopt;
-    const json& v = raw(key);
-    std::string text;
-    if (v.is_string()) text = v.get<std::string>();
-    else if (v.is_boolean()) text = v.get<bool>() ? "true" : "false";
-    else if (v.is_number_integer()) text = std::to_string(v.get<long long>());
-    else if (v.is_number()) text = options::number_text(v.get<double>());
-    else if (v.is_array() && o.kind == options::Kind::choice_list) {
-      for (const auto& item : v) {
-        if (!item.is_string()) fail_key(key, "must be an array of names, e.g. [\"albedo\", \"normal\", \"depth\"]");
-        text += (text.empty() ? "" : ",") + item.get<std::string>();
-      }
-    } else {
-      fail_key(key, "must be " + std::string(o.kind == options::Kind::choice_list ? "an array of names" : "a number or a string"));
-    }
-    // Scene files describe tours, whose video is H.264: a codec-dependent value is checked for it.
-    const std::string problem = o.codec_ranges.empty() ? options::check_value(o, text) : options::check_value_for_codec(o, text, "h264");
-    if (!problem.empty()) fail_key(key, problem);
-    return options::normalize_value(o, text);
-  }
-  /// Reads every registry row whose scene key lies directly in this object and applies it.
-  void read_registered_keys(Scene& scene, const std::filesystem::path& base_dir) {
-    for (const options::Option& o : options::registry()) {
-      const std::string_view key = o.scene_key;
-      const auto dot = key.rfind('.');
-      const std::string_view parent = dot == std::string_view::npos ? std::string_view() : key.substr(0, dot);
-      if (key.empty() || parent != path_ || parent == "look") continue;
-      const std::string leaf(dot == std::string_view::npos ? key : key.substr(dot + 1));
-      std::optional<std::string> text = read_registered(leaf, o);
-      if (!text) continue;
-      if (o.kind == options::Kind::existing_file) {
-        const std::filesystem::path p(*text);
-        text = (p.is_absolute() ? p : base_dir / p).string();
-      }
-      apply_option(scene, o, *text);
-    }
-  }
-  /// Rejects keys that were never asked for.
-  void finish() const {
-    for (const auto& [key, value] : object_.items())
-      if (!known_.count(key)) {
-        std::string known;
-        for (const auto& k : known_) known += (known.empty() ? "" : ", ") + k;
-        fail_key(key, "unknown key (known here: " + known + ")");
-      }
-  }
-  [[noreturn]] void fail_key(const std::string& key, const std::string& what) const {
-    throw InputError(source_ + ": '" + join(key) + "' " + what);
-  }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(source_ + (path_.empty() ? ": " : ": '" + path_ + "' ") + what);
-  }
+  // Scene files describe tours, whose video is H.264: a codec-dependent value is checked for it.
+  const std::string problem = o.codec_ranges.empty() ? options::check_value(o, text) : options::check_value_for_codec(o, text, "h264");
+  if (!problem.empty()) r.fail_key(key, problem);
+  return options::normalize_value(o, text);
+}
 
-private:
-  std::string join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-  static std::string number(double d) {
-    std::ostringstream s;
-    s << d;
-    return s.str();
+// Reads every registry row whose scene key lies directly in the object `section` ("" = the
+// document's top level) and applies it.
+void read_registered_keys(JsonReader& r, std::string_view section, Scene& scene, const std::filesystem::path& base_dir) {
+  for (const options::Option& o : options::registry()) {
+    const std::string_view key = o.scene_key;
+    const auto dot = key.rfind('.');
+    const std::string_view parent = dot == std::string_view::npos ? std::string_view() : key.substr(0, dot);
+    if (key.empty() || parent != section) continue;
+    const std::string leaf(dot == std::string_view::npos ? key : key.substr(dot + 1));
+    std::optional<std::string> text = read_registered(r, leaf, o);
+    if (!text) continue;
+    if (o.kind == options::Kind::existing_file) {
+      const std::filesystem::path p(*text);
+      text = (p.is_absolute() ? p : base_dir / p).string();
+    }
+    apply_option(scene, o, *text);
   }
-  const json& object_;
-  std::string source_, path_;
-  std::set<std::string> known_;
-};
+}
 
 // The look values that are also command-line options (registry rows "background", "exposure").
 void apply_look_value(Shading& sh, std::string_view id, const std::string& text) {
@@ -172,12 +88,12 @@ void apply_look_value(Shading& sh, std::string_view id, const std::string& text)
 // The "look" object: a preset, then any of its values overridden. `preset_override`, when not
 // empty, replaces the file's preset (the command line's --preset).
 void apply_look(const json& look_json, const std::string& source, Shading& sh, const std::string& preset_override) {
-  ObjectReader look(look_json, source, "look");
-  std::string preset = look.read_registered("preset", options::option("preset")).value_or(sh.preset);
+  JsonReader look(look_json, source, "look");
+  std::string preset = read_registered(look, "preset", options::option("preset")).value_or(sh.preset);
   if (!preset_override.empty()) preset = preset_override;
   sh = look_preset(preset);
   Material& m = sh.material;
-  look.read("base_color", m.base_color);
+  read_color(look, "base_color", m.base_color);
   look.read("roughness", m.roughness, 0.0, 1.0);
   look.read("specular", m.specular, 0.0, 10.0);
   look.read("vertex_colors", m.use_vertex_colors);
@@ -188,11 +104,11 @@ void apply_look(const json& look_json, const std::string& source, Shading& sh, c
       look.fail_key("lights", "must be an array of at most 8 lights, e.g. [{\"from\": [-0.5, 0.7, 0.6], \"intensity\": 2}]");
     sh.lights.clear();
     for (std::size_t i = 0; i < lights.size(); ++i) {
-      ObjectReader l(lights[i], source, "look.lights[" + std::to_string(i) + "]");
+      JsonReader l(lights[i], source, "look.lights[" + std::to_string(i) + "]");
       Light light;
       l.read_vector("from", light.from_camera, -1000.0, 1000.0, "components must be between -1000 and 1000");
       if (!(light.from_camera.norm() > 0.0f)) l.fail_key("from", "must not be [0, 0, 0]: it is the direction the light comes from (camera space: x right, y up, z towards the viewer)");
-      l.read("color", light.color);
+      read_color(l, "color", light.color);
       l.read("intensity", light.intensity, 0.0, 1000.0);
       l.read("size", light.angular_diameter_deg, 0.0, 90.0);
       l.finish();
@@ -207,19 +123,19 @@ void apply_look(const json& look_json, const std::string& source, Shading& sh, c
       if (!(v >= 0.0 && v <= 1000.0)) look.fail_key("ambient", "must be between 0 and 1000");
       sh.ambient = Eigen::Vector3f::Constant(static_cast<float>(v));
     } else {
-      look.read("ambient", sh.ambient);
+      read_color(look, "ambient", sh.ambient);
     }
   }
   look.read("ambient_occlusion", sh.ambient_occlusion);
   look.read("ao_distance", sh.ao_distance, 0.0, 100.0);
   look.read("ground", sh.ground);
   look.read("ground_shadow", sh.ground_shadow, 0.0, 1.0);
-  if (auto background = look.read_registered("background", options::option("background"))) apply_look_value(sh, "background", *background);
-  look.read("background_top", sh.background_top);
-  look.read("background_bottom", sh.background_bottom);
-  if (auto exposure = look.read_registered("exposure", options::option("exposure"))) apply_look_value(sh, "exposure", *exposure);
+  if (auto background = read_registered(look, "background", options::option("background"))) apply_look_value(sh, "background", *background);
+  read_color(look, "background_top", sh.background_top);
+  read_color(look, "background_bottom", sh.background_bottom);
+  if (auto exposure = read_registered(look, "exposure", options::option("exposure"))) apply_look_value(sh, "exposure", *exposure);
   std::string tone = sh.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp";
-  look.read_choice("tone_mapping", tone, {"filmic", "clamp"});
+  read_choice(look, "tone_mapping", tone, {"filmic", "clamp"});
   sh.tone_mapping = tone == "filmic" ? ToneMapping::filmic : ToneMapping::clamp;
   look.finish();
 }
@@ -227,19 +143,10 @@ void apply_look(const json& look_json, const std::string& source, Shading& sh, c
 }  // namespace
 
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::filesystem::path& base_dir) {
-  json doc;
-  try {
-    doc = json::parse(json_text);
-  } catch (const json::exception& e) {
-    // parse_error, and out_of_range for numbers beyond double's range (1e999, found by fuzzing).
-    // nlohmann's message carries the line and column.
-    std::string what = e.what();
-    if (auto pos = what.find("parse error"); pos != std::string::npos) what = what.substr(pos);
-    throw InputError(source + ": not valid JSON: " + what);
-  }
+  const json doc = parse_json_document(json_text, source);
   Scene scene;
   scene.source = source;
-  ObjectReader top(doc, source, "");
+  JsonReader top(doc, source, "");
   std::string format = "meshtour-scene/1";
   top.read("format", format);
   if (format != "meshtour-scene/1")
@@ -249,7 +156,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
 
   if (!top.has("model")) top.fail("has no 'model': name a mesh file ({\"file\": \"bunny.ply\"}) or {\"procedural\": \"sculpture\"}");
   {
-    ObjectReader model = top.child("model");
+    JsonReader model = top.child("model");
     std::string file;
     model.read("file", file);
     model.read("procedural", scene.procedural);
@@ -262,11 +169,11 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     }
     model.finish();
   }
-  top.read_registered_keys(scene, base_dir);  // "up"
+  read_registered_keys(top, "", scene, base_dir);  // "up"
   for (const char* section : {"camera", "timing", "output", "patches", "paper"}) {
     if (!top.has(section)) continue;
-    ObjectReader object = top.child(section);
-    object.read_registered_keys(scene, base_dir);
+    JsonReader object = top.child(section);
+    read_registered_keys(object, section, scene, base_dir);
     if (std::string_view(section) == "output") object.read("filter_radius", scene.render.filter_radius, 0.5, 2.0);
     object.finish();
   }
@@ -345,12 +252,7 @@ Scene default_scene() {
 }
 
 Scene load_scene(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!std::filesystem::exists(file)) throw IoError(file.string() + ": no such file");
-  if (!in) throw IoError(file.string() + ": cannot open for reading (check permissions)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scene(text.str(), file.string(), file.parent_path());
+  return parse_scene(read_json_file_text(file, "scene file"), file.string(), file.parent_path());
 }
 
 TriangleMesh load_scene_model(const Scene& scene, LoadReport* report) {
