@@ -11,7 +11,8 @@
 #include <string>
 
 #include "cli/commands.h"
-#include "cli/tour_setup.h"
+#include "cli/common_options.h"
+#include "cli/scene_args.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "jobs/batch_manifest.h"

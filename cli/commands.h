@@ -5,6 +5,8 @@
 
 #include <exception>
 
+#include "core/interrupt.h"
+
 namespace meshtour::cli {
 
 void add_tour_command(CLI::App& app);  // mesh or scene in, video out
@@ -23,15 +25,5 @@ struct SomeItemsFailed : std::exception {
   const char* what() const noexcept override { return "some batch items failed"; }
 };
 void add_evaluate_command(CLI::App& app);  // what a tour shows: coverage and smoothness per path mode
-
-/// Thrown by throw_if_interrupted() after SIGINT or SIGTERM, so that destructors remove partial
-/// outputs on the way out; main() exits with 130.
-struct Interrupted : std::exception {
-  const char* what() const noexcept override { return "interrupted"; }
-};
-/// Makes SIGINT/SIGTERM set a flag instead of killing the process (long commands call this).
-void install_interrupt_handlers();
-/// Throws Interrupted once a handled signal has arrived.
-void throw_if_interrupted();
 
 }  // namespace meshtour::cli

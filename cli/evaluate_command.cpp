@@ -11,7 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/path_options.h"
-#include "cli/tour_setup.h"
+#include "cli/scene_args.h"
 #include "core/error.h"
 #include "evaluate/evaluate.h"
 #include "pathgen/features.h"
@@ -47,7 +47,7 @@ void print_table(const std::vector<std::pair<std::string, PathEvaluation>>& rows
 void run_evaluate(EvaluateArgs& a) {
   install_interrupt_handlers();
   const options::Values& values = a.scene.values;
-  const int threads = render_threads(int_value_or(values, "threads", 0));
+  const int threads = thread_count(int_value_or(values, "threads", 0), a.quiet);
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   a.evaluation.validate();
   const bool path_file = values.count("path-file") != 0;
@@ -55,7 +55,7 @@ void run_evaluate(EvaluateArgs& a) {
   if (values.count("path") && path_file) throw InputError("give --path or --path-file, not both");
 
   Scene scene = resolve_scene(a.scene);
-  const PaperPathOptions paper = paper_path_options(scene.path_search);
+  const PaperPathOptions paper = path_search_options(scene.path_search);
   paper.validate();
 
   const TriangleMesh mesh = load_scene_model(scene);

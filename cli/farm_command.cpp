@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "cli/commands.h"
-#include "cli/tour_setup.h"
+#include "cli/scene_args.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "jobs/batch_manifest.h"
@@ -177,13 +177,7 @@ void run_farm_slurm(const FarmArgs& args) {
 
     // The frames directory and its manifest now, so that a directory of another tour is refused
     // before anything is submitted.
-    FrameDirInfo info;
-    info.frame_count = scene.frames;
-    info.fps = scene.fps;
-    info.width = scene.render.width;
-    info.height = scene.render.height;
-    info.image_formats = format == "png+exr" ? std::vector<std::string>{"png", "exr"} : std::vector<std::string>{format};
-    info.source = scene.source;
+    FrameDirInfo info = frame_dir_info(scene, format == "png+exr" ? std::vector<std::string>{"png", "exr"} : std::vector<std::string>{format});
     info.path_file = path_file.string();
     prepare_frame_dir(frames_dir, info);
 

@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   } catch (const meshtour::cli::SomeItemsFailed& e) {
     std::cerr << "meshtour: " << e.what() << " (see the summary above)\n";
     return meshtour::cli::kSomeItemsFailedExitCode;
-  } catch (const meshtour::cli::Interrupted&) {
+  } catch (const meshtour::Interrupted&) {
     std::cerr << "meshtour: interrupted; partial outputs removed\n";
     return 130;
   } catch (const std::exception& e) {

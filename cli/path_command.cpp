@@ -10,12 +10,12 @@
 #include <sstream>
 
 #include "cli/commands.h"
-#include "cli/mesh_warnings.h"
+#include "tour/mesh_warnings.h"
 #include "cli/path_options.h"
-#include "cli/path_overview.h"
-#include "cli/path_plot.h"
-#include "cli/resource_options.h"
-#include "cli/tour_setup.h"
+#include "tour/path_overview.h"
+#include "tour/path_plot.h"
+#include "cli/common_options.h"
+#include "cli/scene_args.h"
 #include "core/error.h"
 #include "mesh/mesh.h"
 #include "scenes/scene.h"
@@ -89,12 +89,12 @@ void print_summary(const PaperPathResult& r, const PathArgs& a, const LoadReport
 
 void run_path(PathArgs& a) {
   install_interrupt_handlers();
-  a.options = paper_path_options(a.values, a.options);
+  a.options = path_search_options(a.values, a.options);
   a.options.up = UpDirection::parse(a.up);
   a.threads = int_value_or(a.values, "threads", 0);
   a.gltf = value_or(a.values, "gltf", "");
   a.camera_frames = value_or(a.values, "camera-frames", "");
-  if (a.threads > 0) a.threads = capped_threads(a.threads, a.quiet);
+  a.threads = thread_count(a.threads, a.quiet);
   a.options.surface.threads = a.threads;
   a.options.validate();
   std::optional<tbb::global_control> thread_limit;

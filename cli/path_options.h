@@ -1,16 +1,12 @@
 #pragma once
-// The path search's settings (registry rows with scene keys "patches.*" and "paper.*"; their
-// flags, ranges and help are rows of options/option_registry.cpp) turned into the options of the
-// toroidal-patch stage, which the feature orbit shares.
+// `meshtour path`'s --up, which takes more than a coordinate axis (a vector, pca, longest-aabb).
+// (The path search's other settings are rows of the option registry, applied by tour/tour.h.)
 #include <CLI/CLI.hpp>
 
 #include "options/option_registry.h"
 #include "pathgen/paper_path.h"
 
 namespace meshtour::cli {
-
-/// `base` with every path-search value of `values` applied (checked text, see options::check_value).
-PaperPathOptions paper_path_options(const options::Values& values, PaperPathOptions base = {});
 
 /// Help text of --up for the paper path (axis, vector, longest-aabb or pca; I-18).
 extern const char* const kPaperUpHelp;

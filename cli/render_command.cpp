@@ -11,8 +11,8 @@
 #include <string>
 
 #include "cli/commands.h"
-#include "cli/progress.h"
-#include "cli/tour_setup.h"
+#include "cli/common_options.h"
+#include "cli/scene_args.h"
 #include "core/error.h"
 #include "jobs/frame_dir.h"
 #include "jobs/frame_range.h"
@@ -42,14 +42,7 @@ void run_render(const RenderCommandArgs& args) {
   const std::vector<int> selected = parse_frame_range(value_or(values, "frame-selection", "all"), scene.frames);
   const std::vector<std::string> formats = formats_of(value_or(values, "format", "png"));
 
-  FrameDirInfo info;
-  info.frame_count = scene.frames;
-  info.fps = scene.fps;
-  info.width = scene.render.width;
-  info.height = scene.render.height;
-  info.image_formats = formats;
-  info.source = scene.source;
-  if (scene.path_file) info.path_file = std::filesystem::absolute(*scene.path_file).string();
+  const FrameDirInfo info = frame_dir_info(scene, formats);
   prepare_frame_dir(dir, info);
 
   // A frame is done when every format of it exists: files appear under a frame name only when
@@ -70,7 +63,7 @@ void run_render(const RenderCommandArgs& args) {
     return;
   }
 
-  const int threads = capped_threads(render_threads(int_value_or(values, "threads", 0)), args.quiet);
+  const int threads = thread_count(int_value_or(values, "threads", 0), args.quiet);
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", threads);
   StageLog log(args.resources.verbose);
@@ -81,13 +74,10 @@ void run_render(const RenderCommandArgs& args) {
   Progress progress("frame", static_cast<int>(todo.size()), mode);  // from here: frames/s are rendering only
 
   int done = 0;
-  for (const int k : todo) {
-    throw_if_interrupted();  // SIGINT/SIGTERM: stop between frames; write_image never leaves a temporary
-    const auto start = std::chrono::steady_clock::now();
-    const Image image = tour.render_frame(k);
+  render_frames(tour, todo, [&](int k, const Image& image, double seconds) {
     for (const auto& f : formats) write_image(image, frame_file(dir, k, f));
-    progress.step_done(k, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ++done);
-  }
+    progress.step_done(k, seconds, ++done);
+  });
   progress.finish(skipped);
 }
 

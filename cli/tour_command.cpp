@@ -10,8 +10,8 @@
 #include <optional>
 
 #include "cli/commands.h"
-#include "cli/progress.h"
-#include "cli/tour_setup.h"
+#include "cli/common_options.h"
+#include "cli/scene_args.h"
 #include "core/error.h"
 #include "encoder/video_encoder.h"
 #include "jobs/frame_dir.h"
@@ -54,78 +54,6 @@ void run_tour(const TourArgs& args) {
 }
 
 }  // namespace
-
-void render_tour_video(const Scene& scene, const TourVideoJob& job) {
-  const std::filesystem::path& output = job.output;
-  if (output.extension() != ".mp4") throw InputError(output.string() + ": the video is written as H.264 MP4; name it *.mp4");
-  const bool keep_frames = !job.frames_dir.empty();
-  const bool write_png = keep_frames && (job.format == "png" || job.format == "png+exr");
-  const bool write_exr = keep_frames && (job.format == "exr" || job.format == "png+exr");
-
-  const int threads = capped_threads(render_threads(job.threads), job.quiet);
-  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-
-  // Refuse what would not fit before allocating anything.
-  StageLog log(job.resources.verbose);
-  log.start("check");
-  check_tour_memory(scene, job.resources);
-
-  // Fail on the output before the expensive work: the encoder opens its temporary file now.
-  VideoOptions video;
-  video.width = scene.render.width;
-  video.height = scene.render.height;
-  video.fps = scene.fps;
-  video.crf = scene.crf;
-  VideoEncoder encoder(output, video);
-
-  const PreparedTour tour = prepare_tour(scene, job.quiet, &log);
-  // The frames directory and its manifest only once the tour could be prepared: a bad model or
-  // path file leaves nothing behind.
-  if (keep_frames) {
-    // The same frames directory `meshtour render` writes: `meshtour encode` can read it too.
-    FrameDirInfo info;
-    info.frame_count = scene.frames;
-    info.fps = scene.fps;
-    info.width = scene.render.width;
-    info.height = scene.render.height;
-    if (write_png) info.image_formats.push_back("png");
-    if (write_exr) info.image_formats.push_back("exr");
-    info.source = scene.source;
-    if (scene.path_file) info.path_file = std::filesystem::absolute(*scene.path_file).string();
-    prepare_frame_dir(job.frames_dir, info);
-  }
-
-  if (!job.gltf.empty() || !job.camera_frames.empty()) {
-    const double aspect = static_cast<double>(scene.render.width) / scene.render.height;
-    const TourCameras cameras = sample_tour(*tour.path, scene.frames, tour.fov, aspect, scene.fps);
-    if (!job.gltf.empty()) write_camera_gltf(cameras, job.gltf);
-    if (!job.camera_frames.empty()) write_camera_frames(cameras, job.camera_frames);
-  }
-
-  Progress progress("frame", scene.frames, job.progress);
-  using Clock = std::chrono::steady_clock;
-  double render_seconds = 0.0, encode_seconds = 0.0;
-  for (int k = 0; k < scene.frames; ++k) {
-    throw_if_interrupted();
-    const auto start = Clock::now();
-    const Image image = tour.render_frame(k);
-    if (write_png) write_image(image, frame_file(job.frames_dir, k, "png"));
-    if (write_exr) write_image(image, frame_file(job.frames_dir, k, "exr"));
-    const auto rendered = Clock::now();
-    encoder.add_frame(image.to_srgb8());
-    encode_seconds += std::chrono::duration<double>(Clock::now() - rendered).count();
-    render_seconds += std::chrono::duration<double>(rendered - start).count();
-    progress.step_done(k, std::chrono::duration<double>(Clock::now() - start).count(), k + 1);
-  }
-  throw_if_interrupted();
-  log.report("render", render_seconds);
-  const auto finish_start = Clock::now();
-  encoder.finish();
-  log.report("encode", encode_seconds + std::chrono::duration<double>(Clock::now() - finish_start).count());
-  progress.finish();
-  if (!job.quiet) std::fprintf(stderr, "wrote %s (%d frames, %dx%d, %d fps)\n", output.string().c_str(), scene.frames,
-                               scene.render.width, scene.render.height, scene.fps);
-}
 
 void add_tour_command(CLI::App& app) {
   auto args = std::make_shared<TourArgs>();

@@ -1,9 +1,7 @@
 #pragma once
 // Resource limits shared by the commands: a memory budget checked against an estimate of the job
-// BEFORE anything big is allocated, threads capped to the machine, and --verbose reports of time
-// and memory per stage. A command adds the options with add_resource_options() and keeps the
-// ResourceArgs in its shared state.
-#include <CLI/CLI.hpp>
+// BEFORE anything big is allocated, and --verbose reports of time
+// and memory per stage. The command line gives them through cli/common_options.h.
 
 #include <chrono>
 #include <cstdint>
@@ -11,15 +9,13 @@
 #include <utility>
 #include <vector>
 
-namespace meshtour::cli {
+namespace meshtour {
 
 struct ResourceArgs {
   std::string max_memory;  ///< as given ("512M", "8G"); empty = default budget
   bool verbose = false;
 };
 
-/// Adds --max-memory SIZE and --verbose to `cmd`. `args` must outlive the parse.
-void add_resource_options(CLI::App& cmd, ResourceArgs& args);
 
 /// "512M", "8G", "1.5g", "2T", "100000" (bytes), "64K" -> bytes (powers of 1024).
 /// \throw InputError for anything else.
@@ -53,10 +49,6 @@ double estimate_frame_bytes(int width, int height, int extra_layers);     ///< f
 /// the estimate by part and how to raise the budget.
 void check_memory(const MemoryEstimate& estimate, const MemoryBudget& budget, const std::string& job);
 
-/// `requested` threads (0 = all), capped to the machine's cores; a note on stderr when capped
-/// (unless quiet). Results never depend on the thread count, so capping changes only speed.
-int capped_threads(int requested, bool quiet);
-
 /// --verbose: one line per stage on stderr with its wall time, the resident memory at its end and
 /// the peak so far (VmRSS / VmHWM of /proc/self/status).
 class StageLog {
@@ -78,4 +70,4 @@ private:
   std::chrono::steady_clock::time_point started_;
 };
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

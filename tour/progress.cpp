@@ -1,4 +1,4 @@
-#include "cli/progress.h"
+#include "tour/progress.h"
 
 #include <unistd.h>
 
@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 
-namespace meshtour::cli {
+namespace meshtour {
 
 ProgressMode parse_progress_mode(const std::string& text) {
   if (text == "auto") return ProgressMode::automatic;
@@ -17,12 +17,6 @@ ProgressMode parse_progress_mode(const std::string& text) {
   throw InputError("--progress must be auto, bar, json or none, not '" + text + "'");
 }
 
-void add_progress_option(CLI::App& cmd, std::string& mode) {
-  cmd.add_option("--progress", mode,
-                 "Progress on stderr: bar (frames done, frames/s, time left), json (one JSON line per finished frame\n"
-                 "and a summary line, for farm logs), none, or auto (default): bar on a terminal, json otherwise")
-      ->check(CLI::IsMember({"auto", "bar", "json", "none"}));
-}
 
 namespace {
 ProgressMode resolve(ProgressMode mode) {
@@ -86,4 +80,4 @@ void Progress::finish(int skipped) {
   std::fflush(stderr);
 }
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "mesh/mesh.h"
 
-namespace meshtour::cli {
+namespace meshtour {
 
 /// Runs `compute` (a path computation on the model of `file`); an InputError it throws is
 /// rethrown with the file's name in front, so that the one-line message says which file to fix.
@@ -25,4 +25,4 @@ auto with_file_name(const std::string& file, Compute&& compute) {
 /// never gets here: the path stages refuse it, suggesting another --up.
 void warn_if_flat(const TriangleMesh& mesh, const Eigen::Vector3d& up, const std::string& file);
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

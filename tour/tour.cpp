@@ -1,48 +1,48 @@
-#include "cli/tour_setup.h"
+#include "tour/tour.h"
 
-#include "cli/mesh_warnings.h"
+#include "tour/mesh_warnings.h"
 
 #include "pathgen/feature_orbit.h"
 
-#include <tbb/info.h>
+#include <tbb/global_control.h>
 
+#include <numeric>
+#include <thread>
+
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
-#include "cli/path_options.h"
+#include "core/interrupt.h"
+#include "encoder/video_encoder.h"
+#include "pathgen/camera_export.h"
 #include "core/error.h"
 #include "pathgen/path_file.h"
 #include "pathgen/turntable.h"
 
-namespace meshtour::cli {
-
-void add_scene_options(CLI::App& cmd, SceneArgs& args, options::Command command, bool with_input) {
-  if (with_input)
-    cmd.add_option("input", args.input, "Mesh (" + supported_mesh_formats() + ") or scene file (.json); default: built-in scene");
-  options::add_registered_options(cmd, command, args.values);
-}
+namespace meshtour {
 
 namespace {
 bool is_scene_file(const std::filesystem::path& p) { return p.extension() == ".json"; }
 }  // namespace
 
-Scene resolve_scene(const SceneArgs& a, std::string_view codec) {
+Scene resolve_scene(const std::string& input, const options::Values& values, std::string_view codec) {
   Scene scene;
-  if (a.input.empty()) {
+  if (input.empty()) {
     scene = default_scene();
-  } else if (is_scene_file(a.input)) {
-    scene = load_scene(a.input);
+  } else if (is_scene_file(input)) {
+    scene = load_scene(input);
   } else {
     scene = default_scene();  // defaults for everything but the model
-    scene.source = a.input;
-    scene.mesh_file = a.input;
+    scene.source = input;
+    scene.mesh_file = input;
   }
-  if (const auto crf = a.values.find("crf"); crf != a.values.end())
+  if (const auto crf = values.find("crf"); crf != values.end())
     if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
       throw InputError("--crf " + problem);
-  apply_options(scene, a.values);
+  apply_options(scene, values);
   return scene;
 }
 
@@ -56,8 +56,36 @@ int int_value_or(const options::Values& values, std::string_view id, int fallbac
   return it == values.end() ? fallback : std::stoi(it->second);
 }
 
+PaperPathOptions path_search_options(const options::Values& values, PaperPathOptions p) {
+  SurfaceOptions& s = p.surface;
+  for (const auto& [id, text] : values) {
+    if (id == "tolerance") s.tolerance = std::stod(text);
+    else if (id == "smoothing") s.smoothing = parse_smoothing_method(text);
+    else if (id == "smoothing-strength") s.smoothing_strength = std::stod(text);
+    else if (id == "curvature-fit") s.curvature_fit = parse_curvature_fit(text);
+    else if (id == "kappa-min") s.kappa_min = std::stod(text);
+    else if (id == "face-samples") s.face_samples = parse_face_samples(text);
+    else if (id == "seed-order") s.seed_order = parse_seed_order(text);
+    else if (id == "leftovers") s.leftovers = parse_leftover_mode(text);
+    else if (id == "keep-inaccurate") s.keep_inaccurate_patches = text == "true";
+    else if (id == "weight-neighbourhood") s.weight_neighbourhood = parse_weight_neighbourhood(text);
+    else if (id == "keep-duplicate-vertices") s.merge_duplicate_vertices = text != "true";
+    else if (id == "axis-point") p.axis_point = text == "aabb-center" ? AxisPointMode::aabb_center : AxisPointMode::surface_centroid;
+    else if (id == "rows") p.rows = std::stoi(text);
+    else if (id == "columns") p.columns = std::stoi(text);
+    else if (id == "cell-averaging") p.cell_averaging = text == "area-weighted" ? CellAveraging::area_weighted : CellAveraging::mean;
+    else if (id == "empty-columns") p.empty_columns = text == "interpolate" ? EmptyColumnMode::interpolate : EmptyColumnMode::middle_row;
+    else if (id == "degree") p.degree = std::stoi(text);
+    else if (id == "gaze-scale") p.gaze_scale = std::stod(text);
+    else if (id == "position-scale") p.position_scale = std::stod(text);
+    else if (id == "height-reference") p.height_reference = text == "curve-mean" ? HeightReference::curve_mean : HeightReference::mid_height;
+    else if (id == "gaze-radius") p.gaze_radius = text == "scaled" ? GazeRadiusMode::scaled : GazeRadiusMode::cylinder;
+  }
+  return p;
+}
+
 PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh) {
-  PaperPathOptions paper = paper_path_options(scene.path_search);
+  PaperPathOptions paper = path_search_options(scene.path_search);
   paper.up = UpDirection{UpDirection::Kind::axis, scene.up, scene.up.vector()};
   return compute_paper_path(mesh, paper);
 }
@@ -82,7 +110,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
   }
   if (scene.path_mode == "feature-orbit") {
     FeatureOrbitOptions orbit;
-    orbit.surface = paper_path_options(scene.path_search).surface;
+    orbit.surface = path_search_options(scene.path_search).surface;
     orbit.up = scene.up;
     orbit.aspect = lens.aspect;
     const FeatureOrbitResult result = compute_feature_orbit(mesh, orbit);
@@ -197,14 +225,113 @@ PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log) {
   return tour;
 }
 
-int render_threads(int requested) {
-  if (requested > 0) return requested;
-  if (const char* slurm = std::getenv("SLURM_CPUS_PER_TASK")) {
-    char* end = nullptr;
-    const long n = std::strtol(slurm, &end, 10);
-    if (end != slurm && *end == '\0' && n >= 1 && n <= 4096) return static_cast<int>(n);
+int thread_count(int requested, bool quiet) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (requested <= 0) {
+    requested = cores;
+    if (const char* slurm = std::getenv("SLURM_CPUS_PER_TASK")) {
+      char* end = nullptr;
+      const long n = std::strtol(slurm, &end, 10);
+      if (end != slurm && *end == '\0' && n >= 1 && n <= 4096) requested = static_cast<int>(n);
+    }
   }
-  return tbb::info::default_concurrency();
+  if (requested > cores) {
+    // Results never depend on the thread count, so capping changes only speed.
+    if (!quiet)
+      std::fprintf(stderr, "meshtour: note: --threads %d capped to the %d cores of this machine (results do not depend on it)\n",
+                   requested, cores);
+    return cores;
+  }
+  return requested;
 }
 
-}  // namespace meshtour::cli
+FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& formats) {
+  FrameDirInfo info;
+  info.frame_count = scene.frames;
+  info.fps = scene.fps;
+  info.width = scene.render.width;
+  info.height = scene.render.height;
+  info.image_formats = formats;
+  info.source = scene.source;
+  if (scene.path_file) info.path_file = std::filesystem::absolute(*scene.path_file).string();
+  return info;
+}
+
+void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
+                   const std::function<void(int frame, const Image& image, double seconds)>& done) {
+  for (const int k : frames) {
+    throw_if_interrupted();  // SIGINT/SIGTERM: stop between frames; outputs never leave a temporary
+    const auto start = std::chrono::steady_clock::now();
+    const Image image = tour.render_frame(k);
+    done(k, image, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+}
+
+void render_tour_video(const Scene& scene, const TourVideoJob& job) {
+  const std::filesystem::path& output = job.output;
+  if (output.extension() != ".mp4") throw InputError(output.string() + ": the video is written as H.264 MP4; name it *.mp4");
+  const bool keep_frames = !job.frames_dir.empty();
+  const bool write_png = keep_frames && (job.format == "png" || job.format == "png+exr");
+  const bool write_exr = keep_frames && (job.format == "exr" || job.format == "png+exr");
+
+  const int threads = thread_count(job.threads, job.quiet);
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+
+  // Refuse what would not fit before allocating anything.
+  StageLog log(job.resources.verbose);
+  log.start("check");
+  check_tour_memory(scene, job.resources);
+
+  // Fail on the output before the expensive work: the encoder opens its temporary file now.
+  VideoOptions video;
+  video.width = scene.render.width;
+  video.height = scene.render.height;
+  video.fps = scene.fps;
+  video.crf = scene.crf;
+  VideoEncoder encoder(output, video);
+
+  const PreparedTour tour = prepare_tour(scene, job.quiet, &log);
+  // The frames directory and its manifest only once the tour could be prepared: a bad model or
+  // path file leaves nothing behind.
+  if (keep_frames) {
+    // The same frames directory `meshtour render` writes: `meshtour encode` can read it too.
+    std::vector<std::string> formats;
+    if (write_png) formats.push_back("png");
+    if (write_exr) formats.push_back("exr");
+    const FrameDirInfo info = frame_dir_info(scene, formats);
+    prepare_frame_dir(job.frames_dir, info);
+  }
+
+  if (!job.gltf.empty() || !job.camera_frames.empty()) {
+    const double aspect = static_cast<double>(scene.render.width) / scene.render.height;
+    const TourCameras cameras = sample_tour(*tour.path, scene.frames, tour.fov, aspect, scene.fps);
+    if (!job.gltf.empty()) write_camera_gltf(cameras, job.gltf);
+    if (!job.camera_frames.empty()) write_camera_frames(cameras, job.camera_frames);
+  }
+
+  Progress progress("frame", scene.frames, job.progress);
+  using Clock = std::chrono::steady_clock;
+  double render_seconds = 0.0, encode_seconds = 0.0;
+  std::vector<int> frames(static_cast<std::size_t>(scene.frames));
+  std::iota(frames.begin(), frames.end(), 0);
+  render_frames(tour, frames, [&](int k, const Image& image, double seconds) {
+    const auto start = Clock::now();
+    if (write_png) write_image(image, frame_file(job.frames_dir, k, "png"));
+    if (write_exr) write_image(image, frame_file(job.frames_dir, k, "exr"));
+    const auto written = Clock::now();
+    encoder.add_frame(image.to_srgb8());
+    encode_seconds += std::chrono::duration<double>(Clock::now() - written).count();
+    render_seconds += seconds + std::chrono::duration<double>(written - start).count();
+    progress.step_done(k, seconds + std::chrono::duration<double>(Clock::now() - start).count(), k + 1);
+  });
+  throw_if_interrupted();
+  log.report("render", render_seconds);
+  const auto finish_start = Clock::now();
+  encoder.finish();
+  log.report("encode", encode_seconds + std::chrono::duration<double>(Clock::now() - finish_start).count());
+  progress.finish();
+  if (!job.quiet) std::fprintf(stderr, "wrote %s (%d frames, %dx%d, %d fps)\n", output.string().c_str(), scene.frames,
+                               scene.render.width, scene.render.height, scene.fps);
+}
+
+}  // namespace meshtour

@@ -8,7 +8,7 @@
 
 #include "pathgen/paper_path.h"
 
-namespace meshtour::cli {
+namespace meshtour {
 
 /// An 8-bit RGB raster, row 0 at the top.
 struct PlotImage {
@@ -26,4 +26,4 @@ PlotImage render_path_plot(const PaperPathResult& result);
 /// \throw InputError for an extension OpenImageIO cannot write, IoError if writing fails.
 void write_plot_image(const PlotImage& image, const std::filesystem::path& file);
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

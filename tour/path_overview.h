@@ -10,7 +10,7 @@
 #include "pathgen/camera_path.h"
 #include "tracer/tracer.h"
 
-namespace meshtour::cli {
+namespace meshtour {
 
 /// A cylinder around the up axis, in model units.
 struct OverviewCylinder {
@@ -32,4 +32,4 @@ TriangleMesh overview_scene(const TriangleMesh& mesh, const CameraPath& path, co
 Image render_overview(const TriangleMesh& mesh, const CameraPath& path, const OverviewCylinder& cylinder,
                       int width = 1200, int height = 900, int samples_per_pixel = 16);
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

@@ -1,4 +1,4 @@
-#include "cli/resource_options.h"
+#include "tour/resources.h"
 
 #include <unistd.h>
 
@@ -11,7 +11,7 @@
 
 #include "core/error.h"
 
-namespace meshtour::cli {
+namespace meshtour {
 namespace {
 
 // Resident and peak resident memory of this process, bytes (0 if /proc is not there).
@@ -31,24 +31,6 @@ std::pair<double, double> resident_memory() {
 
 }  // namespace
 
-void add_resource_options(CLI::App& cmd, ResourceArgs& args) {
-  const std::string group = "Resources";
-  cmd.add_option("--max-memory", args.max_memory,
-                 "Memory the job may use, e.g. 512M or 8G (default: 75% of this machine's memory). A job whose "
-                 "estimated peak is larger is refused before it allocates anything")
-      ->type_name("SIZE")
-      ->check([](const std::string& text) -> std::string {
-        try {
-          parse_memory_size(text);
-        } catch (const InputError& e) {
-          return e.what();
-        }
-        return {};
-      })
-      ->group(group);
-  cmd.add_flag("--verbose", args.verbose, "Report the time and memory (resident, peak) of every stage on stderr")
-      ->group(group);
-}
 
 std::uint64_t parse_memory_size(const std::string& text) {
   const std::string bad = "--max-memory '" + text + "' is not a size; write e.g. 512M, 8G or 1.5T";
@@ -130,18 +112,6 @@ void check_memory(const MemoryEstimate& estimate, const MemoryBudget& budget, co
                    "G if the machine has it, or make the job smaller");
 }
 
-int capped_threads(int requested, bool quiet) {
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (requested <= 0) return cores;
-  if (requested > cores) {
-    if (!quiet)
-      std::fprintf(stderr, "meshtour: note: --threads %d capped to the %d cores of this machine (results do not depend on it)\n",
-                   requested, cores);
-    return cores;
-  }
-  return requested;
-}
-
 void StageLog::start(const std::string& name) {
   stop();
   current_ = name;
@@ -165,4 +135,4 @@ void StageLog::report_time(const std::string& name, double seconds) const {
   if (verbose_) std::fprintf(stderr, "meshtour: stage %-16s %8.3f s\n", name.c_str(), seconds);
 }
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

@@ -1,4 +1,4 @@
-#include "cli/path_overview.h"
+#include "tour/path_overview.h"
 
 #include <Eigen/Geometry>
 
@@ -10,7 +10,7 @@
 
 #include "core/error.h"
 
-namespace meshtour::cli {
+namespace meshtour {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -180,4 +180,4 @@ Image render_overview(const TriangleMesh& mesh, const CameraPath& path, const Ov
   return renderer.render(Camera::at(pose, lens.vertical_fov_deg));
 }
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

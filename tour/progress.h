@@ -4,19 +4,16 @@
 // and a summary line, so that log collectors can parse them:
 //   {"event":"frame","frame":12,"seconds":0.84,"done":3,"total":12}
 //   {"event":"summary","what":"frame","done":12,"total":12,"skipped":0,"seconds":9.6,"per_second":1.25}
-#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <string>
 
-namespace meshtour::cli {
+namespace meshtour {
 
 enum class ProgressMode { automatic, bar, json, none };
 
 /// Parses "auto", "bar", "json" or "none".
 ProgressMode parse_progress_mode(const std::string& text);
-/// Adds --progress auto|bar|json|none to `cmd`, writing into `mode` (text kept for CLI11).
-void add_progress_option(CLI::App& cmd, std::string& mode);
 
 class Progress {
 public:
@@ -43,4 +40,4 @@ private:
   std::chrono::steady_clock::time_point start_;
 };
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

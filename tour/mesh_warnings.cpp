@@ -1,10 +1,10 @@
-#include "cli/mesh_warnings.h"
+#include "tour/mesh_warnings.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-namespace meshtour::cli {
+namespace meshtour {
 
 void warn_if_flat(const TriangleMesh& mesh, const Eigen::Vector3d& up, const std::string& file) {
   const auto normal = flat_plane_normal(mesh);
@@ -17,4 +17,4 @@ void warn_if_flat(const TriangleMesh& mesh, const Eigen::Vector3d& up, const std
                file.c_str(), tilt);
 }
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

@@ -1,4 +1,4 @@
-#include "cli/path_plot.h"
+#include "tour/path_plot.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "pathgen/path_file.h"
 
-namespace meshtour::cli {
+namespace meshtour {
 namespace {
 
 using Rgb = std::array<std::uint8_t, 3>;
@@ -131,4 +131,4 @@ void write_plot_image(const PlotImage& image, const std::filesystem::path& file)
   });
 }
 
-}  // namespace meshtour::cli
+}  // namespace meshtour

@@ -1,38 +1,37 @@
 #pragma once
-// What every command that renders a tour shares (tour, render, batch, farm): the scene options,
-// how they resolve into a Scene, the camera path, the field of view, the thread count. One
-// implementation, so that a frame rendered by `render` in a farm chunk is the frame `tour` renders.
-#include <CLI/CLI.hpp>
+// The tour library: what every front end that renders a tour needs (the `meshtour` commands tour,
+// render, batch, farm, path and evaluate are thin wrappers around it): how registry values
+// resolve into a Scene, the camera path of each mode, the field of view, the memory check, the
+// thread policy, the one frame loop, the frames directory's description and the whole
+// tour-to-video job. One implementation, so that a frame rendered by `render` in a farm chunk is
+// the frame `tour` renders.
 
 #include <filesystem>
+#include <functional>
+#include <string_view>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "cli/progress.h"
-#include "options/cli_options.h"
-#include "cli/resource_options.h"
+#include "jobs/frame_dir.h"
+#include "options/option_registry.h"
+#include "tour/progress.h"
+#include "tour/resources.h"
 #include "pathgen/camera_path.h"
 #include "pathgen/paper_path.h"
 #include "scenes/scene.h"
 #include "tracer/tracer.h"
 
-namespace meshtour::cli {
+namespace meshtour {
 
-/// The options that say which tour to render: the input and every registry value the command
-/// line gave (model, size, timing, camera, look, path search, and the command's own rows).
-struct SceneArgs {
-  std::string input;  // mesh or .json scene; empty = built-in default scene
-  options::Values values;
-};
+/// The scene of `input` (a scene file, a mesh with the default scene's settings, or "" for the
+/// built-in default scene) with `values` (registry values, checked text) applied on top; a crf is
+/// checked for `codec` (the video the job makes).
+Scene resolve_scene(const std::string& input, const options::Values& values, std::string_view codec = "h264");
 
-/// Adds the INPUT positional (when `with_input`) and every registry row `command` takes to `cmd`.
-void add_scene_options(CLI::App& cmd, SceneArgs& args, options::Command command, bool with_input = true);
-
-/// The scene file (or default scene, or mesh with the default scene's settings) with the command
-/// line's values applied; a --crf is checked for `codec` (the video the command makes).
-Scene resolve_scene(const SceneArgs& args, std::string_view codec = "h264");
+/// The options of the path search (toroidal patches, cylinder, curve) that `values` set over `base`.
+PaperPathOptions path_search_options(const options::Values& values, PaperPathOptions base = {});
 
 /// A registry value of the command line, or `fallback` when it was not given.
 std::string value_or(const options::Values& values, std::string_view id, std::string fallback);
@@ -71,12 +70,22 @@ PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log = nullpt
 /// procedural model's size), the rest from the options.
 void check_tour_memory(const Scene& scene, const ResourceArgs& resources);
 
-/// Threads to render with: `requested` when > 0, else SLURM_CPUS_PER_TASK when set (a farm task
-/// must not take the whole node), else every core of the machine.
-int render_threads(int requested);
+/// The one thread policy: `requested` when > 0, else SLURM_CPUS_PER_TASK when set (a farm task
+/// must not take the whole node), else every core of the machine; capped to the machine's cores,
+/// with a note on stderr when capped (unless quiet). Results never depend on it.
+int thread_count(int requested, bool quiet);
 
-/// The tour pipeline on one machine (defined in tour_command.cpp): path, frames, and the video
-/// encoded as frames finish; also used by `batch` for every item.
+/// The frames directory of `scene` holding `formats` ("png", "exr"): the description `render`,
+/// `tour --frames-dir` and `farm` write as its manifest (so `encode` reads any of them).
+FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& formats);
+
+/// The one frame loop: renders `frames` of the tour in order, checking for an interrupt before
+/// each, and hands each image to `done` with its render time in seconds.
+void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
+                   const std::function<void(int frame, const Image& image, double seconds)>& done);
+
+/// The tour pipeline on one machine: path, frames, and the video encoded as frames finish; `tour`
+/// runs it once, `batch` for every item.
 struct TourVideoJob {
   std::filesystem::path output;      // .mp4
   std::filesystem::path frames_dir;  // also write the frames here ("" = no)
@@ -90,4 +99,4 @@ struct TourVideoJob {
 };
 void render_tour_video(const Scene& scene, const TourVideoJob& job);
 
-}  // namespace meshtour::cli
+}  // namespace meshtour
