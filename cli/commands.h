@@ -17,13 +17,6 @@ void add_batch_command(CLI::App& app);   // a manifest of meshes in, one video p
 void add_farm_command(CLI::App& app);
 void add_options_command(CLI::App& app);  // every option of every command (docs/OPTIONS.md)    // sbatch scripts for a Slurm job array + dependent encode
 
-/// Exit code of `batch` when some items failed (the others were done): main() returns it.
-inline constexpr int kSomeItemsFailedExitCode = 5;
-/// Thrown by `batch` after all items ran, when some of them failed; main() exits with
-/// kSomeItemsFailedExitCode.
-struct SomeItemsFailed : std::exception {
-  const char* what() const noexcept override { return "some batch items failed"; }
-};
 void add_evaluate_command(CLI::App& app);  // what a tour shows: coverage and smoothness per path mode
 
 }  // namespace meshtour::cli

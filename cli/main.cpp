@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "tour/batch_job.h"
 #include "core/error.h"
 
 namespace {
@@ -61,9 +62,9 @@ int main(int argc, char** argv) {
   } catch (const meshtour::RuntimeFailure& e) {
     std::cerr << "meshtour: error: " << e.what() << "\n";
     return 4;
-  } catch (const meshtour::cli::SomeItemsFailed& e) {
+  } catch (const meshtour::SomeItemsFailed& e) {
     std::cerr << "meshtour: " << e.what() << " (see the summary above)\n";
-    return meshtour::cli::kSomeItemsFailedExitCode;
+    return meshtour::kSomeItemsFailedExitCode;
   } catch (const meshtour::Interrupted&) {
     std::cerr << "meshtour: interrupted; partial outputs removed\n";
     return 130;

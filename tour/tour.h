@@ -25,12 +25,21 @@
 
 namespace meshtour {
 
+/// Which tour to render: the input (mesh or .json scene; empty = built-in default scene) and
+/// every registry value given (command line, manifest).
+struct SceneArgs {
+  std::string input;
+  options::Values values;
+};
+
 /// The scene of `input` (a scene file, a mesh with the default scene's settings, or "" for the
 /// built-in default scene) with `values` (registry values, checked text) applied on top; a crf is
 /// checked for `codec` (the video the job makes).
 Scene resolve_scene(const std::string& input, const options::Values& values, std::string_view codec = "h264");
 
 /// The options of the path search (toroidal patches, cylinder, curve) that `values` set over `base`.
+inline Scene resolve_scene(const SceneArgs& args, std::string_view codec = "h264");
+
 PaperPathOptions path_search_options(const options::Values& values, PaperPathOptions base = {});
 
 /// A registry value of the command line, or `fallback` when it was not given.
@@ -98,5 +107,7 @@ struct TourVideoJob {
   bool quiet = false;
 };
 void render_tour_video(const Scene& scene, const TourVideoJob& job);
+
+inline Scene resolve_scene(const SceneArgs& args, std::string_view codec) { return resolve_scene(args.input, args.values, codec); }
 
 }  // namespace meshtour

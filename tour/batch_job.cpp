@@ -1,0 +1,139 @@
+#include "tour/batch_job.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "jobs/batch_manifest.h"
+#include "core/interrupt.h"
+#include "tour/mesh_warnings.h"
+#include "tour/path_overview.h"
+#include "tour/path_plot.h"
+#include "tour/progress.h"
+
+namespace meshtour {
+namespace {
+
+struct ItemResult {
+  const BatchItem* item = nullptr;
+  std::string status;  // "rendered", "skipped" (video already there) or "failed"
+  double seconds = 0.0;
+  std::string error;
+};
+
+// The batch's command-line values with the item's columns on top; a column replaces the option
+// it excludes too (an item's "seconds" wins over a --frames given for the whole batch).
+SceneArgs item_scene_args(const SceneArgs& defaults, const BatchItem& item) {
+  SceneArgs a = defaults;
+  a.input = item.mesh.string();
+  for (const auto& [id, text] : item.values) {
+    const options::Option& o = options::option(id);
+    if (!o.excludes.empty()) a.values.erase(std::string(o.excludes));
+    a.values[id] = text;
+  }
+  return a;
+}
+
+ItemResult run_item(const BatchJob& args, const BatchItem& item) {
+  ItemResult r;
+  r.item = &item;
+  const auto start = std::chrono::steady_clock::now();
+  const std::filesystem::path video = std::filesystem::path(args.out_dir) / item.output;
+  std::error_code ec;
+  if (item.error.empty() && std::filesystem::is_regular_file(video, ec)) {
+    r.status = "skipped";
+    return r;
+  }
+  try {
+    if (!item.error.empty()) throw InputError(item.error);
+    if (!args.quiet) std::fprintf(stderr, "== item %d: %s -> %s\n", item.index, item.mesh.string().c_str(), video.string().c_str());
+    const Scene scene = resolve_scene(item_scene_args(args.defaults, item));
+    TourVideoJob job;
+    job.output = video;
+    job.threads = int_value_or(args.defaults.values, "threads", 0);
+    job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
+    job.quiet = args.quiet;
+    render_tour_video(scene, job);
+    r.status = "rendered";
+  } catch (const Interrupted&) {
+    throw;  // Ctrl-C stops the whole batch
+  } catch (const std::exception& e) {
+    r.status = "failed";
+    r.error = e.what();
+    std::fprintf(stderr, "meshtour batch: item %d (%s, line %d) failed: %s\n", item.index, item.mesh.string().c_str(), item.line,
+                 e.what());
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+void write_summary(const BatchJob& args, const std::vector<ItemResult>& results, const std::filesystem::path& file) {
+  nlohmann::ordered_json j;
+  j["manifest"] = std::filesystem::absolute(args.manifest).string();
+  j["out_dir"] = std::filesystem::absolute(args.out_dir).string();
+  int counts[3] = {0, 0, 0};
+  nlohmann::ordered_json items = nlohmann::json::array();
+  for (const auto& r : results) {
+    nlohmann::ordered_json i;
+    i["index"] = r.item->index;
+    i["line"] = r.item->line;
+    i["mesh"] = r.item->mesh.string();
+    i["output"] = r.item->output;
+    i["status"] = r.status;
+    i["seconds"] = r.seconds;
+    if (!r.error.empty()) i["error"] = r.error;
+    items.push_back(std::move(i));
+    counts[r.status == "rendered" ? 0 : r.status == "skipped" ? 1 : 2]++;
+  }
+  j["rendered"] = counts[0];
+  j["skipped"] = counts[1];
+  j["failed"] = counts[2];
+  j["items"] = std::move(items);
+  const std::string text = j.dump(2) + "\n";
+  write_text_file_atomically(file, text, "batch summary");
+}
+
+void print_table(const std::vector<ItemResult>& results) {
+  std::printf("%-5s %-9s %8s  %-28s %s\n", "item", "status", "seconds", "output", "mesh / error");
+  int failed = 0, rendered = 0, skipped = 0;
+  for (const auto& r : results) {
+    std::printf("%-5d %-9s %8.1f  %-28s %s\n", r.item->index, r.status == "failed" ? "FAILED" : r.status.c_str(), r.seconds,
+                r.item->output.c_str(), r.error.empty() ? r.item->mesh.string().c_str() : r.error.c_str());
+    failed += r.status == "failed";
+    rendered += r.status == "rendered";
+    skipped += r.status == "skipped";
+  }
+  std::printf("%zu items: %d rendered, %d skipped (video already there), %d failed\n", results.size(), rendered, skipped, failed);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+void run_batch(const BatchJob& args) {
+  install_interrupt_handlers();
+  const std::vector<BatchItem> items = read_batch_manifest(args.manifest);
+  if (args.item && (*args.item < 0 || *args.item >= static_cast<int>(items.size())))
+    throw InputError("--item " + std::to_string(*args.item) + ": the manifest has items 0.." + std::to_string(items.size() - 1));
+  std::error_code ec;
+  std::filesystem::create_directories(args.out_dir, ec);
+  if (ec) throw IoError(args.out_dir + ": cannot create the output directory: " + ec.message());
+
+  std::vector<ItemResult> results;
+  for (const auto& item : items) {
+    if (args.item && item.index != *args.item) continue;
+    results.push_back(run_item(args, item));
+  }
+  print_table(results);
+  // One summary per farm task (--item), so that concurrent tasks never write the same file.
+  const std::string name = args.item ? "batch-summary-" + std::to_string(*args.item) + ".json" : "batch-summary.json";
+  write_summary(args, results, std::filesystem::path(args.out_dir) / name);
+  for (const auto& r : results)
+    if (r.status == "failed") throw SomeItemsFailed();
+}
+
+}  // namespace meshtour

@@ -1,0 +1,31 @@
+#pragma once
+// The evaluate job of `meshtour evaluate`: what a tour shows. Builds the same cameras `meshtour tour` would render
+// (path mode, framing, field of view) and measures them with item buffers (evaluate/evaluate.h).
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tour/encode_frames.h"
+#include "tour/resources.h"
+#include "evaluate/evaluate.h"
+#include "tour/tour.h"
+
+namespace meshtour {
+
+struct EvaluateJob {
+  SceneArgs scene;  // the mesh and the tour's registry options (size, frames, camera, path search)
+  std::string json;
+  bool compare = false;
+  bool quiet = false;
+  double feature_quantile = 0.75;
+  EvaluationOptions evaluation;
+};
+
+/// Runs the job: throws meshtour errors (InputError, IoError, ...) with one-line messages, and
+/// Interrupted after SIGINT/SIGTERM, leaving no partial output behind.
+/// Runs the job: throws meshtour errors (InputError, IoError, ...) with one-line messages, and
+/// Interrupted after SIGINT/SIGTERM, leaving no partial output behind.
+void run_evaluate(EvaluateJob& a);
+
+}  // namespace meshtour

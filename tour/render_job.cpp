@@ -1,0 +1,75 @@
+#include "tour/render_job.h"
+
+#include <tbb/global_control.h>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include "core/error.h"
+#include "jobs/frame_dir.h"
+#include "jobs/frame_range.h"
+#include "core/interrupt.h"
+#include "tour/mesh_warnings.h"
+#include "tour/path_overview.h"
+#include "tour/path_plot.h"
+#include "tour/progress.h"
+
+namespace meshtour {
+namespace {
+
+std::vector<std::string> formats_of(const std::string& format) {
+  if (format == "png+exr") return {"png", "exr"};
+  return {format};
+}
+
+}  // namespace
+
+void run_render(const RenderJob& args) {
+  install_interrupt_handlers();
+  const Scene scene = resolve_scene(args.scene);
+  const std::filesystem::path dir = args.out_dir;
+  const options::Values& values = args.scene.values;
+  const std::vector<int> selected = parse_frame_range(value_or(values, "frame-selection", "all"), scene.frames);
+  const std::vector<std::string> formats = formats_of(value_or(values, "format", "png"));
+
+  const FrameDirInfo info = frame_dir_info(scene, formats);
+  prepare_frame_dir(dir, info);
+
+  // A frame is done when every format of it exists: files appear under a frame name only when
+  // complete (written under a temporary name, then renamed), so existing means complete.
+  std::vector<int> todo;
+  for (const int k : selected) {
+    bool done = !args.overwrite;
+    for (const auto& f : formats) done = done && missing_frames(dir, {k}, f).empty();
+    if (!done) todo.push_back(k);
+  }
+  const int skipped = static_cast<int>(selected.size() - todo.size());
+  if (!args.quiet)
+    std::fprintf(stderr, "frames %s of %d: %zu to render, %d already there\n",
+                 selected.empty() ? "(none)" : format_frame_range(selected).c_str(), scene.frames, todo.size(), skipped);
+  const ProgressMode mode = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
+  if (todo.empty()) {  // nothing to do: not even the model is loaded
+    Progress("frame", 0, mode).finish(skipped);
+    return;
+  }
+
+  const int threads = thread_count(int_value_or(values, "threads", 0), args.quiet);
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", threads);
+  StageLog log(args.resources.verbose);
+  log.start("check");
+  check_tour_memory(scene, args.resources);
+  const PreparedTour tour = prepare_tour(scene, args.quiet, &log);
+
+  Progress progress("frame", static_cast<int>(todo.size()), mode);  // from here: frames/s are rendering only
+
+  int done = 0;
+  render_frames(tour, todo, [&](int k, const Image& image, double seconds) {
+    for (const auto& f : formats) write_image(image, frame_file(dir, k, f));
+    progress.step_done(k, seconds, ++done);
+  });
+  progress.finish(skipped);
+}
+
+}  // namespace meshtour
