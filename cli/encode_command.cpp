@@ -74,7 +74,7 @@ void add_encode_command(CLI::App& app) {
       "name only when complete; Ctrl-C or SIGTERM removes the partial file (exit 130). The same frames and\n"
       "options always give the same file, byte for byte: the encoders' settings and thread counts are fixed.\n\n" +
       codec_table() +
-      "\n--crf (lower is better, bigger files): h264 0..51, default 18 (looks lossless); vp9 0..63, default 31.\n"
+      "\n--crf (lower is better, bigger files): " + options::codec_ranges_text(options::option("crf")) + ".\n"
       "prores (fixed 422 HQ quality), ffv1 (lossless) and gif (256 colours) refuse --crf.\n\n"
       "EXR frames are linear light: they get the display transform of the PNG frames (exposure and tone\n"
       "curve, recorded in each EXR's header by meshtour; --exposure and --tone-mapping override it), so a\n"

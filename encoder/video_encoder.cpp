@@ -36,17 +36,15 @@ namespace fs = std::filesystem;
 
 constexpr std::array<VideoCodecInfo, 5> kCodecs = {{
     {VideoCodec::h264, "h264", ".mp4", "MP4", "H.264 High, 8-bit 4:2:0, BT.709",
-     "sharing, players, browsers (the default)", false, true, 0, 51, 18, true},
+     "sharing, players, browsers (the default)", false, true},
     {VideoCodec::prores, "prores", ".mov", "QuickTime MOV", "ProRes 422 HQ, 10-bit 4:2:2, BT.709",
-     "editing (Final Cut, Resolve, Premiere); visually lossless, large", false, false, 0, 0, 0, true},
+     "editing (Final Cut, Resolve, Premiere); visually lossless, large", false, true},
     {VideoCodec::ffv1, "ffv1", ".mkv", "Matroska MKV", "FFV1 level 3, 8-bit RGB, intra only",
-     "archives: decodes to exactly the frames given", true, false, 0, 0, 0, false},
+     "archives: decodes to exactly the frames given", true, false},
     {VideoCodec::vp9, "vp9", ".webm", "WebM", "VP9 profile 0, 8-bit 4:2:0, BT.709",
-     "web pages (HTML5 <video>); smaller than H.264 at the same quality, slower", false, true, 0, 63, 31,
-     true},
+     "web pages (HTML5 <video>); smaller than H.264 at the same quality, slower", false, true},
     {VideoCodec::gif, "gif", ".gif", "GIF", "animated GIF, one 256-colour palette per clip, dithered",
-     "previews where video cannot play (e-mail, READMEs); short, small clips only", false, false, 0, 0, 0,
-     false},
+     "previews where video cannot play (e-mail, READMEs); short, small clips only", false, false},
 }};
 
 // Muxers that write random or run-dependent fields (Matroska's segment UID) or version strings
@@ -170,16 +168,17 @@ void validate(const fs::path& output, const VideoOptions& o) {
                      " pixels a side (3840x2160 or less plays everywhere)");
   if (o.fps < 1 || o.fps > 240)
     throw InputError("video frame rate " + std::to_string(o.fps) + " is out of range; use 1..240 fps");
-  if (o.crf && !info.takes_crf)
+  const std::optional<options::CodecRange> crf = crf_range(o.codec);
+  if (o.crf && !crf)
     throw InputError(std::string("crf does not apply to ") + codec +
                      (info.lossless ? " (it is lossless)" : o.codec == VideoCodec::prores
                                                                 ? " (ProRes 422 HQ has a fixed quality)"
                                                                 : " (its quality is set by the 256-colour palette)") +
                      "; leave it out, or use h264 or vp9 for a crf");
-  if (o.crf && (*o.crf < info.crf_min || *o.crf > info.crf_max))
+  if (o.crf && (*o.crf < crf->lo || *o.crf > crf->hi))
     throw InputError("video crf " + std::to_string(*o.crf) + " is out of range for " + codec + "; use " +
-                     std::to_string(info.crf_min) + " (best) .. " + std::to_string(info.crf_max) +
-                     " (worst), default " + std::to_string(info.crf_default) +
+                     std::to_string(crf->lo) + " (best) .. " + std::to_string(crf->hi) +
+                     " (worst), default " + std::to_string(crf->fallback) +
                      (o.codec == VideoCodec::h264 ? " (visually lossless)" : ""));
   bool known = false;
   for (auto p : kPresets) known = known || p == o.preset;
@@ -274,6 +273,12 @@ AVPixelFormat encoder_pixel_format(VideoCodec codec) {
 
 std::span<const VideoCodecInfo> video_codecs() { return kCodecs; }
 
+std::optional<options::CodecRange> crf_range(VideoCodec codec) {
+  const options::CodecRange r = options::codec_range(options::option("crf"), video_codec_info(codec).name);
+  if (r.lo == 0 && r.hi == 0) return std::nullopt;
+  return r;
+}
+
 const VideoCodecInfo& video_codec_info(VideoCodec codec) {
   for (const auto& info : kCodecs)
     if (info.codec == codec) return info;
@@ -333,8 +338,8 @@ struct VideoEncoder::Impl {
   // Codec-specific settings. Thread counts are fixed constants, never "auto": the bytes must not
   // depend on the machine's core count.
   void configure_codec(const AVCodec* encoder) {
-    const VideoCodecInfo& info = video_codec_info(options.codec);
-    const int crf = options.crf.value_or(info.crf_default);
+    const std::optional<options::CodecRange> range = crf_range(options.codec);
+    const int crf = options.crf.value_or(range ? range->fallback : 0);
     const bool yuv = options.codec != VideoCodec::ffv1 && options.codec != VideoCodec::gif;
     if (yuv) {
       // The renderer writes sRGB; tagging BT.709 (limited range) and converting with the same

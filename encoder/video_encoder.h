@@ -10,7 +10,10 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <optional>
 #include <span>
+
+#include "options/option_registry.h"
 #include <string>
 #include <string_view>
 
@@ -27,10 +30,12 @@ struct VideoCodecInfo {
   std::string_view format;       ///< what is stored: "H.264 High, yuv420p BT.709, crf"
   std::string_view use;          ///< what it is good for
   bool lossless;                 ///< decodes to exactly the frames given
-  bool takes_crf;                ///< whether VideoOptions::crf applies
-  int crf_min, crf_max, crf_default;  ///< when takes_crf
   bool needs_even_size;          ///< chroma subsampling: width and height must be even
 };
+
+/// The CRF range and default of `codec`, as the option registry's "crf" row gives them (the one
+/// place they are written), or nullopt when the codec takes no CRF.
+std::optional<options::CodecRange> crf_range(VideoCodec codec);
 
 /// The codecs, in help-text order (h264 first: the default).
 std::span<const VideoCodecInfo> video_codecs();

@@ -21,7 +21,8 @@ std::string type_name(const Option& o) {
 
 CLI::Option* add_one(CLI::App& cmd, Command command, const Option& o, Values& values) {
   const std::string flag(o.flag_in(command));
-  const std::string help(o.help);
+  // A codec-dependent range is written once, in the row's codec_ranges; the help shows it.
+  const std::string help = o.codec_ranges.empty() ? std::string(o.help) : std::string(o.help) + " (" + codec_ranges_text(o) + ")";
   const std::string id(o.id);
   if (o.kind == Kind::flag) {
     CLI::Option* f = cmd.add_flag_callback(flag, [&values, id] { values[id] = "true"; }, help);

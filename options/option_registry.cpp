@@ -91,9 +91,8 @@ std::vector<Option> make_registry() {
        .commands = kRendering, .farm = kToTasks});
   // ---- Video
   add({.id = "crf", .flag = "--crf", .kind = Kind::integer, .lo = 0, .hi = 63,
-       .help = "Video quality (CRF), lower is better: h264 0..51 (default 18; 18 looks lossless, 23 is x264's default,\n"
-               "0 is lossless but High 4:4:4, which browsers do not play), vp9 0..63 (default 31); prores, ffv1 and gif\n"
-               "take none",
+       .help = "Video quality (CRF), lower is better; the range and default are the codec's. h264: 18 looks lossless,\n"
+               "23 is x264's default, 0 is lossless but High 4:4:4, which browsers do not play; prores, ffv1 and gif take none",
        .scene_key = "output.crf", .manifest_column = true, .commands = tour | batch | farm | encode,
        .farm = encode_job | batch_tasks, .codec_ranges = {{"h264", 0, 51, 18}, {"vp9", 0, 63, 31}}});
   add({.id = "codec", .flag = "--codec", .kind = Kind::choice, .choices = {"h264", "prores", "ffv1", "vp9", "gif"},
@@ -366,6 +365,14 @@ Target target(const Option& o) {
   if (o.scene_key.starts_with("patches.") || o.scene_key.starts_with("paper.")) return Target::path_search;
   if (!o.scene_key.empty()) return Target::scene;
   return Target::command;
+}
+
+std::string codec_ranges_text(const Option& o) {
+  std::string text;
+  for (const CodecRange& c : o.codec_ranges)
+    text += (text.empty() ? "" : "; ") + std::string(c.codec) + " " + std::to_string(c.lo) + ".." + std::to_string(c.hi) +
+            ", default " + std::to_string(c.fallback);
+  return text;
 }
 
 CodecRange codec_range(const Option& o, std::string_view codec) {

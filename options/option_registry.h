@@ -96,6 +96,8 @@ std::string normalize_value(const Option& o, const std::string& text);
 /// check_value, and for a codec-dependent option also the codec's own range ("must be between 0
 /// and 51 for h264, got 60").
 std::string check_value_for_codec(const Option& o, const std::string& text, std::string_view codec);
+/// "h264 0..51, default 18; vp9 0..63, default 31" for a codec-dependent option ("" otherwise).
+std::string codec_ranges_text(const Option& o);
 /// Range of a codec-dependent option for `codec` ({0,0,0} when the codec has none).
 CodecRange codec_range(const Option& o, std::string_view codec);
 
