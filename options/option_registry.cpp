@@ -121,6 +121,12 @@ std::vector<Option> make_registry() {
        .help = "Patch tolerance epsilon: largest distance between a face and the torus of its patch, "
                "in units of the model's bounding-box diagonal. Smaller = more, smaller patches",
        .scene_key = "patches.tolerance", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "tolerance-unit", .flag = "--tolerance-unit", .kind = Kind::choice,
+       .choices = {"diagonal", "box-extent", "box-half-extent"}, .ignore_case = true, .default_text = "diagonal",
+       .help = "The length --tolerance is a fraction of (I-34, docs/FIDELITY.md): the bounding-box diagonal "
+               "(the specification), its largest side, or half of it (the model scaled into the cube [-1, 1]^3)",
+       .scene_key = "patches.tolerance_unit", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
+       .group = kPatches});
   add({.id = "smoothing", .flag = "--smoothing", .kind = Kind::choice, .choices = {"implicit", "none", "taubin", "pmp-default"},
        .ignore_case = true, .default_text = "implicit",
        .help = "Smoothing before curvature estimation (I-2, I-3): implicit = one backward-Euler "
@@ -141,11 +147,26 @@ std::vector<Option> make_registry() {
        .help = "Smallest curvature magnitude used for a torus, per diagonal (I-9): flat and "
                "cylindrical points get radii up to 1/kappa-min",
        .scene_key = "patches.kappa_min", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
-  add({.id = "face-samples", .flag = "--face-samples", .kind = Kind::choice, .choices = {"seven", "vertices"},
+  add({.id = "face-samples", .flag = "--face-samples", .kind = Kind::choice, .choices = {"seven", "vertices", "edges-4"},
        .ignore_case = true, .default_text = "seven",
        .help = "Points of a face tested against a torus (I-11): seven = corners, edge midpoints "
-               "and centroid; vertices = the 3 corners",
+               "and centroid; vertices = the 3 corners; edges-4 = seven plus the quarter points of every edge (I-32)",
        .scene_key = "patches.face_samples", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "patch-measure", .flag = "--patch-measure", .kind = Kind::choice,
+       .choices = {"geometric", "algebraic", "algebraic-normalized"}, .ignore_case = true, .default_text = "geometric",
+       .help = "What a face's distance to a torus is, against --tolerance (I-30, docs/FIDELITY.md): geometric (the "
+               "Euclidean distance), algebraic (the implicit equation's value |d^2 - r^2|) or algebraic-normalized "
+               "(that value over its gradient)",
+       .scene_key = "patches.measure", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
+  add({.id = "patch-normal-angle", .flag = "--patch-normal-angle", .kind = Kind::number, .lo = 0, .hi = 90,
+       .default_text = "0",
+       .help = "Also require a face's normal within this many degrees of its torus's normal (I-31); 0 = distance only",
+       .scene_key = "patches.normal_angle", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
+       .group = kPatches});
+  add({.id = "patches-on-unsmoothed", .flag = "--patches-on-unsmoothed", .kind = Kind::flag,
+       .help = "Test faces against the tori on the unsmoothed surface (the tori still come from the smoothed one) (I-33)",
+       .scene_key = "patches.on_unsmoothed", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
+       .group = kPatches});
   add({.id = "seed-order", .flag = "--seed-order", .kind = Kind::choice, .choices = {"best-fit-first", "index"},
        .ignore_case = true, .default_text = "best-fit-first",
        .help = "Order in which vertices start patches (I-10): best-fit-first (independent of the "

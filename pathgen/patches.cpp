@@ -38,6 +38,21 @@ struct Leftover {
   std::uint32_t vertex = 0;
 };
 
+// I-34: the chosen unit in the normalized frame, where the diagonal of the bounding box is 1.
+double tolerance_unit_length(const std::vector<Eigen::Vector3d>& positions, ToleranceUnit unit) {
+  if (unit == ToleranceUnit::diagonal || positions.empty()) return 1.0;
+  Eigen::Vector3d lo = positions.front(), hi = positions.front();
+  for (const Eigen::Vector3d& p : positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Eigen::Vector3d extent = hi - lo;
+  const double diagonal = extent.norm();
+  if (!(diagonal > 0.0)) return 1.0;
+  const double side = extent.maxCoeff() / diagonal;
+  return unit == ToleranceUnit::box_extent ? side : side / 2.0;
+}
+
 }  // namespace
 
 std::vector<Torus> vertex_tori(const SurfaceMesh& mesh, const std::vector<VertexDifferential>& differential,
@@ -85,14 +100,16 @@ std::vector<std::uint32_t> best_fit_first_order(const SurfaceMesh& mesh, const s
 }
 
 Decomposition decompose(const SurfaceMesh& mesh, const std::vector<Torus>& tori, const std::vector<std::uint32_t>& seed_order,
-                        const std::vector<std::uint32_t>& phase_a_seeds, const SurfaceOptions& options) {
+                        const std::vector<std::uint32_t>& phase_a_seeds, const SurfaceOptions& options,
+                        const std::vector<Eigen::Vector3d>* test_positions) {
   const std::size_t F = mesh.face_count();
-  const double eps = options.tolerance;
-  const FaceSamples samples = options.face_samples;
-  const auto& P = mesh.positions;
+  const double eps = options.tolerance * tolerance_unit_length(mesh.positions, options.tolerance_unit);
+  const PatchTest test{options.face_samples, options.patch_measure, options.patch_normal_angle_deg};
+  // The surface the faces are tested on (I-33: the unsmoothed one, in the tori's frame).
+  const auto& P = test_positions ? *test_positions : mesh.positions;
   const auto within = [&](std::size_t f, const Torus& torus) {
     const auto& t = mesh.triangles[f];
-    return face_within(torus, P[t[0]], P[t[1]], P[t[2]], samples, eps);
+    return face_within(torus, P[t[0]], P[t[1]], P[t[2]], test, eps);
   };
 
   Decomposition out;
@@ -149,7 +166,7 @@ Decomposition decompose(const SurfaceMesh& mesh, const std::vector<Torus>& tori,
       if (pid[f] >= 0) continue;
       const auto& t = mesh.triangles[f];
       for (std::uint32_t u : t) {
-        double d = face_torus_distance(tori[u], P[t[0]], P[t[1]], P[t[2]], samples);
+        double d = face_torus_distance(tori[u], P[t[0]], P[t[1]], P[t[2]], test);
         if (std::isnan(d)) d = std::numeric_limits<double>::infinity();
         if (d < best[f].distance || (d == best[f].distance && rank[u] < best[f].rank)) best[f] = {d, rank[u], u};
       }

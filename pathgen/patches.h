@@ -28,7 +28,9 @@ struct Decomposition {
 
 /// §7.3–§7.4. `seed_order` lists the vertices in seed order (its ranks also break Phase-B ties);
 /// `phase_a_seeds`, if not empty, replaces it as the list Phase A visits (test hook).
+/// `test_positions`, when given, are the vertex positions the faces are tested at (I-33).
 Decomposition decompose(const SurfaceMesh& mesh, const std::vector<Torus>& tori, const std::vector<std::uint32_t>& seed_order,
-                        const std::vector<std::uint32_t>& phase_a_seeds, const SurfaceOptions& options);
+                        const std::vector<std::uint32_t>& phase_a_seeds, const SurfaceOptions& options,
+                        const std::vector<Eigen::Vector3d>* test_positions = nullptr);
 
 }  // namespace meshtour::surface_detail

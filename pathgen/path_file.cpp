@@ -32,6 +32,10 @@ OrderedJson surface_options_json(const SurfaceOptions& s) {
   j["curvature_fit"] = to_string(s.curvature_fit);
   j["kappa_min"] = s.kappa_min;
   j["face_samples"] = to_string(s.face_samples);
+  j["tolerance_unit"] = to_string(s.tolerance_unit);
+  j["patch_measure"] = to_string(s.patch_measure);
+  j["patch_normal_angle"] = s.patch_normal_angle_deg;
+  j["patches_on_unsmoothed"] = s.patches_on_unsmoothed;
   j["seed_order"] = to_string(s.seed_order);
   j["leftovers"] = to_string(s.leftovers);
   j["keep_inaccurate_patches"] = s.keep_inaccurate_patches;

@@ -46,8 +46,17 @@ constexpr std::array<std::pair<const char*, SmoothingMethod>, 4> kSmoothingNames
                                                                                   {"pmp-default", SmoothingMethod::pmp_default}}};
 constexpr std::array<std::pair<const char*, CurvatureFit>, 2> kFitNames{{{"cubic", CurvatureFit::cubic},
                                                                          {"quadratic", CurvatureFit::quadratic}}};
-constexpr std::array<std::pair<const char*, FaceSamples>, 2> kSampleNames{{{"seven", FaceSamples::seven},
-                                                                           {"vertices", FaceSamples::vertices}}};
+constexpr std::array<std::pair<const char*, FaceSamples>, 3> kSampleNames{{{"seven", FaceSamples::seven},
+                                                                           {"vertices", FaceSamples::vertices},
+                                                                           {"edges-4", FaceSamples::edges4}}};
+constexpr std::array<std::pair<const char*, ToleranceUnit>, 3> kToleranceUnitNames{
+    {{"diagonal", ToleranceUnit::diagonal},
+     {"box-extent", ToleranceUnit::box_extent},
+     {"box-half-extent", ToleranceUnit::box_half_extent}}};
+constexpr std::array<std::pair<const char*, PatchMeasure>, 3> kMeasureNames{
+    {{"geometric", PatchMeasure::geometric},
+     {"algebraic", PatchMeasure::algebraic},
+     {"algebraic-normalized", PatchMeasure::algebraic_normalized}}};
 constexpr std::array<std::pair<const char*, SeedOrder>, 2> kSeedNames{{{"best-fit-first", SeedOrder::best_fit_first},
                                                                        {"index", SeedOrder::index}}};
 constexpr std::array<std::pair<const char*, LeftoverMode>, 2> kLeftoverNames{{{"single", LeftoverMode::single},
@@ -109,6 +118,7 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
   }
   Eigen::Vector3d center1, center2 = Eigen::Vector3d::Zero();
   double diagonal1 = 1.0, diagonal2 = 1.0;
+  std::vector<Eigen::Vector3d> unsmoothed;  // I-33 only
   std::size_t zero_area = 0;
   bool repeat = true;
   while (repeat) {
@@ -124,10 +134,13 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
 
     // §4: smoothing, then the second normalization (I-1). `none` leaves the positions untouched.
     if (options.smoothing != SmoothingMethod::none) {
+      if (options.patches_on_unsmoothed) unsmoothed = mesh.positions;
       const SmoothingResult s = smooth(mesh, options, result.mean_edge_length);
       result.smoothing_dt = s.dt;
       result.smoothing_iterations = s.iterations;
       std::tie(center2, diagonal2) = normalize_positions(mesh.positions);
+      // I-33: the unsmoothed surface in the smoothed surface's frame, where the tori live.
+      for (auto& p : unsmoothed) p = (p - center2) / diagonal2;
     }
     wait_for_check();
     if (!refused.empty()) {
@@ -193,7 +206,7 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
       forced_seeds.push_back(static_cast<std::uint32_t>(cleaned[v]));
     }
   }
-  Decomposition d = decompose(mesh, result.vertex_torus, order, forced_seeds, options);
+  Decomposition d = decompose(mesh, result.vertex_torus, order, forced_seeds, options, unsmoothed.empty() ? nullptr : &unsmoothed);
   result.face_patch = std::move(d.face_patch);
   result.patches = std::move(d.patches);
   result.patch_count = static_cast<int>(result.patches.size());
@@ -219,12 +232,16 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
 std::string to_string(SmoothingMethod value) { return enum_name(value, kSmoothingNames); }
 std::string to_string(CurvatureFit value) { return enum_name(value, kFitNames); }
 std::string to_string(FaceSamples value) { return enum_name(value, kSampleNames); }
+std::string to_string(ToleranceUnit value) { return enum_name(value, kToleranceUnitNames); }
+std::string to_string(PatchMeasure value) { return enum_name(value, kMeasureNames); }
 std::string to_string(SeedOrder value) { return enum_name(value, kSeedNames); }
 std::string to_string(LeftoverMode value) { return enum_name(value, kLeftoverNames); }
 std::string to_string(WeightNeighbourhood value) { return enum_name(value, kWeightNames); }
 SmoothingMethod parse_smoothing_method(std::string_view text) { return parse_enum(text, "smoothing method", kSmoothingNames); }
 CurvatureFit parse_curvature_fit(std::string_view text) { return parse_enum(text, "curvature fit", kFitNames); }
 FaceSamples parse_face_samples(std::string_view text) { return parse_enum(text, "face sample set", kSampleNames); }
+ToleranceUnit parse_tolerance_unit(std::string_view text) { return parse_enum(text, "tolerance unit", kToleranceUnitNames); }
+PatchMeasure parse_patch_measure(std::string_view text) { return parse_enum(text, "patch measure", kMeasureNames); }
 SeedOrder parse_seed_order(std::string_view text) { return parse_enum(text, "seed order", kSeedNames); }
 LeftoverMode parse_leftover_mode(std::string_view text) { return parse_enum(text, "leftover mode", kLeftoverNames); }
 WeightNeighbourhood parse_weight_neighbourhood(std::string_view text) {

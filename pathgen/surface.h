@@ -39,6 +39,10 @@ enum class LeftoverMode {
   grow,    ///< `grow-leftovers`: Phase-A growth from the leftover face, in ascending face order
 };
 /// §8: which faces around f count toward w(f) (I-15).
+/// I-34: the length ε is a fraction of. The specification normalizes to a unit bounding-box diagonal;
+/// much geometry code instead scales a model into the cube [-1, 1]³ (largest half-side 1).
+enum class ToleranceUnit { diagonal, box_extent, box_half_extent };
+
 enum class WeightNeighbourhood {
   vertex_3_ring,  ///< faces touching the vertex 2-ring of f, R5 (default)
   vertex_2_ring,  ///< faces sharing a vertex with a face that shares a vertex with f, R1
@@ -47,14 +51,18 @@ enum class WeightNeighbourhood {
 
 std::string to_string(SmoothingMethod value);  ///< "implicit", "none", "taubin", "pmp-default"
 std::string to_string(CurvatureFit value);     ///< "cubic", "quadratic"
-std::string to_string(FaceSamples value);      ///< "seven", "vertices"
+std::string to_string(ToleranceUnit value);    ///< "diagonal", "box-extent", "box-half-extent"
+std::string to_string(FaceSamples value);      ///< "seven", "vertices", "edges-4"
+std::string to_string(PatchMeasure value);     ///< "geometric", "algebraic", "algebraic-normalized"
 std::string to_string(SeedOrder value);        ///< "best-fit-first", "index"
 std::string to_string(LeftoverMode value);     ///< "single", "grow-leftovers"
 std::string to_string(WeightNeighbourhood value);  ///< "vertex-3-ring", "vertex-2-ring", "edge-2-ring"
 /// Inverses of to_string. \throw InputError naming the accepted values.
 SmoothingMethod parse_smoothing_method(std::string_view text);
 CurvatureFit parse_curvature_fit(std::string_view text);
+ToleranceUnit parse_tolerance_unit(std::string_view text);
 FaceSamples parse_face_samples(std::string_view text);
+PatchMeasure parse_patch_measure(std::string_view text);
 SeedOrder parse_seed_order(std::string_view text);
 LeftoverMode parse_leftover_mode(std::string_view text);
 WeightNeighbourhood parse_weight_neighbourhood(std::string_view text);
@@ -71,12 +79,16 @@ struct VertexDifferential {
 
 /// Options of §3–§8 (defaults as in ALGORITHM.md §2).
 struct SurfaceOptions {
-  double tolerance = 1e-3;  ///< ε, normalized units (> 0; +infinity allowed)
+  double tolerance = 1e-3;  ///< ε, in `tolerance_unit`s (> 0; +infinity allowed)
+  ToleranceUnit tolerance_unit = ToleranceUnit::diagonal;  ///< I-34 (docs/FIDELITY.md)
   SmoothingMethod smoothing = SmoothingMethod::implicit;
   double smoothing_strength = 1.0;  ///< c_s of dt = c_s·ē² (implicit only)
   CurvatureFit curvature_fit = CurvatureFit::cubic;
   double kappa_min = 1e-6;  ///< curvature clamp of §6.2 (I-9)
   FaceSamples face_samples = FaceSamples::seven;
+  PatchMeasure patch_measure = PatchMeasure::geometric;  ///< I-30 (docs/FIDELITY.md)
+  double patch_normal_angle_deg = 0.0;                   ///< I-31: 0 = distance only
+  bool patches_on_unsmoothed = false;                    ///< I-33: test faces on the unsmoothed surface
   SeedOrder seed_order = SeedOrder::best_fit_first;
   LeftoverMode leftovers = LeftoverMode::single;
   /// I-14 alternative: a leftover face whose best vertex torus misses ε keeps that (inaccurate)

@@ -49,8 +49,11 @@ void check_decomposition(const SurfaceAnalysis& s, const SurfaceOptions& o) {
     ++size[p];
     const auto& t = s.triangles[f];
     const PatchRecord& patch = s.patches[p];
-    if (patch.accurate) {
-      ASSERT_LE(face_torus_distance(patch.torus, s.positions[t[0]], s.positions[t[1]], s.positions[t[2]], o.face_samples), o.tolerance)
+    // The accuracy of a patch is checked where the test ran on these positions with ε in diagonal
+    // units (I-33 tests other positions; I-34 scales ε: ToleranceUnitScalesEpsilonByTheBoxSide).
+    if (patch.accurate && !o.patches_on_unsmoothed && o.tolerance_unit == ToleranceUnit::diagonal) {
+      const PatchTest test{o.face_samples, o.patch_measure, o.patch_normal_angle_deg};
+      ASSERT_LE(face_torus_distance(patch.torus, s.positions[t[0]], s.positions[t[1]], s.positions[t[2]], test), o.tolerance)
           << "face " << f << " patch " << p;
     }
   }
@@ -115,7 +118,7 @@ std::vector<VertexDifferential> sphere_data(const TriangleMesh& m) {
 
 TEST(PathgenSurfacePatches, DecompositionInvariantsHoldForEveryOption) {
   const TriangleMesh m = bumpy_sphere(4, 0.002);
-  std::vector<SurfaceOptions> variants(6);
+  std::vector<SurfaceOptions> variants(11);
   variants[1].face_samples = FaceSamples::vertices;
   variants[2].seed_order = SeedOrder::index;
   variants[3].leftovers = LeftoverMode::grow;
@@ -123,6 +126,13 @@ TEST(PathgenSurfacePatches, DecompositionInvariantsHoldForEveryOption) {
   variants[4].tolerance = 1e-4;
   variants[5].smoothing = SmoothingMethod::none;
   variants[5].tolerance = 1e-4;
+  // The patch-test hypotheses of docs/FIDELITY.md (I-30..I-34).
+  variants[6].patch_measure = PatchMeasure::algebraic;
+  variants[7].patch_measure = PatchMeasure::algebraic_normalized;
+  variants[8].patch_normal_angle_deg = 10.0;
+  variants[8].face_samples = FaceSamples::edges4;
+  variants[9].patches_on_unsmoothed = true;
+  variants[10].tolerance_unit = ToleranceUnit::box_half_extent;
   for (std::size_t i = 0; i < variants.size(); ++i) {
     SCOPED_TRACE("variant " + std::to_string(i));
     const SurfaceAnalysis s = analyze_surface(m, variants[i]);
@@ -220,6 +230,38 @@ TEST(PathgenSurfacePatches, PatchesPlusOrphansDoNotIncreaseWithTheTolerance) {
     EXPECT_LE(s.patch_count + s.orphans, previous) << "eps " << eps;
     previous = s.patch_count + s.orphans;
   }
+}
+
+// I-34: a tolerance in another unit is the same test as the diagonal-unit tolerance scaled by that
+// unit's length (normalization is a similarity, so the ratio can be taken on the input).
+TEST(PathgenSurfacePatches, ToleranceUnitScalesEpsilonByTheBoxSide) {
+  const TriangleMesh m = bumpy_sphere(4, 0.002);
+  const Bounds b = m.bounds();
+  const double side = (b.hi - b.lo).maxCoeff() / b.diagonal();
+  SurfaceOptions half = no_smoothing(), extent = no_smoothing(), plain_half = no_smoothing(), plain_extent = no_smoothing();
+  half.tolerance_unit = ToleranceUnit::box_half_extent;
+  extent.tolerance_unit = ToleranceUnit::box_extent;
+  plain_half.tolerance = 1e-3 * side / 2.0;
+  plain_extent.tolerance = 1e-3 * side;
+  const SurfaceAnalysis h = analyze_surface(m, half), e = analyze_surface(m, extent);
+  EXPECT_EQ(h.face_patch, analyze_surface(m, plain_half).face_patch);
+  EXPECT_EQ(e.face_patch, analyze_surface(m, plain_extent).face_patch);
+  // A smaller effective tolerance: more patches plus orphans (§7 is monotone in ε on this surface).
+  EXPECT_GT(h.patch_count + h.orphans, e.patch_count + e.orphans);
+}
+
+// I-30: the three sample measures at a point δ outside the tube of a torus (minor radius r).
+TEST(PathgenSurfacePatches, PatchMeasuresOfAPointOutsideTheTube) {
+  Torus t;
+  t.center = Eigen::Vector3d::Zero();
+  t.axis = Eigen::Vector3d::UnitZ();
+  t.major_radius = 2.0;
+  t.minor_radius = 0.5;
+  const double delta = 0.1;
+  const Eigen::Vector3d q(2.0 + 0.5 + delta, 0.0, 0.0);
+  EXPECT_NEAR(point_torus_measure(t, q, PatchMeasure::geometric), 0.1, 1e-12);
+  EXPECT_NEAR(point_torus_measure(t, q, PatchMeasure::algebraic), 0.6 * 0.6 - 0.25, 1e-12);          // 0.11
+  EXPECT_NEAR(point_torus_measure(t, q, PatchMeasure::algebraic_normalized), 0.11 / 1.2, 1e-12);  // ≈ 0.0917
 }
 
 TEST(PathgenSurfacePatches, BumpySphereHasAFewPercentPatchesAndNoOrphans) {

@@ -60,11 +60,15 @@ PaperPathOptions path_search_options(const options::Values& values, PaperPathOpt
   SurfaceOptions& s = p.surface;
   for (const auto& [id, text] : values) {
     if (id == "tolerance") s.tolerance = std::stod(text);
+    else if (id == "tolerance-unit") s.tolerance_unit = parse_tolerance_unit(text);
     else if (id == "smoothing") s.smoothing = parse_smoothing_method(text);
     else if (id == "smoothing-strength") s.smoothing_strength = std::stod(text);
     else if (id == "curvature-fit") s.curvature_fit = parse_curvature_fit(text);
     else if (id == "kappa-min") s.kappa_min = std::stod(text);
     else if (id == "face-samples") s.face_samples = parse_face_samples(text);
+    else if (id == "patch-measure") s.patch_measure = parse_patch_measure(text);
+    else if (id == "patch-normal-angle") s.patch_normal_angle_deg = std::stod(text);
+    else if (id == "patches-on-unsmoothed") s.patches_on_unsmoothed = text == "true";
     else if (id == "seed-order") s.seed_order = parse_seed_order(text);
     else if (id == "leftovers") s.leftovers = parse_leftover_mode(text);
     else if (id == "keep-inaccurate") s.keep_inaccurate_patches = text == "true";
