@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "tour/batch_job.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 
 namespace {
 
@@ -29,6 +30,8 @@ Run 'meshtour <command> --help' for the options of a command.)";
 }  // namespace
 
 int main(int argc, char** argv) {
+  // From the first moment: Ctrl-C or SIGTERM at any point ends every command with 130.
+  meshtour::install_interrupt_handlers();
   CLI::App app{"meshtour: renders a tour video of a 3D triangle mesh, along a camera path computed from its geometry."};
   app.set_version_flag("--version", std::string("meshtour ") + MESHTOUR_VERSION);
   app.footer(kFooter);

@@ -20,6 +20,7 @@
 #include <system_error>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 
 namespace meshtour {
 
@@ -40,8 +41,12 @@ public:
     name += std::to_string(::getpid());
     name += temporary_extension.empty() ? target_.extension().string() : temporary_extension;
     temporary_ = dir / name;
+    register_temporary(temporary_.string());
   }
-  ~PendingFile() { discard(); }
+  ~PendingFile() {
+    discard();
+    unregister_temporary(temporary_.string());
+  }
   PendingFile(const PendingFile&) = delete;
   PendingFile& operator=(const PendingFile&) = delete;
 

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "pathgen/motion.h"
 
 namespace meshtour {
@@ -206,7 +207,9 @@ PathEvaluator::PathEvaluator(const TriangleMesh& mesh, std::vector<std::uint8_t>
   rtcAttachGeometry(s.scene.get(), geometry);
   rtcReleaseGeometry(geometry);
   rtcSetSceneBuildQuality(s.scene.get(), RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneProgressMonitorFunction(s.scene.get(), [](void*, double) { return !interrupt_requested(); }, nullptr);
   rtcCommitScene(s.scene.get());
+  throw_if_interrupted();  // a cancelled build is an interrupt, not an Embree failure
   if (rtcGetDeviceError(s.device.get()) != RTC_ERROR_NONE) throw RuntimeFailure("Embree failed to build the evaluation's scene");
 }
 
@@ -229,6 +232,7 @@ PathEvaluation PathEvaluator::evaluate(std::span<const Camera> cameras, double a
   std::vector<int> region_frames(static_cast<std::size_t>(s.regions.count), 0);
   std::vector<double> region_seen(static_cast<std::size_t>(s.regions.count));
   for (const Camera& camera : cameras) {
+    throw_if_interrupted();
     const std::vector<std::uint8_t> seen = s.seen_well(camera, aspect);
     std::fill(region_seen.begin(), region_seen.end(), 0.0);
     for (std::size_t f = 0; f < faces; ++f) {

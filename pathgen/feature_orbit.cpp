@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "pathgen/features.h"
 #include "pathgen/motion.h"
 
@@ -137,6 +138,7 @@ std::vector<std::uint32_t> faces_seen_well(const TriangleMesh& mesh, const Eigen
   std::vector<double> depth(pixel_count, 0.0);  // 1/z of the nearest face, 0 = nothing
   std::vector<std::uint32_t> item(pixel_count, std::numeric_limits<std::uint32_t>::max());
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    if ((f & 0xffff) == 0) throw_if_interrupted();  // one view of a big mesh takes a while
     const auto& t = mesh.triangles[f];
     const Projected &a = projected[t[0]], &b = projected[t[1]], &c = projected[t[2]];
     if (!a.valid || !b.valid || !c.valid) continue;  // crosses the eye plane: cannot happen outside the model
@@ -229,6 +231,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::ve
   const int m = static_cast<int>(std::floor((options.highest_deg - options.lowest_deg) / options.elevation_grid_deg + 1e-9)) + 1;
   std::vector<std::vector<std::uint32_t>> views(static_cast<std::size_t>(n) * m);
   tbb::parallel_for(0, n * m, [&](int k) {
+    throw_if_interrupted();
     const int j = k / m, e = k % m;
     const double azimuth = 2.0 * std::numbers::pi * j / n;
     const double elevation = (options.lowest_deg + e * options.elevation_grid_deg) * kDegree;
@@ -280,6 +283,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::ve
   best.base = std::clamp(0.0, options.base_min_deg, options.base_max_deg) * kDegree;
   double best_score = -1.0;
   auto consider = [&](const ElevationCurve& curve) {
+    throw_if_interrupted();
     if (!feasible(curve)) return;
     ++result.candidates;
     const double s = score(curve, nullptr, nullptr);

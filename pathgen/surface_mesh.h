@@ -94,10 +94,16 @@ void parallel_ranges(std::size_t n, const Body& body);
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/interrupt.h"
+
 namespace meshtour::surface_detail {
 template <class Body>
 void parallel_ranges(std::size_t n, const Body& body) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
-                    [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  // Every chunk looks at the interrupt flag, so each stage built on this loop stops within
+  // moments of Ctrl-C or SIGTERM (TBB cancels the other chunks and rethrows).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+    throw_if_interrupted();
+    body(r.begin(), r.end());
+  });
 }
 }  // namespace meshtour::surface_detail

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 
 namespace meshtour {
 namespace {
@@ -54,6 +55,7 @@ double TurntablePath::fit_radius(std::span<const Eigen::Vector3d> points, double
   double radius = 0.0;
   const double start = 1e-6 * size;
   for (int k = 0; k < kFramingAngles; ++k) {
+    throw_if_interrupted();  // each angle reads every vertex: seconds in all on a big scan
     const double angle = 2.0 * std::numbers::pi * k / kFramingAngles;
     // Put the eye (almost) at the centre and ask how far back it has to go.
     const CameraPose near_center{center_ + direction(angle) * start, center_, up_};

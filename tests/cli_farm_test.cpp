@@ -97,23 +97,6 @@ test::VideoProbe encode_and_decode(const std::filesystem::path& frames, const st
   return test::probe_video(video, all);
 }
 
-// Starts meshtour with `args` (no shell) and returns its pid; output goes to `log`.
-pid_t spawn_meshtour(const std::vector<std::string>& args, const std::filesystem::path& log) {
-  const std::string exe = test::meshtour_executable().string();
-  std::vector<std::string> argv_storage = {exe};
-  argv_storage.insert(argv_storage.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : argv_storage) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    if (FILE* f = std::freopen(log.c_str(), "w", stderr)) (void)f;
-    ::execv(exe.c_str(), argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
 // Waits until `dir` holds at least `count` frame PNGs (checking every one seen is complete), or
 // the process ends. Returns false if a visible frame was ever unreadable.
 bool wait_for_frames(const std::filesystem::path& dir, std::size_t count, pid_t pid, int width, int height) {
@@ -165,7 +148,7 @@ TEST(RenderCommand, KilledRenderResumesToTheSameFramesAndNeverShowsAPartialFrame
   const std::string tour = "--frame-count 24 --width 160 --height 120 --spp 8";
   const std::vector<std::string> args = {"render", "--out-dir", (dir / "killed").string(), "--frame-count", "24", "--width", "160",
                                          "--height", "120", "--spp", "8", "--threads", "1", "--progress", "none"};
-  const pid_t pid = spawn_meshtour(args, dir / "killed.log");
+  const pid_t pid = test::spawn_meshtour(args, dir / "killed.log");
   ASSERT_GT(pid, 0);
   // Every frame that ever appears is complete, also while the render writes the next ones.
   const bool complete = wait_for_frames(dir / "killed", 2, pid, 160, 120);
@@ -192,7 +175,7 @@ TEST(RenderCommand, KilledRenderResumesToTheSameFramesAndNeverShowsAPartialFrame
 
 TEST(RenderCommand, SigtermStopsAfterTheCurrentFrameWithoutTemporaries) {
   const auto dir = test::scratch_dir();
-  const pid_t pid = spawn_meshtour({"render", "--out-dir", (dir / "f").string(), "--frame-count", "24", "--width", "160", "--height",
+  const pid_t pid = test::spawn_meshtour({"render", "--out-dir", (dir / "f").string(), "--frame-count", "24", "--width", "160", "--height",
                                     "120", "--spp", "8", "--threads", "1", "--format", "png+exr", "--progress", "none"},
                                    dir / "log.txt");
   ASSERT_GT(pid, 0);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace meshtour::test {
 
@@ -54,6 +55,22 @@ ScopedEnv::~ScopedEnv() {
     ::setenv(name_.c_str(), previous_->c_str(), 1);
   else
     ::unsetenv(name_.c_str());
+}
+
+int spawn_meshtour(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  const std::string exe = meshtour_executable().string();
+  std::vector<std::string> argv_storage = {exe};
+  argv_storage.insert(argv_storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_storage) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (FILE* f = std::freopen(log.c_str(), "w", stderr)) (void)f;
+    ::execv(exe.c_str(), argv.data());
+    ::_exit(127);
+  }
+  return pid;
 }
 
 }  // namespace meshtour::test

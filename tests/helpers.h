@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace meshtour::test {
 
@@ -26,6 +27,9 @@ struct CommandResult {
 CommandResult run_meshtour(const std::string& args);
 /// The meshtour executable under test (absolute), for tests that start it themselves.
 std::filesystem::path meshtour_executable();
+
+/// Starts `meshtour <args>` (no shell) in the background and returns its pid; its stderr goes to `log`.
+int spawn_meshtour(const std::vector<std::string>& args, const std::filesystem::path& log);
 
 /// Sets an environment variable for its lifetime, then restores the previous value.
 class ScopedEnv {

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
@@ -18,6 +19,7 @@ double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Ei
   double needed = 0.0;
   bool any = false;
   for (const Camera& c : cameras) {
+    throw_if_interrupted();  // every frame reads every vertex: seconds in all on a big scan
     const LookAtFrame view = look_at(c);
     const Eigen::Vector3d &f = view.forward, &r = view.right, &u = view.up;
     for (const auto& p : positions) {

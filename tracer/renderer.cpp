@@ -17,6 +17,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "tracer/color.h"
 #include "tracer/film.h"
 #include "tracer/random.h"
@@ -187,7 +188,10 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
     s.ground_triangles = {{0, 1, 2}, {0, 2, 3}};
     attach(s.ground_vertices, s.ground_triangles, kGroundGeometry, kGroundMask);
   }
+  // A BVH build of millions of faces takes seconds: Ctrl-C or SIGTERM cancels it.
+  rtcSetSceneProgressMonitorFunction(s.scene.get(), [](void*, double) { return !interrupt_requested(); }, nullptr);
   rtcCommitScene(s.scene.get());
+  throw_if_interrupted();  // a cancelled build is an interrupt, not an Embree failure
   s.check("building the ray-tracing scene");
 }
 
