@@ -105,6 +105,8 @@ TEST(Renderer, SamePixelsWithOneOrTwoThreads) {
   tbb::task_arena(2).execute([&] { two = renderer.render(studio_camera(1), 7); });
   ASSERT_EQ(one.rgba.size(), two.rgba.size());
   EXPECT_EQ(0, std::memcmp(one.rgba.data(), two.rgba.data(), one.rgba.size() * sizeof(float)));
+  ASSERT_EQ(one.denoised.size(), one.rgba.size());  // on by default
+  EXPECT_EQ(0, std::memcmp(one.denoised.data(), two.denoised.data(), one.denoised.size() * sizeof(float)));
   EXPECT_EQ(one.albedo, two.albedo);
   EXPECT_EQ(one.normal, two.normal);
   EXPECT_EQ(0, std::memcmp(one.depth.data(), two.depth.data(), one.depth.size() * sizeof(float)));
@@ -137,6 +139,8 @@ TEST(Renderer, SamePixelsWithEveryInstructionSet) {
     for (std::size_t i = 1; i < images.size(); ++i) {
       SCOPED_TRACE(names[i] + " vs " + names[0] + ", spp " + std::to_string(spp));
       EXPECT_EQ(0, std::memcmp(images[i].rgba.data(), images[0].rgba.data(), images[0].rgba.size() * sizeof(float)));
+      ASSERT_EQ(images[i].denoised.size(), images[0].rgba.size());
+      EXPECT_EQ(0, std::memcmp(images[i].denoised.data(), images[0].denoised.data(), images[0].denoised.size() * sizeof(float)));
       EXPECT_EQ(images[i].albedo, images[0].albedo);
       EXPECT_EQ(images[i].normal, images[0].normal);
       EXPECT_EQ(0, std::memcmp(images[i].depth.data(), images[0].depth.data(), images[0].depth.size() * sizeof(float)));

@@ -252,6 +252,7 @@ FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& 
   info.width = scene.render.width;
   info.height = scene.render.height;
   info.image_formats = formats;
+  info.denoise = scene.render.denoise;
   info.source = scene.source;
   if (scene.path_file) info.path_file = std::filesystem::absolute(*scene.path_file).string();
   return info;

@@ -1,0 +1,48 @@
+#pragma once
+// The denoiser: an edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with the
+// variance-guided luminance weights of SVGF's spatial filter (Schied et al. 2017), applied to the
+// lighting, not the colours: the frame is divided by its albedo, filtered, and multiplied back,
+// so textures and vertex colours stay sharp. Frame-local (no temporal accumulation).
+//
+// Same bits on every CPU: this file is compiled once (baseline x86-64, never in the per-ISA tile
+// kernels), without FMA contraction (-ffp-contract=off for the whole project), with IEEE
+// add/multiply/divide/sqrt only and its own rational weight function (no exp, pow or log, whose
+// glibc versions differ by CPU); rows are filtered in parallel, each row's result a function of
+// the previous pass only, so the thread count does not change a bit.
+#include <array>
+#include <vector>
+
+namespace meshtour {
+
+/// What the tracer gathers for the denoiser, per pixel, from the pixel's own samples (a box, not
+/// the reconstruction filter).
+struct DenoiseGuides {
+  int width = 0, height = 0;
+  int samples_per_pixel = 1;
+  /// Mean surface colour of the samples: the model's albedo; for the ground and the background
+  /// the background's colour (white in transparent frames), whose "lighting" is then the shadow.
+  std::vector<float> albedo;  ///< 3 per pixel
+  std::vector<float> normal;  ///< 3 per pixel: sum of the hit samples' shading normals (0: none hit)
+  std::vector<float> depth;   ///< 1 per pixel: nearest hit's distance along the camera axis, +inf if none
+  /// Sum and sum of squares of the samples' demodulated luminance (luminance / albedo luminance,
+  /// plus alpha in transparent frames): the variance estimate.
+  std::vector<float> moments;  ///< 2 per pixel
+
+  void reset(int width, int height, int samples_per_pixel);
+};
+
+struct DenoiseSettings {
+  /// The reconstruction filter along one axis, as weights of a pixel's box mean on the pixels
+  /// from -reach to +reach (taps[reach] is the pixel itself): the albedo guide is filtered with
+  /// it, so that it matches the beauty it divides.
+  std::array<float, 5> taps{0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
+  int reach = 0;
+  bool transparent = false;  ///< RGB premultiplied; the shadows on the ground are in alpha
+  int passes = 5;            ///< a-trous passes (steps 1, 2, 4, ...: 3x3 taps each), 1..5
+};
+
+/// The denoised frame (RGBA, premultiplied like `rgba`, width * height * 4) from the filtered
+/// beauty `rgba` and the guides. Uses the calling thread's TBB arena.
+std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& guides, const DenoiseSettings& settings);
+
+}  // namespace meshtour
