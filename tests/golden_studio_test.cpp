@@ -122,8 +122,9 @@ TEST(GoldenStudio, ExrWithExtraLayers) {
   ASSERT_TRUE(exr.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << exr.geterror();
   const OIIO::ImageSpec& spec = exr.spec();
   // OpenEXR sorts channels by name within a file; look each one up by its name.
-  ASSERT_EQ(spec.nchannels, 11);
-  for (const char* name : {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z"})
+  ASSERT_EQ(spec.nchannels, 15);
+  for (const char* name : {"R", "G", "B", "A", "denoised.R", "denoised.G", "denoised.B", "denoised.A", "albedo.R", "albedo.G",
+                           "albedo.B", "N.X", "N.Y", "N.Z", "Z"})
     EXPECT_GE(spec.channelindex(name), 0) << name;
   const int z = spec.channelindex("Z");
   ASSERT_GE(z, 0);
@@ -148,6 +149,16 @@ TEST(GoldenStudio, ExrWithExtraLayers) {
   const int cx = 80, cy = 60;
   const std::size_t p = static_cast<std::size_t>(cy) * 160 + cx;
   EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("A")), 1.0f, 1e-3f);
+  // The main layer is the raw frame, the denoised one beside it (to half precision).
+  EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("R")), img.rgba[p * 4], 2e-3f);
+  EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("denoised.R")), img.denoised[p * 4], 2e-3f);
+  RenderOptions raw_only = o;
+  raw_only.denoise = false;
+  write_image(Renderer(sphere(true), raw_only).render(kSphereCamera, 5), file);
+  OIIO::ImageBuf without(file.string());
+  ASSERT_TRUE(without.init_spec(without.name(), 0, 0));
+  EXPECT_EQ(without.spec().nchannels, 11);  // no denoised layer when denoising is off
+  EXPECT_LT(without.spec().channelindex("denoised.R"), 0);
   EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("albedo.G")), img.albedo[p * 3 + 1], 2e-3f);
   EXPECT_FLOAT_EQ(exr.getchannel(cx, cy, 0, z), img.depth[p]);
   EXPECT_GT(img.depth[p], 2.5f);

@@ -41,6 +41,7 @@ struct Synthetic {
         const float a = albedo(x, y), l = light(x, y) * (1.0f + sigma * gaussian());
         for (int c = 0; c < 3; ++c) {
           guides.albedo[p * 3 + c] = a;
+          guides.unshadowed[p * 3 + c] = a;  // the lighting is all visibility
           rgba[p * 4 + c] = a * l;
         }
         rgba[p * 4 + 3] = 1.0f;

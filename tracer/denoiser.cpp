@@ -22,6 +22,7 @@ void DenoiseGuides::reset(int w, int h, int spp) {
   samples_per_pixel = spp;
   const std::size_t n = static_cast<std::size_t>(w) * h;
   albedo.assign(n * 3, 0.0f);
+  unshadowed.assign(n * 3, 0.0f);
   normal.assign(n * 3, 0.0f);
   depth.assign(n, std::numeric_limits<float>::infinity());
   moments.assign(n * 2, 0.0f);
@@ -33,10 +34,13 @@ using F4 = float __attribute__((vector_size(16)));
 using I4 = int __attribute__((vector_size(16)));
 
 // Edge-stopping settings (SVGF's, tuned on the benchmark frames, bench/denoise_quality.cpp).
-constexpr float kDepthSigma = 1.0f;     // depth difference in units of the local depth gradient
-constexpr float kLumaSigma = 4.0f;      // luminance difference in standard deviations
-constexpr float kAlbedoSigma = 0.1f;    // summed absolute albedo difference
-constexpr int kNormalPowerLog2 = 6;     // weight max(0, n.n')^64
+// (SVGF's luminance sigma is 4; 2 measured better here, because the variance estimate is of a
+// pixel's own box mean of independent samples, while the beauty is a wider filter's mean of
+// stratified ones, whose error is smaller.)
+constexpr float kDepthSigma = 1.0f;   // depth difference in units of the local depth gradient
+constexpr float kLumaSigma = 2.0f;    // luminance difference in standard deviations
+constexpr float kAlbedoSigma = 0.1f;  // summed absolute albedo difference
+constexpr int kNormalPowerLog2 = 6;   // weight max(0, n.n')^64
 constexpr int kPad = 16;                // the widest pass's step: neighbours never leave the planes
 
 F4 load4(const float* p) {
@@ -137,9 +141,9 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   const std::size_t npix = static_cast<std::size_t>(width) * height;
   const bool transparent = settings.transparent;
   Planes guides(width, height, kGuides), a(width, height, kPlanesPerImage), b(width, height, kPlanesPerImage);
-  // The albedo the beauty was divided by: the box means through the reconstruction filter's
-  // pixel weights (separable, renormalised at the frame's edges like the beauty).
-  std::vector<float> albedo_h(npix * 3), albedo_f(npix * 3);
+  // The unshadowed light the beauty is divided by: the box means through the reconstruction
+  // filter's pixel weights (separable, renormalised at the frame's edges like the beauty).
+  std::vector<float> unshadowed_h(npix * 3), unshadowed_f(npix * 3);
   const int reach = settings.reach;
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y != range.end(); ++y)
@@ -148,10 +152,10 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
         for (int i = -reach; i <= reach; ++i) {
           if (x + i < 0 || x + i >= width) continue;
           const float t = settings.taps[static_cast<std::size_t>(i + reach)];
-          for (int c = 0; c < 3; ++c) acc[c] += t * g.albedo[(static_cast<std::size_t>(y) * width + x + i) * 3 + c];
+          for (int c = 0; c < 3; ++c) acc[c] += t * g.unshadowed[(static_cast<std::size_t>(y) * width + x + i) * 3 + c];
           w += t;
         }
-        for (int c = 0; c < 3; ++c) albedo_h[(static_cast<std::size_t>(y) * width + x) * 3 + c] = acc[c] / w;
+        for (int c = 0; c < 3; ++c) unshadowed_h[(static_cast<std::size_t>(y) * width + x) * 3 + c] = acc[c] / w;
       }
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
@@ -161,18 +165,18 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
         for (int i = -reach; i <= reach; ++i) {
           if (y + i < 0 || y + i >= height) continue;
           const float t = settings.taps[static_cast<std::size_t>(i + reach)];
-          for (int c = 0; c < 3; ++c) acc[c] += t * albedo_h[(static_cast<std::size_t>(y + i) * width + x) * 3 + c];
+          for (int c = 0; c < 3; ++c) acc[c] += t * unshadowed_h[(static_cast<std::size_t>(y + i) * width + x) * 3 + c];
           w += t;
         }
-        for (int c = 0; c < 3; ++c) albedo_f[(static_cast<std::size_t>(y) * width + x) * 3 + c] = acc[c] / w;
+        for (int c = 0; c < 3; ++c) unshadowed_f[(static_cast<std::size_t>(y) * width + x) * 3 + c] = acc[c] / w;
       }
   });
   const auto divisor = [&](std::size_t p, int c) {
-    const float v = albedo_f[p * 3 + static_cast<std::size_t>(c)];
+    const float v = unshadowed_f[p * 3 + static_cast<std::size_t>(c)];
     return v > 1e-3f ? v : 1.0f;
   };
 
-  // Planes: the demodulated lighting and alpha, the variance of the pixel's mean, the guides.
+  // Planes: the visibility (beauty / unshadowed light) and alpha, the variance of the pixel's mean, the guides.
   const float n = static_cast<float>(std::max(1, g.samples_per_pixel));
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y != range.end(); ++y)

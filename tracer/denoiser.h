@@ -1,8 +1,11 @@
 #pragma once
 // The denoiser: an edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with the
 // variance-guided luminance weights of SVGF's spatial filter (Schied et al. 2017), applied to the
-// lighting, not the colours: the frame is divided by its albedo, filtered, and multiplied back,
-// so textures and vertex colours stay sharp. Frame-local (no temporal accumulation).
+// lighting, not the colours: the frame is divided by the light its samples would reflect
+// unshadowed (albedo x lights and sky; tracer-computed, noise-free), filtered, and multiplied
+// back, so textures, vertex colours and the shading of small bumps stay sharp and only the
+// visibility of the lights and the sky, the noise, is filtered (the ratio estimator of Heitz et al.
+// 2018, "Combining analytic direct illumination and stochastic shadows"). Frame-local.
 //
 // Same bits on every CPU: this file is compiled once (baseline x86-64, never in the per-ISA tile
 // kernels), without FMA contraction (-ffp-contract=off for the whole project), with IEEE
@@ -22,10 +25,15 @@ struct DenoiseGuides {
   /// Mean surface colour of the samples: the model's albedo; for the ground and the background
   /// the background's colour (white in transparent frames), whose "lighting" is then the shadow.
   std::vector<float> albedo;  ///< 3 per pixel
+  /// Mean light the samples would reflect if no shadow or occlusion ray were blocked (albedo times
+  /// the lights and the sky, with highlights; the background's colour where the ground and the
+  /// background are seen): the frame is divided by it, filtered and multiplied back, so only the
+  /// visibility is filtered and the shading's detail stays sharp.
+  std::vector<float> unshadowed;  ///< 3 per pixel
   std::vector<float> normal;  ///< 3 per pixel: sum of the hit samples' shading normals (0: none hit)
   std::vector<float> depth;   ///< 1 per pixel: nearest hit's distance along the camera axis, +inf if none
-  /// Sum and sum of squares of the samples' demodulated luminance (luminance / albedo luminance,
-  /// plus alpha in transparent frames): the variance estimate.
+  /// Sum and sum of squares of the samples' visibility (luminance / unshadowed luminance, plus
+  /// alpha in transparent frames): the variance estimate.
   std::vector<float> moments;  ///< 2 per pixel
 
   void reset(int width, int height, int samples_per_pixel);
@@ -33,8 +41,8 @@ struct DenoiseGuides {
 
 struct DenoiseSettings {
   /// The reconstruction filter along one axis, as weights of a pixel's box mean on the pixels
-  /// from -reach to +reach (taps[reach] is the pixel itself): the albedo guide is filtered with
-  /// it, so that it matches the beauty it divides.
+  /// from -reach to +reach (taps[reach] is the pixel itself): the unshadowed light is filtered
+  /// with it, so that it matches the beauty it divides.
   std::array<float, 5> taps{0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
   int reach = 0;
   bool transparent = false;  ///< RGB premultiplied; the shadows on the ground are in alpha

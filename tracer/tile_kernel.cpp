@@ -170,18 +170,23 @@ MESHTOUR_SIMD_INLINE void splat_packet(const F16 (&rgba)[4], const F16* wx, cons
 
 MESHTOUR_SIMD_INLINE F16 luminance(F16 r, F16 g, F16 b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
-// Adds a packet's samples to the denoiser's per-pixel guides: box means of albedo, normal sums,
-// the nearest depth, and the moments of the demodulated luminance (its variance estimate).
+// Adds a packet's samples to the denoiser's per-pixel guides: box means of albedo and unshadowed
+// light, normal sums, the nearest depth, and the moments of the sample's visibility (its light
+// divided by its unshadowed light): the variance estimate.
 MESHTOUR_SIMD_INLINE void accumulate_guides(DenoiseGuides& g, bool transparent, int spp, const int* image_pixel, int lanes,
-                                            const F16 (&rgba)[4], const V3& albedo, const V3& normal, F16 depth) {
-  const F16 albedo_luma = simd::max(luminance(albedo.x, albedo.y, albedo.z), simd::broadcast(1e-4f));
-  const F16 signal = luminance(rgba[0], rgba[1], rgba[2]) / albedo_luma + (transparent ? rgba[3] : simd::broadcast(0.0f));
+                                            const F16 (&rgba)[4], const V3& albedo, const V3& unshadowed, const V3& normal,
+                                            F16 depth) {
+  const F16 unshadowed_luma = simd::max(luminance(unshadowed.x, unshadowed.y, unshadowed.z), simd::broadcast(1e-4f));
+  const F16 signal = luminance(rgba[0], rgba[1], rgba[2]) / unshadowed_luma + (transparent ? rgba[3] : simd::broadcast(0.0f));
   const float inv_spp = 1.0f / static_cast<float>(spp);
   for (int l = 0; l < lanes; ++l) {
     const std::size_t p = static_cast<std::size_t>(image_pixel[l]);
     g.albedo[p * 3 + 0] += albedo.x[l] * inv_spp;
     g.albedo[p * 3 + 1] += albedo.y[l] * inv_spp;
     g.albedo[p * 3 + 2] += albedo.z[l] * inv_spp;
+    g.unshadowed[p * 3 + 0] += unshadowed.x[l] * inv_spp;
+    g.unshadowed[p * 3 + 1] += unshadowed.y[l] * inv_spp;
+    g.unshadowed[p * 3 + 2] += unshadowed.z[l] * inv_spp;
     g.normal[p * 3 + 0] += normal.x[l];
     g.normal[p * 3 + 1] += normal.y[l];
     g.normal[p * 3 + 2] += normal.z[l];
@@ -303,6 +308,10 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     // by (the background's for the ground and the background: their "lighting" is the shadow),
     // the shading normal and the depth.
     V3 guide_albedo = f.transparent ? V3{one, one, one} : bg, guide_normal{zero, zero, zero};
+    // ... and the light it would get if no shadow or occlusion ray were blocked: the frame is
+    // divided by it, so that the denoiser filters only the visibility of the lights and the sky
+    // (the shading's detail, normals, textures and highlights, is noise-free and stays sharp).
+    V3 guide_unshadowed = guide_albedo;
     F16 guide_depth = simd::broadcast(std::numeric_limits<float>::infinity());
 
     if (simd::any(simd::either(on_model, on_ground))) {
@@ -406,6 +415,16 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
           }
         }
         const V3 sky{albedo.x * f.ambient.x(), albedo.y * f.ambient.y(), albedo.z * f.ambient.z()};
+        if (f.guides) {
+          V3 unshadowed = sky;
+          for (std::size_t i = 0; i < nlights; ++i) {
+            const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cosines[i]);
+            const I16 lit = simd::gt(cosines[i], 0.0f);
+            unshadowed = {unshadowed.x + simd::select(lit, c.x, zero), unshadowed.y + simd::select(lit, c.y, zero),
+                          unshadowed.z + simd::select(lit, c.z, zero)};
+          }
+          guide_unshadowed = select(on_model, unshadowed, guide_unshadowed);
+        }
         V3 model_sky{zero, zero, zero};
         if (f.ambient_occlusion) {
           model_sky = sky;
@@ -533,7 +552,8 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     for (int ch = 0; ch < 4; ++ch)
       rgba[ch] = base[ch] + simd::select(light_seen, with_light[ch], zero) + simd::select(sky_seen, with_sky[ch], zero);
 
-    if (f.guides) accumulate_guides(*f.guides, f.transparent, spp, image_pixel, lanes, rgba, guide_albedo, guide_normal, guide_depth);
+    if (f.guides)
+      accumulate_guides(*f.guides, f.transparent, spp, image_pixel, lanes, rgba, guide_albedo, guide_unshadowed, guide_normal, guide_depth);
 
     // 4. Reconstruction filter: every sample is splatted onto the pixels within the radius.
     F16 wx[5], wy[5];
