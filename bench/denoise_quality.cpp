@@ -226,7 +226,7 @@ std::vector<bool> albedo_edge_band(const Image& ref) {
   std::vector<bool> edge(static_cast<std::size_t>(w) * h), band(edge.size());
   for (int y = 0; y + 1 < h; ++y)
     for (int x = 0; x + 1 < w; ++x)
-      for (const auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
         double d = 0;
         for (int c = 0; c < 3; ++c)
           d = std::max(d, double(std::abs(ref.albedo[(y * w + x) * 3 + c] - ref.albedo[((y + dy) * w + x + dx) * 3 + c])));

@@ -154,8 +154,9 @@ TEST(GoldenStudio, ExrWithExtraLayers) {
   EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("denoised.R")), img.denoised[p * 4], 2e-3f);
   RenderOptions raw_only = o;
   raw_only.denoise = false;
-  write_image(Renderer(sphere(true), raw_only).render(kSphereCamera, 5), file);
-  OIIO::ImageBuf without(file.string());
+  const auto raw_file = test::scratch_dir() / "raw-only.exr";
+  write_image(Renderer(sphere(true), raw_only).render(kSphereCamera, 5), raw_file);
+  OIIO::ImageBuf without(raw_file.string());
   ASSERT_TRUE(without.init_spec(without.name(), 0, 0));
   EXPECT_EQ(without.spec().nchannels, 11);  // no denoised layer when denoising is off
   EXPECT_LT(without.spec().channelindex("denoised.R"), 0);
