@@ -30,6 +30,7 @@
 #include "mesh/mesh.h"
 #include "pathgen/camera_path.h"
 #include "scenes/scene.h"
+#include "textured_cube.h"
 #include "tour/tour.h"
 #include "tracer/tracer.h"
 
@@ -59,28 +60,10 @@ Case tour_case(const std::string& name, Scene scene) {
   return {name, tour.mesh, scene.render, Camera::at(frame_pose(*tour.path, kFrame, scene.frames), tour.fov)};
 }
 
-// The textured cube of the golden test (an 8x8 checkerboard per face), written into `dir`.
-fs::path write_textured_cube(const fs::path& dir) {
+// The textured cube of the golden tests (tests/textured_cube.h), in `dir`.
+fs::path textured_cube(const fs::path& dir) {
   fs::create_directories(dir);
-  OIIO::ImageBuf tex(OIIO::ImageSpec(64, 64, 3, OIIO::TypeDesc::UINT8));
-  for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 64; ++x) {
-      const bool dark = ((x / 8) + (y / 8)) % 2 == 1;
-      float c[3] = {dark ? 0.1f : 0.9f, dark ? 0.1f : 0.85f, dark ? 0.15f : 0.7f};
-      tex.setpixel(x, y, c);
-    }
-  tex.write((dir / "checker.png").string());
-  std::ofstream(dir / "cube.mtl") << "newmtl checker\nKd 1 1 1\nmap_Kd checker.png\n";
-  std::ofstream obj(dir / "cube.obj");
-  obj << "mtllib cube.mtl\n";
-  for (int i = 0; i < 8; ++i) obj << "v " << (i & 1 ? 1 : -1) << " " << (i & 2 ? 1 : -1) << " " << (i & 4 ? 1 : -1) << "\n";
-  obj << "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl checker\n";
-  const int faces[6][4] = {{1, 2, 4, 3}, {5, 7, 8, 6}, {1, 5, 6, 2}, {3, 4, 8, 7}, {1, 3, 7, 5}, {2, 6, 8, 4}};
-  for (const auto& f : faces) {
-    obj << "f " << f[0] << "/1 " << f[1] << "/2 " << f[2] << "/3\n";
-    obj << "f " << f[0] << "/1 " << f[2] << "/3 " << f[3] << "/4\n";
-  }
-  return dir / "cube.obj";
+  return test::write_textured_cube(dir);
 }
 
 // A sphere with vertex-colour bands (hue stripes around it, sharp from one ring of vertices to
@@ -275,7 +258,7 @@ int main(int argc, char** argv) {
       [&] { return tour_case("bunny", resolve_scene(bunny_file.string(), {})); },
       [&] { return tour_case("default", default_scene()); },
       [&] {
-        Case c = tour_case("textured", resolve_scene(write_textured_cube(cache / "textured-cube").string(), {}));
+        Case c = tour_case("textured", resolve_scene(textured_cube(cache / "textured-cube").string(), {}));
         return c;
       },
       [&] {

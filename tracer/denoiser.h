@@ -7,11 +7,13 @@
 // visibility of the lights and the sky, the noise, is filtered (the ratio estimator of Heitz et al.
 // 2018, "Combining analytic direct illumination and stochastic shadows"). Frame-local.
 //
-// Same bits on every CPU: this file is compiled once (baseline x86-64, never in the per-ISA tile
-// kernels), without FMA contraction (-ffp-contract=off for the whole project), with IEEE
-// add/multiply/divide/sqrt only and its own rational weight function (no exp, pow or log, whose
-// glibc versions differ by CPU); rows are filtered in parallel, each row's result a function of
-// the previous pass only, so the thread count does not change a bit.
+// Same bits on every CPU: without FMA contraction (-ffp-contract=off for the whole project), with
+// IEEE add/multiply/divide/sqrt only and its own rational weight function (no exp, pow or log,
+// whose glibc versions differ by CPU). Its hot loop, the a-trous pass (denoiser_pass.cpp), is
+// compiled once per x86-64 level like the tile kernel, and every copy runs each pixel through the
+// same operations whatever the vector width (Renderer.SamePixelsWithEveryInstructionSet compares
+// the denoised frames too); rows are filtered in parallel, each row's result a function of the
+// previous pass only, so the thread count does not change a bit.
 #include <array>
 #include <vector>
 
@@ -47,10 +49,21 @@ struct DenoiseSettings {
   int reach = 0;
   bool transparent = false;  ///< RGB premultiplied; the shadows on the ground are in alpha
   int passes = 5;            ///< a-trous passes (steps 1, 2, 4, ...: 3x3 taps each), 1..5
+  /// Which copy of the a-trous pass runs (the same bits; the renderer picks its tile kernel's).
+  enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
+};
+
+/// The denoiser's scratch memory (about 70 MB for 1280x720), kept between frames by the caller:
+/// mapping and page-faulting it afresh for every frame cost more than the filter itself.
+struct DenoiseWorkspace {
+  DenoiseGuides frame_guides;  ///< for the renderer: the guides of the frame being rendered
+  std::vector<float> guides, ping, pong, unshadowed_h, unshadowed_f;
 };
 
 /// The denoised frame (RGBA, premultiplied like `rgba`, width * height * 4) from the filtered
-/// beauty `rgba` and the guides. Uses the calling thread's TBB arena.
-std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& guides, const DenoiseSettings& settings);
+/// beauty `rgba` and the guides. Uses the calling thread's TBB arena; `workspace` (may be null)
+/// is reused memory, its contents do not change the result.
+std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& guides, const DenoiseSettings& settings,
+                           DenoiseWorkspace* workspace = nullptr);
 
 }  // namespace meshtour

@@ -93,10 +93,16 @@ Renderer::Impl::TileKernel choose_tile_kernel() {
 }
 
 // The denoiser's settings for this frame: the reconstruction filter as weights of pixel box
-// means (the mean of the filter's tap weights over a pixel's positions), for its albedo guide.
-DenoiseSettings denoise_settings(const ReconstructionFilter& filter, bool transparent) {
+// means (the mean of the filter's tap weights over a pixel's positions), for its unshadowed
+// light; and the copy of its pass that matches the tile kernel.
+DenoiseSettings denoise_settings(const ReconstructionFilter& filter, bool transparent, Renderer::Impl::TileKernel kernel) {
   DenoiseSettings s;
   s.transparent = transparent;
+  using Set = DenoiseSettings::InstructionSet;
+  using Impl = Renderer::Impl;
+  s.instruction_set = kernel == &Impl::render_tile_x86_64_v4 ? Set::x86_64_v4
+                      : kernel == &Impl::render_tile_x86_64_v3 ? Set::x86_64_v3
+                                                                : Set::baseline;
   s.reach = filter.reach();
   simd::F16 offsets, w[5];
   for (int l = 0; l < simd::kLanes; ++l) offsets.set(l, (static_cast<float>(l) + 0.5f) / simd::kLanes);
@@ -340,10 +346,18 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   if (recording) recording->tiles.assign((ntiles + recording->tile_stride - 1) / recording->tile_stride, {});
   std::atomic<std::uint64_t> primary_count{0}, secondary_count{0};
   tbb::enumerable_thread_specific<Scratch> scratch_per_thread;
-  DenoiseGuides guides;
+  // The denoiser's guides and scratch memory, reused between frames like the tile buffers.
+  DenoiseWorkspace workspace;
   if (options.denoise) {
-    guides.reset(width, height, f.spp);
-    f.guides = &guides;
+    {
+      std::lock_guard lock(buffer_mutex);
+      if (!spare_workspaces.empty()) {
+        workspace = std::move(spare_workspaces.back());
+        spare_workspaces.pop_back();
+      }
+    }
+    workspace.frame_guides.reset(width, height, f.spp);
+    f.guides = &workspace.frame_guides;
   }
 
   tbb::parallel_for(tbb::blocked_range<int>(0, ntiles, 1), [&](const tbb::blocked_range<int>& range) {
@@ -383,7 +397,11 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
     std::lock_guard lock(buffer_mutex);
     spare_buffers.push_back(std::move(tile_sums));
   }
-  if (options.denoise) image.denoised = denoise(image.rgba, guides, denoise_settings(filter, transparent));
+  if (options.denoise) {
+    image.denoised = denoise(image.rgba, workspace.frame_guides, denoise_settings(filter, transparent, render_tile), &workspace);
+    std::lock_guard lock(buffer_mutex);
+    spare_workspaces.push_back(std::move(workspace));
+  }
   if (stats) {
     stats->primary_rays += primary_count;
     stats->secondary_rays += secondary_count;

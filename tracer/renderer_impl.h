@@ -126,6 +126,7 @@ struct Renderer::Impl {
   // otherwise be mapped and page-faulted afresh for every frame. One per concurrent render().
   mutable std::mutex buffer_mutex;
   mutable std::vector<std::vector<float>> spare_buffers;
+  mutable std::vector<DenoiseWorkspace> spare_workspaces;  // the same for the denoiser's memory
 
   void check(const char* what) {
     std::lock_guard lock(errors.mutex);

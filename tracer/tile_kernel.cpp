@@ -179,6 +179,25 @@ MESHTOUR_SIMD_INLINE void accumulate_guides(DenoiseGuides& g, bool transparent, 
   const F16 unshadowed_luma = simd::max(luminance(unshadowed.x, unshadowed.y, unshadowed.z), simd::broadcast(1e-4f));
   const F16 signal = luminance(rgba[0], rgba[1], rgba[2]) / unshadowed_luma + (transparent ? rgba[3] : simd::broadcast(0.0f));
   const float inv_spp = 1.0f / static_cast<float>(spp);
+  if (lanes == simd::kLanes && image_pixel[0] == image_pixel[simd::kLanes - 1]) {
+    // All 16 samples in one pixel (as in splat_packet): the 11 sums in one tree, added once.
+    const F16 zero = simd::broadcast(0.0f);
+    const F16 values[simd::kLanes] = {albedo.x, albedo.y, albedo.z, unshadowed.x, unshadowed.y, unshadowed.z, normal.x, normal.y,
+                                      normal.z, signal, signal * signal, zero, zero, zero, zero, zero};
+    const F16 sums = simd::sum_lanes(values);
+    const std::size_t p = static_cast<std::size_t>(image_pixel[0]);
+    for (int c = 0; c < 3; ++c) {
+      g.albedo[p * 3 + c] += sums[c] * inv_spp;
+      g.unshadowed[p * 3 + c] += sums[3 + c] * inv_spp;
+      g.normal[p * 3 + c] += sums[6 + c];
+    }
+    g.moments[p * 2 + 0] += sums[9];
+    g.moments[p * 2 + 1] += sums[10];
+    float nearest = depth[0];
+    for (int l = 1; l < simd::kLanes; ++l) nearest = std::min(nearest, depth[l]);
+    g.depth[p] = std::min(g.depth[p], nearest);
+    return;
+  }
   for (int l = 0; l < lanes; ++l) {
     const std::size_t p = static_cast<std::size_t>(image_pixel[l]);
     g.albedo[p * 3 + 0] += albedo.x[l] * inv_spp;
