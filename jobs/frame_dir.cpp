@@ -88,7 +88,7 @@ std::string describe(const FrameDirInfo& i) {
   std::string formats;
   for (const auto& f : i.image_formats) formats += (formats.empty() ? "" : "+") + f;
   return std::to_string(i.frame_count) + " frames of " + std::to_string(i.width) + "x" + std::to_string(i.height) + " at " +
-         std::to_string(i.fps) + " fps as " + formats + (i.denoise ? ", denoised" : ", not denoised");
+         std::to_string(i.fps) + " fps as " + formats + (i.denoise ? ", denoised" : "");
 }
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "tracer/denoiser_impl.h"
+#include "tracer/simd.h"
 
 #ifndef MESHTOUR_DENOISE_PASS
 #define MESHTOUR_DENOISE_PASS atrous_pass_baseline
@@ -15,14 +16,8 @@
 namespace meshtour::denoise_detail {
 namespace {
 
-#if defined(__AVX512F__)
-constexpr int kWidth = 16;
-#elif defined(__AVX__)
-constexpr int kWidth = 8;
-#else
-constexpr int kWidth = 4;
-#endif
 // kWidth pixels at once, the target's native vector (GCC vector extension).
+constexpr int kWidth = simd::kNativeLanes;
 using Lanes = float __attribute__((vector_size(4 * kWidth)));
 using Mask = int __attribute__((vector_size(4 * kWidth)));
 
