@@ -48,7 +48,7 @@ struct DenoiseSettings {
   std::array<float, 5> taps{0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
   int reach = 0;
   bool transparent = false;  ///< RGB premultiplied; the shadows on the ground are in alpha
-  int passes = 5;            ///< a-trous passes (steps 1, 2, 4, ...: 3x3 taps each), 1..5
+  int passes = 4;            ///< a-trous passes (steps 1, 2, 4, ...: 3x3 taps each), 1..5
   /// Which copy of the a-trous pass runs (the same bits; the renderer picks its tile kernel's).
   enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
 };
