@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "tracer/denoiser.h"
@@ -132,6 +133,46 @@ TEST(Denoiser, SameBitsWithOneOrTwoThreads) {
   tbb::task_arena(2).execute([&] { two = denoise(s.rgba, s.guides, DenoiseSettings{}); });
   ASSERT_EQ(one.size(), two.size());
   EXPECT_EQ(0, std::memcmp(one.data(), two.data(), one.size() * sizeof(float)));
+}
+
+// The pass is compiled once per x86-64 level; every copy this CPU runs must give the baseline's
+// bits, also for widths that are no multiple of a vector (16, 8 or 4 pixels), and reusing the
+// workspace must not change a bit.
+TEST(Denoiser, SameBitsWithEveryInstructionSetAndOddSizes) {
+  using Set = DenoiseSettings::InstructionSet;
+  std::vector<Set> sets = {Set::baseline};
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("x86-64-v3")) sets.push_back(Set::x86_64_v3);
+  if (__builtin_cpu_supports("x86-64-v4")) sets.push_back(Set::x86_64_v4);
+#endif
+  for (const int w : {1, 3, 17, 33})
+    for (const int h : {1, 19}) {
+      DenoiseGuides g;
+      g.reset(w, h, 4);
+      std::vector<float> rgba(static_cast<std::size_t>(w) * h * 4);
+      for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = static_cast<float>(i * 7919 % 97) / 97.0f;
+      for (std::size_t p = 0; p < static_cast<std::size_t>(w) * h; ++p) {
+        g.normal[p * 3 + 2] = 4;
+        g.depth[p] = 3.0f + static_cast<float>(p % 5);
+        g.moments[p * 2] = 2;
+        g.moments[p * 2 + 1] = 1.5f + static_cast<float>(p % 3);
+        for (int c = 0; c < 3; ++c) g.albedo[p * 3 + c] = g.unshadowed[p * 3 + c] = 0.5f;
+      }
+      std::vector<float> baseline;
+      for (const Set set : sets) {
+        SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + ", copy " + std::to_string(static_cast<int>(set)));
+        DenoiseSettings s;
+        s.instruction_set = set;
+        s.reach = 1;
+        s.taps = {0.0f, 0.2f, 0.6f, 0.2f, 0.0f};
+        DenoiseWorkspace workspace;
+        const std::vector<float> out = denoise(rgba, g, s, &workspace), again = denoise(rgba, g, s, &workspace);
+        EXPECT_EQ(0, std::memcmp(out.data(), again.data(), out.size() * sizeof(float)));
+        if (baseline.empty()) baseline = out;
+        EXPECT_EQ(0, std::memcmp(out.data(), baseline.data(), out.size() * sizeof(float)));
+      }
+    }
 }
 
 }  // namespace
