@@ -175,7 +175,9 @@ double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Ei
                         double aspect, double margin = 0.05);
 
 /// Writes `image` by extension: ".png" as 8-bit sRGB (RGBA when the image is transparent),
-/// tone mapped; ".exr" as half-float linear RGBA plus the image's extra layers (Z as float),
+/// tone mapped, of the denoised frame when there is one; ".exr" as half-float linear RGBA (the
+/// raw frame) plus the denoised frame as the layer `denoised.R/G/B/A` when there is one and the
+/// image's extra layers (Z as float),
 /// with the camera and render settings in the header, and the display transform of the PNG
 /// (meshtour:exposure, meshtour:toneMapping "filmic" or "clamp") for turning it into video.
 /// The file is written under a temporary name and renamed, so it is either complete or absent.
