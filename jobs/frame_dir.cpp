@@ -15,7 +15,7 @@ namespace meshtour {
 
 bool FrameDirInfo::same_tour(const FrameDirInfo& other) const {
   return frame_count == other.frame_count && fps == other.fps && width == other.width && height == other.height &&
-         image_formats == other.image_formats;
+         image_formats == other.image_formats && denoise == other.denoise;
 }
 
 std::filesystem::path frame_file(const std::filesystem::path& dir, int frame, std::string_view extension) {
@@ -35,6 +35,7 @@ void write_frame_dir_info(const std::filesystem::path& dir, const FrameDirInfo& 
   j["width"] = info.width;
   j["height"] = info.height;
   j["image_formats"] = info.image_formats;
+  j["denoise"] = info.denoise;
   j["source"] = info.source;
   j["path_file"] = info.path_file;
   const std::string text = j.dump(2) + "\n";
@@ -76,6 +77,7 @@ FrameDirInfo read_frame_dir_info(const std::filesystem::path& dir) {
   if (info.image_formats.empty()) r.fail_key("image_formats", "is empty");
   for (const auto& f : info.image_formats)
     if (f != "png" && f != "exr") r.fail_key("image_formats", "may hold only \"png\" and \"exr\"");
+  r.read("denoise", info.denoise);
   r.read("source", info.source);
   r.read("path_file", info.path_file);
   return info;
@@ -86,7 +88,7 @@ std::string describe(const FrameDirInfo& i) {
   std::string formats;
   for (const auto& f : i.image_formats) formats += (formats.empty() ? "" : "+") + f;
   return std::to_string(i.frame_count) + " frames of " + std::to_string(i.width) + "x" + std::to_string(i.height) + " at " +
-         std::to_string(i.fps) + " fps as " + formats;
+         std::to_string(i.fps) + " fps as " + formats + (i.denoise ? ", denoised" : "");
 }
 }  // namespace
 

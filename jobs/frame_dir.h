@@ -23,8 +23,11 @@ struct FrameDirInfo {
   std::vector<std::string> image_formats;  ///< extensions written for every frame: "png", "exr"
   std::string source;                      ///< the mesh or scene the tour was made from (informative)
   std::string path_file;                   ///< absolute path of the camera path file rendered, if any
+  /// Whether the frames are denoised (--denoise): PNGs show the denoised frame, EXRs carry it as
+  /// the `denoised` layer beside the raw one. Manifests of meshtour before the denoiser: false.
+  bool denoise = false;
 
-  /// Same tour (frame count, rate, size, formats)? Source and path file are informative only.
+  /// Same tour (frame count, rate, size, formats, denoising)? Source and path file are informative only.
   bool same_tour(const FrameDirInfo& other) const;
 };
 

@@ -77,8 +77,17 @@ std::vector<Option> make_registry() {
                "(default: the scene's, else studio)",
        .scene_key = "look.preset", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "spp", .flag = "--spp", .kind = Kind::integer, .lo = 1, .hi = 4096, .default_text = "16",
-       .help = "Samples per pixel, stratified; noise falls as 1/sqrt(spp) (default 16)", .scene_key = "output.spp",
-       .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+       .help = "Samples per pixel, Owen-scrambled Sobol points; the raw frame's noise falls about as 1/spp on soft\n"
+               "shadows and occlusion (faster than 1/sqrt(spp)); powers of two work best (default 16)",
+       .scene_key = "output.spp", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "denoise", .flag = "--denoise", .kind = Kind::choice, .choices = {"on", "off"}, .ignore_case = true,
+       .default_text = "on",
+       .help = "Denoise the frames (default on): PNG frames and the video show the denoised frame; EXR frames keep\n"
+               "the raw frame as the main layer and add the denoised one as the layer 'denoised' (encode uses it)",
+       .long_help = "An edge-avoiding a-trous filter of the lighting guided by albedo, normal, depth and a per-pixel "
+                    "variance estimate (tracer/denoiser.h); textures and vertex colours are divided out first, so "
+                    "they stay sharp. Deterministic: the same bits for any thread count, CPU and farm split.",
+       .scene_key = "output.denoise", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "background", .flag = "--background", .kind = Kind::choice, .choices = {"gradient", "transparent"},
        .help = "gradient, or transparent (PNG frames get alpha; the ground's shadows stay, as alpha)",
        .scene_key = "look.background", .manifest_column = true, .commands = kRendering, .farm = kToTasks});

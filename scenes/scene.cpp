@@ -216,6 +216,8 @@ void apply_option(Scene& scene, const options::Option& o, const std::string& tex
     set_look_preset(scene, text);
   } else if (id == "spp") {
     scene.render.samples_per_pixel = integer();
+  } else if (id == "denoise") {
+    scene.render.denoise = text == "on";
   } else if (id == "background" || id == "exposure") {
     apply_look_value(scene.render.shading, id, text);
   } else if (id == "exr-layers") {

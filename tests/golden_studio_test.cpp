@@ -14,6 +14,7 @@
 #include "golden.h"
 #include "helpers.h"
 #include "test_meshes.h"
+#include "textured_cube.h"
 #include "scenes/scene.h"
 #include "tracer/tracer.h"
 
@@ -65,33 +66,7 @@ TEST(GoldenStudio, PlainPreset) {
   golden(Renderer(sphere(true), small_options("plain")).render(kSphereCamera), "plain_vertex_colours");
 }
 
-// A cube with one texture over each face (OBJ + MTL + an 8x8 checkerboard PNG with a red
-// corner, so that a flipped or rotated lookup shows), written by the test itself.
-std::filesystem::path write_textured_cube(const std::filesystem::path& dir) {
-  OIIO::ImageBuf tex(OIIO::ImageSpec(64, 64, 3, OIIO::TypeDesc::UINT8));
-  for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 64; ++x) {
-      const bool dark = ((x / 8) + (y / 8)) % 2 == 1;
-      float c[3] = {dark ? 0.1f : 0.9f, dark ? 0.1f : 0.85f, dark ? 0.15f : 0.7f};
-      if (x < 16 && y < 16) c[0] = 0.9f, c[1] = 0.1f, c[2] = 0.1f;  // top left of the image: v = 1
-      tex.setpixel(x, y, c);
-    }
-  EXPECT_TRUE(tex.write((dir / "checker.png").string())) << tex.geterror();
-  std::ofstream(dir / "cube.mtl") << "newmtl checker\nKd 1 1 1\nmap_Kd checker.png\n";
-  std::ofstream obj(dir / "cube.obj");
-  obj << "mtllib cube.mtl\n";
-  for (int i = 0; i < 8; ++i) obj << "v " << (i & 1 ? 1 : -1) << " " << (i & 2 ? 1 : -1) << " " << (i & 4 ? 1 : -1) << "\n";
-  obj << "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl checker\n";
-  // Faces counter-clockwise seen from outside (vertex index = 1 + x + 2y + 4z bits).
-  const int faces[6][4] = {{1, 2, 4, 3}, {5, 7, 8, 6}, {1, 5, 6, 2}, {3, 4, 8, 7}, {1, 3, 7, 5}, {2, 6, 8, 4}};
-  // As two triangles each: the loader keeps the UVs of triangles (OpenMesh's triangulation of
-  // polygons does not carry the corners' UVs over to the diagonal's halfedges).
-  for (const auto& f : faces) {
-    obj << "f " << f[0] << "/1 " << f[1] << "/2 " << f[2] << "/3\n";
-    obj << "f " << f[0] << "/1 " << f[2] << "/3 " << f[3] << "/4\n";
-  }
-  return dir / "cube.obj";
-}
+using test::write_textured_cube;
 
 TEST(GoldenStudio, TexturedObj) {
   const auto file = write_textured_cube(test::scratch_dir());
@@ -122,8 +97,9 @@ TEST(GoldenStudio, ExrWithExtraLayers) {
   ASSERT_TRUE(exr.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << exr.geterror();
   const OIIO::ImageSpec& spec = exr.spec();
   // OpenEXR sorts channels by name within a file; look each one up by its name.
-  ASSERT_EQ(spec.nchannels, 11);
-  for (const char* name : {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z"})
+  ASSERT_EQ(spec.nchannels, 15);
+  for (const char* name : {"R", "G", "B", "A", "denoised.R", "denoised.G", "denoised.B", "denoised.A", "albedo.R", "albedo.G",
+                           "albedo.B", "N.X", "N.Y", "N.Z", "Z"})
     EXPECT_GE(spec.channelindex(name), 0) << name;
   const int z = spec.channelindex("Z");
   ASSERT_GE(z, 0);
@@ -148,6 +124,17 @@ TEST(GoldenStudio, ExrWithExtraLayers) {
   const int cx = 80, cy = 60;
   const std::size_t p = static_cast<std::size_t>(cy) * 160 + cx;
   EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("A")), 1.0f, 1e-3f);
+  // The main layer is the raw frame, the denoised one beside it (to half precision).
+  EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("R")), img.rgba[p * 4], 2e-3f);
+  EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("denoised.R")), img.denoised[p * 4], 2e-3f);
+  RenderOptions raw_only = o;
+  raw_only.denoise = false;
+  const auto raw_file = test::scratch_dir() / "raw-only.exr";
+  write_image(Renderer(sphere(true), raw_only).render(kSphereCamera, 5), raw_file);
+  OIIO::ImageBuf without(raw_file.string());
+  ASSERT_TRUE(without.init_spec(without.name(), 0, 0));
+  EXPECT_EQ(without.spec().nchannels, 11);  // no denoised layer when denoising is off
+  EXPECT_LT(without.spec().channelindex("denoised.R"), 0);
   EXPECT_NEAR(exr.getchannel(cx, cy, 0, spec.channelindex("albedo.G")), img.albedo[p * 3 + 1], 2e-3f);
   EXPECT_FLOAT_EQ(exr.getchannel(cx, cy, 0, z), img.depth[p]);
   EXPECT_GT(img.depth[p], 2.5f);

@@ -114,6 +114,18 @@ TEST(FrameDir, PrepareWritesTheManifestOnceAndRefusesAnotherTour) {
     EXPECT_NE(std::string(e.what()).find("holds another tour (12 frames of 64x48 at 30 fps as png; this one is 13 frames"), std::string::npos)
         << e.what();
   }
+  // Denoised frames do not mix with raw ones (the PNGs differ), and the manifest records which.
+  info.frame_count = 12;
+  info.denoise = true;
+  try {
+    prepare_frame_dir(dir, info);
+    ADD_FAILURE() << "denoised frames were accepted into a directory of raw ones";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("this one is 12 frames of 64x48 at 30 fps as png, denoised"), std::string::npos) << e.what();
+  }
+  const auto denoised_dir = test::scratch_dir() / "denoised";
+  prepare_frame_dir(denoised_dir, info);
+  EXPECT_TRUE(read_frame_dir_info(denoised_dir).denoise);
 }
 
 }  // namespace

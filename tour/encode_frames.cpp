@@ -211,7 +211,12 @@ std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& pla
         if (spec.channelnames[static_cast<std::size_t>(c)] == name) return c;
       return -1;
     };
-    const int r = channel("R"), g = channel("G"), b = channel("B"), a = channel("A");
+    // The denoised layer when the frame has one: it is what the PNG frames and the tour's video
+    // show, so a video made from EXR frames matches them instead of showing the raw grain.
+    const bool denoised = channel("denoised.R") >= 0 && channel("denoised.G") >= 0 && channel("denoised.B") >= 0;
+    const char* const prefix = denoised ? "denoised." : "";
+    const auto layer_channel = [&](const char* name) { return channel((std::string(prefix) + name).c_str()); };
+    const int r = layer_channel("R"), g = layer_channel("G"), b = layer_channel("B"), a = layer_channel("A");
     if (r < 0 || g < 0 || b < 0) throw InputError(file.string() + ": EXR frame has no R, G, B channels");
     std::vector<float> all(pixels * static_cast<std::size_t>(channels));
     if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))

@@ -95,10 +95,11 @@ double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices) {
 }
 double estimate_path_bytes(std::size_t triangles) { return 1800.0 * static_cast<double>(triangles); }
 double estimate_bvh_bytes(std::size_t triangles) { return 250.0 * static_cast<double>(triangles); }
-double estimate_frame_bytes(int width, int height, int extra_layers) {
+double estimate_frame_bytes(int width, int height, int extra_layers, bool denoise) {
   // The float image and its film, the 8-bit copy, and the encoder's look-ahead of about 40
-  // YUV 4:2:0 frames.
-  return static_cast<double>(width) * height * (80.0 + 16.0 * extra_layers + 1.5 * 40);
+  // YUV 4:2:0 frames; the denoiser's guides, planes and output (tracer/denoiser.h) about 170
+  // bytes a pixel.
+  return static_cast<double>(width) * height * (80.0 + 16.0 * extra_layers + 1.5 * 40 + (denoise ? 170.0 : 0.0));
 }
 
 void check_memory(const MemoryEstimate& estimate, const MemoryBudget& budget, const std::string& job) {

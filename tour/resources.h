@@ -43,7 +43,7 @@ struct MemoryEstimate {
 double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices);  ///< loading: OpenMesh + arrays
 double estimate_path_bytes(std::size_t triangles);                        ///< toroidal-patch path stages
 double estimate_bvh_bytes(std::size_t triangles);                         ///< Embree BVH + shading data
-double estimate_frame_bytes(int width, int height, int extra_layers);     ///< frame buffers + encoder
+double estimate_frame_bytes(int width, int height, int extra_layers, bool denoise);     ///< frame buffers + encoder
 
 /// Refuses (InputError, exit 2) a job whose estimated peak exceeds the budget, naming the budget,
 /// the estimate by part and how to raise the budget.

@@ -192,7 +192,7 @@ void check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
   e.parts = {{"runtime", 100e6}, {"mesh", estimate_mesh_bytes(triangles, vertices)}};
   if (path_stages) e.parts.push_back({"camera path", estimate_path_bytes(triangles)});
   e.parts.push_back({"ray-tracing BVH", estimate_bvh_bytes(triangles)});
-  e.parts.push_back({"frame buffers", estimate_frame_bytes(scene.render.width, scene.render.height, extra_layers)});
+  e.parts.push_back({"frame buffers", estimate_frame_bytes(scene.render.width, scene.render.height, extra_layers, scene.render.denoise)});
   // The path's structures are freed before the BVH is built.
   e.peak = e.parts[0].second + e.parts[1].second +
            std::max(path_stages ? e.parts[2].second : 0.0, e.parts[e.parts.size() - 2].second + e.parts.back().second);
@@ -256,6 +256,7 @@ FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& 
   info.width = scene.render.width;
   info.height = scene.render.height;
   info.image_formats = formats;
+  info.denoise = scene.render.denoise;
   info.source = scene.source;
   if (scene.path_file) info.path_file = std::filesystem::absolute(*scene.path_file).string();
   return info;

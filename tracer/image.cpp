@@ -38,6 +38,7 @@ float Image::display(float linear) const {
 }
 
 std::vector<std::uint8_t> Image::to_srgb8() const {
+  const std::vector<float>& rgba = display_rgba();
   std::vector<std::uint8_t> out(static_cast<std::size_t>(width) * height * 3);
   for (std::size_t p = 0, n = static_cast<std::size_t>(width) * height; p < n; ++p)
     for (int k = 0; k < 3; ++k) out[p * 3 + k] = to8(display(rgba[p * 4 + k]));
@@ -45,6 +46,7 @@ std::vector<std::uint8_t> Image::to_srgb8() const {
 }
 
 std::vector<std::uint8_t> Image::to_srgba8() const {
+  const std::vector<float>& rgba = display_rgba();
   std::vector<std::uint8_t> out(static_cast<std::size_t>(width) * height * 4);
   for (std::size_t p = 0, n = static_cast<std::size_t>(width) * height; p < n; ++p) {
     const float a = std::clamp(rgba[p * 4 + 3], 0.0f, 1.0f);
@@ -64,7 +66,7 @@ void write_image(const Image& image, const std::filesystem::path& file) {
   const bool png = ext == ".png", exr = ext == ".exr";
   if (!png && !exr) throw InputError(file.string() + ": frames can be written as .png or .exr, not '" + ext + "'");
   const std::size_t npix = static_cast<std::size_t>(image.width) * image.height;
-  if (image.rgba.size() != npix * 4 || (!image.albedo.empty() && image.albedo.size() != npix * 3) ||
+  if (image.rgba.size() != npix * 4 || (!image.denoised.empty() && image.denoised.size() != npix * 4) || (!image.albedo.empty() && image.albedo.size() != npix * 3) ||
       (!image.normal.empty() && image.normal.size() != npix * 3) || (!image.depth.empty() && image.depth.size() != npix))
     throw InputError(file.string() + ": the image's layers do not match its size " + std::to_string(image.width) + "x" +
                      std::to_string(image.height));
@@ -85,7 +87,10 @@ void write_image(const Image& image, const std::filesystem::path& file) {
   } else {
     // One interleaved float buffer with every layer; OpenEXR stores RGBA and the extra layers
     // as half, depth as float (half's 11-bit mantissa would band the depth of large scenes).
+    // The raw (unbiased) frame is the main layer; the denoised one, which the PNG and the video
+    // show, a layer beside it, so compositors can choose.
     std::vector<std::string> names = {"R", "G", "B", "A"};
+    if (!image.denoised.empty()) names.insert(names.end(), {"denoised.R", "denoised.G", "denoised.B", "denoised.A"});
     if (!image.albedo.empty()) names.insert(names.end(), {"albedo.R", "albedo.G", "albedo.B"});
     if (!image.normal.empty()) names.insert(names.end(), {"N.X", "N.Y", "N.Z"});
     if (!image.depth.empty()) names.push_back("Z");
@@ -122,6 +127,8 @@ void write_image(const Image& image, const std::filesystem::path& file) {
     for (std::size_t p = 0; p < npix; ++p) {
       float* dst = &pixels[p * channels];
       for (int k = 0; k < 4; ++k) *dst++ = image.rgba[p * 4 + k];
+      if (!image.denoised.empty())
+        for (int k = 0; k < 4; ++k) *dst++ = image.denoised[p * 4 + k];
       if (!image.albedo.empty())
         for (int k = 0; k < 3; ++k) *dst++ = image.albedo[p * 3 + k];
       if (!image.normal.empty())

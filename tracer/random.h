@@ -2,8 +2,8 @@
 // Counter-based random numbers: every random number the renderer uses is a pure function of
 // (frame, pixel, sample, dimension), so a pixel never depends on which thread rendered it, in
 // which order tiles ran, or which process rendered the frame. No generator state is shared.
-// Here: the per-pixel key (64-bit, once per pixel); the per-sample numbers are 32-bit hashes of
-// it, 16 samples at a time (simd.h, tile_kernel.cpp).
+// Here: the per-pixel key (64-bit, once per pixel); the sampler (sampler.h) seeds its scrambles
+// with 32-bit hashes of it, 16 samples at a time.
 #include <cstdint>
 
 namespace meshtour::rng {

@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "tracer/color.h"
+#include "tracer/denoiser.h"
 #include "tracer/film.h"
 #include "tracer/random.h"
 #include "tracer/renderer_impl.h"
@@ -90,6 +91,29 @@ Renderer::Impl::TileKernel choose_tile_kernel() {
   if (v3) return &Impl::render_tile_x86_64_v3;
 #endif
   return &Impl::render_tile_baseline;
+}
+
+// The denoiser's settings for this frame: the reconstruction filter as weights of pixel box
+// means (the mean of the filter's tap weights over a pixel's positions), for its unshadowed
+// light; and the copy of its pass that matches the tile kernel.
+DenoiseSettings denoise_settings(const ReconstructionFilter& filter, bool transparent, Renderer::Impl::TileKernel kernel) {
+  DenoiseSettings s;
+  s.transparent = transparent;
+  using Set = DenoiseSettings::InstructionSet;
+  using Impl = Renderer::Impl;
+  s.instruction_set = kernel == &Impl::render_tile_x86_64_v4 ? Set::x86_64_v4
+                      : kernel == &Impl::render_tile_x86_64_v3 ? Set::x86_64_v3
+                                                                : Set::baseline;
+  s.reach = filter.reach();
+  simd::F16 offsets, w[5];
+  for (int l = 0; l < simd::kLanes; ++l) offsets.set(l, (static_cast<float>(l) + 0.5f) / simd::kLanes);
+  filter.weights(offsets, w);
+  for (int i = 0; i <= 2 * s.reach; ++i) {
+    float sum = 0.0f;
+    for (int l = 0; l < simd::kLanes; ++l) sum += w[i][l];
+    s.taps[static_cast<std::size_t>(i)] = sum / simd::kLanes;
+  }
+  return s;
 }
 
 }  // namespace
@@ -303,17 +327,7 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   basis(up, f.up_t1, f.up_t2);
 
   f.spp = options.samples_per_pixel;
-  int rows = static_cast<int>(std::sqrt(static_cast<double>(f.spp)));
-  while (f.spp % rows != 0) --rows;
-  const int cols = f.spp / rows;
-  // The corner of each stratum, computed once: the integer divisions would otherwise cost more
-  // than the rest of a sample's set-up.
-  for (int j = 0; j < f.spp; ++j) {
-    f.stratum_x.push_back(static_cast<float>(j % cols) / static_cast<float>(cols));
-    f.stratum_y.push_back(static_cast<float>(j / cols) / static_cast<float>(rows));
-  }
-  f.stratum_w = 1.0f / static_cast<float>(cols);
-  f.stratum_h = 1.0f / static_cast<float>(rows);
+  f.seed = static_cast<std::uint64_t>(options.sample_seed) << 40;
 
   f.tiles_x = (width + kTileSize - 1) / kTileSize;
   const int tiles_x = f.tiles_x, tiles_y = (height + kTileSize - 1) / kTileSize;
@@ -336,6 +350,19 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   if (recording) recording->tiles.assign((ntiles + recording->tile_stride - 1) / recording->tile_stride, {});
   std::atomic<std::uint64_t> primary_count{0}, secondary_count{0};
   tbb::enumerable_thread_specific<Scratch> scratch_per_thread;
+  // The denoiser's guides and scratch memory, reused between frames like the tile buffers.
+  DenoiseWorkspace workspace;
+  if (options.denoise) {
+    {
+      std::lock_guard lock(buffer_mutex);
+      if (!spare_workspaces.empty()) {
+        workspace = std::move(spare_workspaces.back());
+        spare_workspaces.pop_back();
+      }
+    }
+    workspace.frame_guides.reset(width, height, f.spp);
+    f.guides = &workspace.frame_guides;
+  }
 
   tbb::parallel_for(tbb::blocked_range<int>(0, ntiles, 1), [&](const tbb::blocked_range<int>& range) {
     Scratch& scratch = scratch_per_thread.local();
@@ -373,6 +400,11 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   {
     std::lock_guard lock(buffer_mutex);
     spare_buffers.push_back(std::move(tile_sums));
+  }
+  if (options.denoise) {
+    image.denoised = denoise(image.rgba, workspace.frame_guides, denoise_settings(filter, transparent, render_tile), &workspace);
+    std::lock_guard lock(buffer_mutex);
+    spare_workspaces.push_back(std::move(workspace));
   }
   if (stats) {
     stats->primary_rays += primary_count;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "tracer/denoiser.h"
 #include "tracer/film.h"
 #include "tracer/renderer_internal.h"
 #include "tracer/tracer.h"
@@ -75,11 +76,10 @@ struct Frame {
   float ground_weights[8] = {};
   float ground_light_total = 0.0f, ground_shadow = 0.0f, ground_light_share = 0.0f, ground_sky_share = 0.0f;
   Eigen::Vector3f up, up_t1, up_t2;  // the ground's normal and tangents, for its occlusion rays
-  // The corner of each stratum (a rows x cols grid over the unit square) and a stratum's size.
-  std::vector<float> stratum_x, stratum_y;
-  float stratum_w = 1.0f, stratum_h = 1.0f;
+  std::uint64_t seed = 0;  // RenderOptions::sample_seed, placed above any frame index
   int tiles_x = 0, apron = 0, buf_w = 0;
   Image* image = nullptr;  // the extra layers are written by the tiles directly
+  DenoiseGuides* guides = nullptr;  // the denoiser's guides, when it runs; written by the tiles
 };
 
 // Per-thread buffers, reused from tile to tile.
@@ -126,6 +126,7 @@ struct Renderer::Impl {
   // otherwise be mapped and page-faulted afresh for every frame. One per concurrent render().
   mutable std::mutex buffer_mutex;
   mutable std::vector<std::vector<float>> spare_buffers;
+  mutable std::vector<DenoiseWorkspace> spare_workspaces;  // the same for the denoiser's memory
 
   void check(const char* what) {
     std::lock_guard lock(errors.mutex);

@@ -86,6 +86,7 @@ MESHTOUR_SIMD_BINARY(U16, +)
 MESHTOUR_SIMD_BINARY(U16, *)
 MESHTOUR_SIMD_BINARY(U16, &)
 MESHTOUR_SIMD_BINARY(U16, ^)
+MESHTOUR_SIMD_BINARY(U16, |)
 #undef MESHTOUR_SIMD_BINARY
 MESHTOUR_SIMD_INLINE F16 operator-(const F16& a) {
   return map<F16>(a, [](auto x) __attribute__((always_inline)) { return -x; });
@@ -101,6 +102,9 @@ MESHTOUR_SIMD_INLINE I16 operator>>(const I16& a, int n) {
 }
 MESHTOUR_SIMD_INLINE U16 operator>>(const U16& a, int n) {
   return map<U16>(a, [n](auto x) __attribute__((always_inline)) { return x >> n; });
+}
+MESHTOUR_SIMD_INLINE U16 operator<<(const U16& a, int n) {
+  return map<U16>(a, [n](auto x) __attribute__((always_inline)) { return x << n; });
 }
 
 MESHTOUR_SIMD_INLINE F16 broadcast(float v) {
@@ -250,8 +254,8 @@ MESHTOUR_SIMD_INLINE F16 sum_lanes(const F16* x) {
 #endif
 }
 
-/// A 32-bit integer hash with good avalanche ("lowbias32", C. Wellons 2018): the random numbers
-/// of a sample are hashes of (frame, pixel, sample, dimension), computed 16 lanes at a time.
+/// A 32-bit integer hash with good avalanche ("lowbias32", C. Wellons 2018): the sampler's
+/// per-pixel seeds (sampler.h) are hashes of the pixel's key, computed 16 lanes at a time.
 /// For one std::uint32_t (per-pixel values) or for 16 lanes (U16).
 template <typename Uint>
 MESHTOUR_SIMD_INLINE constexpr Uint hash(Uint x) {
@@ -261,15 +265,6 @@ MESHTOUR_SIMD_INLINE constexpr Uint hash(Uint x) {
   x *= 0x846ca68bU;
   x ^= x >> 16;
   return x;
-}
-
-/// Two uniform numbers in (0, 1) from one hash: 16 bits each, the centres of 65536 bins. Samples
-/// are stratified, so a number only places a sample inside its stratum, where 16 bits is far
-/// finer than anything a pixel resolves.
-MESHTOUR_SIMD_INLINE void uniform_pair(U16 h, F16& u, F16& v) {
-  const I16 hi = as_int(h >> 16), lo = as_int(h & 0xffffU);
-  u = (to_float(hi) + 0.5f) * 0x1.0p-16f;
-  v = (to_float(lo) + 0.5f) * 0x1.0p-16f;
 }
 
 /// sin and cos of 2 pi u for u in [0, 1]: quadrant reduction and short Taylor polynomials on

@@ -10,9 +10,11 @@
 #include <cmath>
 #include <limits>
 
+#include "tracer/denoiser.h"
 #include "tracer/film.h"
 #include "tracer/random.h"
 #include "tracer/renderer_impl.h"
+#include "tracer/sampler.h"
 #include "tracer/simd.h"
 
 #ifndef MESHTOUR_TILE_KERNEL
@@ -82,7 +84,7 @@ MESHTOUR_SIMD_INLINE I16 choose(const Weight* weights, std::size_t n, F16 total,
   return simd::select_int(simd::lt(chosen, 0), last, chosen);
 }
 
-// A direction uniform over a light's disc (a spherical cap), from stratified numbers (u, v).
+// A direction uniform over a light's disc (a spherical cap), from numbers (u, v) in (0, 1).
 MESHTOUR_SIMD_INLINE V3 light_direction(const LaneLight& l, F16 u, F16 v) {
   const F16 cos_t = 1.0f - u * l.one_minus_cos_half_angle;
   const F16 sin_t = simd::sqrt(simd::max(simd::broadcast(0.0f), 1.0f - cos_t * cos_t));
@@ -166,6 +168,53 @@ MESHTOUR_SIMD_INLINE void splat_packet(const F16 (&rgba)[4], const F16* wx, cons
   acc.flush(sums, stride, current % stride, current / stride);
 }
 
+MESHTOUR_SIMD_INLINE F16 luminance(F16 r, F16 g, F16 b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
+
+// Adds a packet's samples to the denoiser's per-pixel guides: box means of albedo and unshadowed
+// light, normal sums, the nearest depth, and the moments of the sample's visibility (its light
+// divided by its unshadowed light): the variance estimate.
+MESHTOUR_SIMD_INLINE void accumulate_guides(DenoiseGuides& g, bool transparent, int spp, const int* image_pixel, int lanes,
+                                            const F16 (&rgba)[4], const V3& albedo, const V3& unshadowed, const V3& normal,
+                                            F16 depth) {
+  const F16 unshadowed_luma = simd::max(luminance(unshadowed.x, unshadowed.y, unshadowed.z), simd::broadcast(1e-4f));
+  const F16 signal = luminance(rgba[0], rgba[1], rgba[2]) / unshadowed_luma + (transparent ? rgba[3] : simd::broadcast(0.0f));
+  const float inv_spp = 1.0f / static_cast<float>(spp);
+  if (lanes == simd::kLanes && image_pixel[0] == image_pixel[simd::kLanes - 1]) {
+    // All 16 samples in one pixel (as in splat_packet): the 11 sums in one tree, added once.
+    const F16 zero = simd::broadcast(0.0f);
+    const F16 values[simd::kLanes] = {albedo.x, albedo.y, albedo.z, unshadowed.x, unshadowed.y, unshadowed.z, normal.x, normal.y,
+                                      normal.z, signal, signal * signal, zero, zero, zero, zero, zero};
+    const F16 sums = simd::sum_lanes(values);
+    const std::size_t p = static_cast<std::size_t>(image_pixel[0]);
+    for (int c = 0; c < 3; ++c) {
+      g.albedo[p * 3 + c] += sums[c] * inv_spp;
+      g.unshadowed[p * 3 + c] += sums[3 + c] * inv_spp;
+      g.normal[p * 3 + c] += sums[6 + c];
+    }
+    g.moments[p * 2 + 0] += sums[9];
+    g.moments[p * 2 + 1] += sums[10];
+    float nearest = depth[0];
+    for (int l = 1; l < simd::kLanes; ++l) nearest = std::min(nearest, depth[l]);
+    g.depth[p] = std::min(g.depth[p], nearest);
+    return;
+  }
+  for (int l = 0; l < lanes; ++l) {
+    const std::size_t p = static_cast<std::size_t>(image_pixel[l]);
+    g.albedo[p * 3 + 0] += albedo.x[l] * inv_spp;
+    g.albedo[p * 3 + 1] += albedo.y[l] * inv_spp;
+    g.albedo[p * 3 + 2] += albedo.z[l] * inv_spp;
+    g.unshadowed[p * 3 + 0] += unshadowed.x[l] * inv_spp;
+    g.unshadowed[p * 3 + 1] += unshadowed.y[l] * inv_spp;
+    g.unshadowed[p * 3 + 2] += unshadowed.z[l] * inv_spp;
+    g.normal[p * 3 + 0] += normal.x[l];
+    g.normal[p * 3 + 1] += normal.y[l];
+    g.normal[p * 3 + 2] += normal.z[l];
+    g.depth[p] = std::min(g.depth[p], depth[l]);
+    g.moments[p * 2 + 0] += signal[l];
+    g.moments[p * 2 + 1] += signal[l] * signal[l];
+  }
+}
+
 }  // namespace
 
 // The hot loop: a tile's samples, 16 at a time (one packet; one pixel at 16 spp). Each packet
@@ -197,64 +246,48 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
   for (std::size_t i = 0; i < nlights; ++i) light_luminance[i] = f.lights[i].radiance_luminance;
 
   // The sample after the last one set up: its pixel (within the tile) and index in the pixel,
-  // and that pixel's random key and the shifts of its secondary rays' strata.
+  // and that pixel's random key.
   int next_pixel = 0, next_sample = 0;
   std::uint32_t pixel_key = 0;
-  int light_shift = 0, sky_shift = 0, pixel_x = 0, pixel_y = 0;
+  int pixel_x = 0, pixel_y = 0;
 
   for (int k0 = 0; k0 < nsamples; k0 += simd::kLanes) {
     const int lanes = std::min(simd::kLanes, nsamples - k0);
-    // Lane set-up (scalar): pixel, stratum corners, random key.
-    alignas(64) float px[16] = {}, py[16] = {}, cam_sx[16] = {}, cam_sy[16] = {}, light_sx[16] = {}, light_sy[16] = {},
-                      sky_sx[16] = {}, sky_sy[16] = {};
-    alignas(64) std::uint32_t sample_key[16] = {};
+    // Lane set-up (scalar): pixel, sample index, random key.
+    alignas(64) float px[16] = {}, py[16] = {};
+    alignas(64) std::uint32_t lane_key[16] = {}, lane_sample[16] = {};
     alignas(64) int buffer_pixel[16] = {};
     alignas(64) int image_pixel[16] = {};
     for (int l = 0; l < lanes; ++l) {
-      const int s = next_sample;
-      if (s == 0) {
+      if (next_sample == 0) {
         pixel_x = x0 + next_pixel % tile_w;
         pixel_y = y0 + next_pixel / tile_w;
-        const std::uint64_t key = rng::pixel_key(f.index, static_cast<std::uint64_t>(pixel_y) * f.width + pixel_x);
+        const std::uint64_t key = rng::pixel_key(f.index ^ f.seed, static_cast<std::uint64_t>(pixel_y) * f.width + pixel_x);
         pixel_key = static_cast<std::uint32_t>(key ^ (key >> 32));
-        // The secondary rays' strata are shifted per pixel, so that they do not line up with
-        // the camera-ray strata (a sample in the top row would always test the same light area).
-        light_shift = static_cast<int>(simd::hash(pixel_key ^ 0x5bd1e995U) % static_cast<std::uint32_t>(spp));
-        sky_shift = static_cast<int>(simd::hash(pixel_key ^ 0x1b873593U) % static_cast<std::uint32_t>(spp));
       }
       px[l] = static_cast<float>(pixel_x);
       py[l] = static_cast<float>(pixel_y);
       buffer_pixel[l] = (pixel_y - y0 + f.apron) * f.buf_w + (pixel_x - x0 + f.apron);
       image_pixel[l] = pixel_y * f.width + pixel_x;
-      const int j_light = s + light_shift >= spp ? s + light_shift - spp : s + light_shift;
-      const int j_sky = s + sky_shift >= spp ? s + sky_shift - spp : s + sky_shift;
-      cam_sx[l] = f.stratum_x[s];
-      cam_sy[l] = f.stratum_y[s];
-      light_sx[l] = f.stratum_x[j_light];
-      light_sy[l] = f.stratum_y[j_light];
-      sky_sx[l] = f.stratum_x[j_sky];
-      sky_sy[l] = f.stratum_y[j_sky];
-      sample_key[l] = pixel_key + 0x9e3779b9U * static_cast<std::uint32_t>(s);
+      lane_key[l] = pixel_key;
+      lane_sample[l] = static_cast<std::uint32_t>(next_sample);
       if (++next_sample == spp) {
         next_sample = 0;
         ++next_pixel;
       }
     }
     const I16 valid = simd::lt(lane_index, lanes);
-    // Random numbers: one hash per pair of dimensions, from the sample's key.
-    const simd::U16 key = simd::hash(simd::load_uint(sample_key));
-    F16 u_cam, v_cam, u_light, v_light, u_sky, v_sky, u_choice, unused;
-    simd::uniform_pair(simd::hash(key ^ 0x68e31da4U), u_cam, v_cam);
-    simd::uniform_pair(simd::hash(key ^ 0xb5297a4dU), u_light, v_light);
-    simd::uniform_pair(simd::hash(key ^ 0x1b56c4e9U), u_sky, v_sky);
-    simd::uniform_pair(simd::hash(key ^ 0x8f3c2a61U), u_choice, unused);
-    u_light = simd::load(light_sx) + u_light * f.stratum_w;
-    v_light = simd::load(light_sy) + v_light * f.stratum_h;
-    u_sky = simd::load(sky_sx) + u_sky * f.stratum_w;
-    v_sky = simd::load(sky_sy) + v_sky * f.stratum_h;
+    // Sample numbers: Owen-scrambled Sobol points, one shuffled 2D sequence per pair of
+    // dimensions (sampler.h).
+    const simd::U16 key = simd::load_uint(lane_key), sample_reversed = sampler::reverse_bits(simd::load_uint(lane_sample));
+    F16 u_cam, v_cam, u_light, v_light, u_sky, v_sky;
+    sampler::pair(sample_reversed, sampler::pair_seeds(key, 0), u_cam, v_cam);
+    sampler::pair(sample_reversed, sampler::pair_seeds(key, 1), u_light, v_light);
+    sampler::pair(sample_reversed, sampler::pair_seeds(key, 2), u_sky, v_sky);
+    const F16 u_choice = sampler::single(sample_reversed, sampler::pair_seeds(key, 3));
 
-    // 1. Camera rays, stratified and jittered inside each pixel.
-    const F16 offset_x = simd::load(cam_sx) + u_cam * f.stratum_w, offset_y = simd::load(cam_sy) + v_cam * f.stratum_h;
+    // 1. Camera rays, spread over the pixel by the sampler.
+    const F16 offset_x = u_cam, offset_y = v_cam;
     const F16 fx = simd::load(px) + offset_x, fy = simd::load(py) + offset_y;
     V3 dir{f.corner.x() + fx * f.step_x.x() + fy * f.step_y.x(), f.corner.y() + fx * f.step_x.y() + fy * f.step_y.y(),
            f.corner.z() + fx * f.step_x.z() + fy * f.step_y.z()};
@@ -290,9 +323,19 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     F16 base[4] = {bg.x, bg.y, bg.z, zero}, with_light[4] = {zero, zero, zero, zero}, with_sky[4] = {zero, zero, zero, zero};
     I16 shadow_valid = simd::broadcast_int(0), sky_valid = simd::broadcast_int(0);
     V3 shadow_dir{zero, zero, one}, sky_dir{zero, zero, one}, org = eye;
+    // What the sample tells the denoiser (denoiser.h): the surface colour its light is divided
+    // by (the background's for the ground and the background: their "lighting" is the shadow),
+    // the shading normal and the depth.
+    V3 guide_albedo = f.transparent ? V3{one, one, one} : bg, guide_normal{zero, zero, zero};
+    // ... and the light it would get if no shadow or occlusion ray were blocked: the frame is
+    // divided by it, so that the denoiser filters only the visibility of the lights and the sky
+    // (the shading's detail, normals, textures and highlights, is noise-free and stays sharp).
+    V3 guide_unshadowed = guide_albedo;
+    F16 guide_depth = simd::broadcast(std::numeric_limits<float>::infinity());
 
     if (simd::any(simd::either(on_model, on_ground))) {
       const F16 t = simd::load(primary.ray.tfar);
+      guide_depth = simd::select(simd::either(on_model, on_ground), t * dot(dir, broadcast(f.forward)), guide_depth);
       V3 ng{simd::load(primary.hit.Ng_x), simd::load(primary.hit.Ng_y), simd::load(primary.hit.Ng_z)};
       const F16 ng_len2 = dot(ng, ng);
       // Two-sided: open scans show their inside.
@@ -344,6 +387,8 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
         n = select(simd::gt(n_len2, 0.0f), V3{n.x * inv_n, n.y * inv_n, n.z * inv_n}, ng);
         n = select(simd::gt(dot(n, dir), 0.0f), V3{-n.x, -n.y, -n.z}, n);
         const V3 albedo{simd::load(ar), simd::load(ag), simd::load(ab)};
+        guide_albedo = select(on_model, albedo, guide_albedo);
+        guide_normal = select(on_model, n, guide_normal);
         const V3 view{-dir.x, -dir.y, -dir.z};
         // Unshadowed Blinn-Phong light from a light (cos_l = cosine of its incidence, > 0).
         auto reflected = [&](const V3& light_dir, const V3& radiance, F16 cos_l) __attribute__((always_inline)) {
@@ -389,6 +434,16 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
           }
         }
         const V3 sky{albedo.x * f.ambient.x(), albedo.y * f.ambient.y(), albedo.z * f.ambient.z()};
+        if (f.guides) {
+          V3 unshadowed = sky;
+          for (std::size_t i = 0; i < nlights; ++i) {
+            const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cosines[i]);
+            const I16 lit = simd::gt(cosines[i], 0.0f);
+            unshadowed = {unshadowed.x + simd::select(lit, c.x, zero), unshadowed.y + simd::select(lit, c.y, zero),
+                          unshadowed.z + simd::select(lit, c.z, zero)};
+          }
+          guide_unshadowed = select(on_model, unshadowed, guide_unshadowed);
+        }
         V3 model_sky{zero, zero, zero};
         if (f.ambient_occlusion) {
           model_sky = sky;
@@ -435,6 +490,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
       }
 
       if (simd::any(on_ground)) {
+        guide_normal = select(on_ground, broadcast(f.up), guide_normal);
         // The ground shows the background, darkened by the share of light and sky the model
         // takes away from it (a shadow catcher); transparent frames get the shadow as alpha. The
         // share whose ray is traced comes back if the ray is unblocked.
@@ -514,6 +570,9 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     F16 rgba[4];
     for (int ch = 0; ch < 4; ++ch)
       rgba[ch] = base[ch] + simd::select(light_seen, with_light[ch], zero) + simd::select(sky_seen, with_sky[ch], zero);
+
+    if (f.guides)
+      accumulate_guides(*f.guides, f.transparent, spp, image_pixel, lanes, rgba, guide_albedo, guide_unshadowed, guide_normal, guide_depth);
 
     // 4. Reconstruction filter: every sample is splatted onto the pixels within the radius.
     F16 wx[5], wy[5];

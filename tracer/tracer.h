@@ -80,7 +80,9 @@ struct ExtraLayers {
 struct RenderOptions {
   int width = 1280;
   int height = 720;
-  int samples_per_pixel = 16;  ///< stratified (jittered grid) over the pixel
+  /// Owen-scrambled Sobol samples (tracer/sampler.h): the error falls about as 1/spp on smooth
+  /// light and soft shadows (faster than 1/sqrt(spp)); powers of two keep the points a net.
+  int samples_per_pixel = 16;
   /// Radius of the Blackman-Harris reconstruction filter in pixels: samples are weighted by
   /// their distance to each pixel's centre, removing the jaggies a box filter leaves. 0.5..2.
   float filter_radius = 1.5f;
@@ -88,6 +90,12 @@ struct RenderOptions {
   Eigen::Vector3d world_up = Eigen::Vector3d::UnitY();
   ExtraLayers layers;
   Shading shading = look_preset("studio");
+  /// Also produce a denoised frame (Image::denoised; tracer/denoiser.h), which PNG frames and the
+  /// video show; the raw frame stays in Image::rgba (the EXR's main layer).
+  bool denoise = true;
+  /// Another set of random numbers (0 = the frames meshtour renders): for benchmarks that
+  /// measure how much two independent renders of a frame differ (flicker). Not an option.
+  std::uint32_t sample_seed = 0;
 };
 
 /// What a frame records about how it was made, written into EXR headers.
@@ -109,12 +117,16 @@ struct Image {
   std::vector<float> albedo;  ///< width * height * 3, or empty (see ExtraLayers)
   std::vector<float> normal;  ///< width * height * 3, or empty
   std::vector<float> depth;   ///< width * height, or empty
+  /// The denoised frame, width * height * 4 like rgba, or empty (RenderOptions::denoise).
+  std::vector<float> denoised;
   bool transparent = false;   ///< PNGs get an alpha channel
   // How display outputs (PNG, video) turn linear light into 8 bits.
   float exposure = 0.0f;  ///< stops
   ToneMapping tone_mapping = ToneMapping::clamp;
   FrameInfo info;
 
+  /// What display outputs (PNG, video) show: the denoised frame when there is one, else rgba.
+  const std::vector<float>& display_rgba() const { return denoised.empty() ? rgba : denoised; }
   /// The display value of one linear channel: exposure, tone curve, sRGB encoding, in [0,1].
   float display(float linear) const;
   /// 8-bit sRGB-encoded RGB, rows top to bottom: what PNG frames and the video receive. A
@@ -163,7 +175,9 @@ double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Ei
                         double aspect, double margin = 0.05);
 
 /// Writes `image` by extension: ".png" as 8-bit sRGB (RGBA when the image is transparent),
-/// tone mapped; ".exr" as half-float linear RGBA plus the image's extra layers (Z as float),
+/// tone mapped, of the denoised frame when there is one; ".exr" as half-float linear RGBA (the
+/// raw frame) plus the denoised frame as the layer `denoised.R/G/B/A` when there is one and the
+/// image's extra layers (Z as float),
 /// with the camera and render settings in the header, and the display transform of the PNG
 /// (meshtour:exposure, meshtour:toneMapping "filmic" or "clamp") for turning it into video.
 /// The file is written under a temporary name and renamed, so it is either complete or absent.

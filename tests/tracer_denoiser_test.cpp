@@ -1,0 +1,179 @@
+// The denoiser on synthetic frames with known answers: flat stays flat, albedo and depth steps
+// stay steps, noise variance falls by the filter's factor, and the bits do not depend on threads.
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "tracer/denoiser.h"
+
+namespace meshtour {
+namespace {
+
+constexpr int kWidth = 96, kHeight = 64, kSpp = 16;
+
+// A frame of one surface facing the camera: albedo, depth and lighting per pixel, plus noise of
+// standard deviation `sigma` (relative, on the lighting) with a consistent variance estimate.
+struct Synthetic {
+  DenoiseGuides guides;
+  std::vector<float> rgba;
+  Synthetic() {
+    guides.reset(kWidth, kHeight, kSpp);
+    rgba.assign(static_cast<std::size_t>(kWidth) * kHeight * 4, 0.0f);
+  }
+  template <typename Albedo, typename Depth, typename Light>
+  void fill(Albedo albedo, Depth depth, Light light, float sigma) {
+    std::uint32_t state = 12345;
+    const auto gaussian = [&] {  // sum of 4 uniforms (Irwin-Hall), scaled to unit variance
+      float s = 0;
+      for (int i = 0; i < 4; ++i) {
+        state = state * 1664525u + 1013904223u;
+        s += static_cast<float>(state >> 8) * 0x1.0p-24f - 0.5f;
+      }
+      return s * std::sqrt(3.0f);
+    };
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const std::size_t p = static_cast<std::size_t>(y) * kWidth + x;
+        const float a = albedo(x, y), l = light(x, y) * (1.0f + sigma * gaussian());
+        for (int c = 0; c < 3; ++c) {
+          guides.albedo[p * 3 + c] = a;
+          guides.unshadowed[p * 3 + c] = a;  // the lighting is all visibility
+          rgba[p * 4 + c] = a * l;
+        }
+        rgba[p * 4 + 3] = 1.0f;
+        guides.normal[p * 3 + 2] = kSpp;  // a sum of unit normals
+        guides.depth[p] = depth(x, y);
+        const float mean = light(x, y), var_mean = (sigma * mean) * (sigma * mean);
+        guides.moments[p * 2] = kSpp * mean;
+        guides.moments[p * 2 + 1] = kSpp * (mean * mean + kSpp * var_mean);
+      }
+  }
+  float at(const std::vector<float>& img, int x, int y) const { return img[(static_cast<std::size_t>(y) * kWidth + x) * 4]; }
+};
+
+const auto constant = [](float v) { return [v](int, int) { return v; }; };
+
+TEST(Denoiser, FlatRegionStaysFlat) {
+  Synthetic s;
+  s.fill(constant(0.5f), constant(10.0f), constant(0.6f), 0.0f);
+  const std::vector<float> out = denoise(s.rgba, s.guides, DenoiseSettings{});
+  for (std::size_t i = 0; i < out.size(); ++i) ASSERT_NEAR(out[i], s.rgba[i], 1e-6f) << "at " << i;
+}
+
+TEST(Denoiser, AlbedoStepStaysAStep) {
+  // A texture edge under smooth noisy light: the lighting is filtered, the albedo multiplied back.
+  Synthetic s;
+  s.fill([](int x, int) { return x < kWidth / 2 ? 0.1f : 0.8f; }, constant(10.0f), constant(1.0f), 0.2f);
+  const std::vector<float> out = denoise(s.rgba, s.guides, DenoiseSettings{});
+  for (int y = 8; y < kHeight - 8; ++y) {
+    EXPECT_NEAR(s.at(out, kWidth / 2 - 1, y), 0.1f, 0.1f * 0.15f) << "row " << y;
+    EXPECT_NEAR(s.at(out, kWidth / 2, y), 0.8f, 0.8f * 0.15f) << "row " << y;
+  }
+}
+
+TEST(Denoiser, DepthStepStaysAStep) {
+  // A silhouette: a near surface lit at 0.2 in front of a far one lit at 0.8, same albedo.
+  Synthetic s;
+  const auto left = [](int x, int) { return x < kWidth / 2; };
+  s.fill(constant(0.5f), [&](int x, int y) { return left(x, y) ? 5.0f : 10.0f; },
+         [&](int x, int y) { return left(x, y) ? 0.2f : 0.8f; }, 0.2f);
+  const std::vector<float> out = denoise(s.rgba, s.guides, DenoiseSettings{});
+  for (int y = 8; y < kHeight - 8; ++y) {
+    EXPECT_NEAR(s.at(out, kWidth / 2 - 1, y), 0.5f * 0.2f, 0.5f * 0.2f * 0.15f) << "row " << y;
+    EXPECT_NEAR(s.at(out, kWidth / 2, y), 0.5f * 0.8f, 0.5f * 0.8f * 0.15f) << "row " << y;
+  }
+}
+
+double variance_inside(const Synthetic& s, const std::vector<float>& img) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (int y = 16; y < kHeight - 16; ++y)
+    for (int x = 16; x < kWidth - 16; ++x) {
+      const double v = s.at(img, x, y);
+      sum += v;
+      sum2 += v * v;
+      ++n;
+    }
+  return sum2 / n - (sum / n) * (sum / n);
+}
+
+TEST(Denoiser, NoiseVarianceFallsByTheFiltersFactor) {
+  Synthetic s;
+  s.fill(constant(0.5f), constant(10.0f), constant(0.6f), 0.1f);
+  const std::vector<float> out = denoise(s.rgba, s.guides, DenoiseSettings{});
+  // White noise through the plain a-trous cascade (3-tap B-spline at steps 1, 2, 4, 8, 16)
+  // keeps sum(k^2) of its variance; the luminance weights let the filter average less than that.
+  std::vector<double> k{1.0};
+  for (int step = 1; step <= 16; step *= 2) {
+    std::vector<double> next(k.size() + 2 * step, 0.0);
+    for (std::size_t i = 0; i < k.size(); ++i)
+      for (int t = -1; t <= 1; ++t) next[i + step + t * step] += k[i] * (t == 0 ? 0.5 : 0.25);
+    k = next;
+  }
+  double k2 = 0;
+  for (double v : k) k2 += v * v;
+  const double factor = k2 * k2;  // separable: the 2D kernel's sum of squares
+  const double before = variance_inside(s, s.rgba), after = variance_inside(s, out);
+  std::printf("variance %.3g -> %.3g: reduced %.0fx (plain cascade %.0fx)\n", before, after, before / after, 1.0 / factor);
+  EXPECT_LT(after, before / 100.0);
+  EXPECT_GT(after, before * factor * 0.5);
+}
+
+TEST(Denoiser, SameBitsWithOneOrTwoThreads) {
+  Synthetic s;
+  s.fill([](int x, int y) { return (x / 7 + y / 5) % 2 ? 0.2f : 0.7f; }, [](int x, int) { return 5.0f + 0.1f * x; },
+         [](int x, int y) { return 0.3f + 0.004f * (x + y); }, 0.3f);
+  std::vector<float> one, two;
+  tbb::task_arena(1).execute([&] { one = denoise(s.rgba, s.guides, DenoiseSettings{}); });
+  tbb::task_arena(2).execute([&] { two = denoise(s.rgba, s.guides, DenoiseSettings{}); });
+  ASSERT_EQ(one.size(), two.size());
+  EXPECT_EQ(0, std::memcmp(one.data(), two.data(), one.size() * sizeof(float)));
+}
+
+// The pass is compiled once per x86-64 level; every copy this CPU runs must give the baseline's
+// bits, also for widths that are no multiple of a vector (16, 8 or 4 pixels), and reusing the
+// workspace must not change a bit.
+TEST(Denoiser, SameBitsWithEveryInstructionSetAndOddSizes) {
+  using Set = DenoiseSettings::InstructionSet;
+  std::vector<Set> sets = {Set::baseline};
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("x86-64-v3")) sets.push_back(Set::x86_64_v3);
+  if (__builtin_cpu_supports("x86-64-v4")) sets.push_back(Set::x86_64_v4);
+#endif
+  for (const int w : {1, 3, 17, 33})
+    for (const int h : {1, 19}) {
+      DenoiseGuides g;
+      g.reset(w, h, 4);
+      std::vector<float> rgba(static_cast<std::size_t>(w) * h * 4);
+      for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = static_cast<float>(i * 7919 % 97) / 97.0f;
+      for (std::size_t p = 0; p < static_cast<std::size_t>(w) * h; ++p) {
+        g.normal[p * 3 + 2] = 4;
+        g.depth[p] = 3.0f + static_cast<float>(p % 5);
+        g.moments[p * 2] = 2;
+        g.moments[p * 2 + 1] = 1.5f + static_cast<float>(p % 3);
+        for (int c = 0; c < 3; ++c) g.albedo[p * 3 + c] = g.unshadowed[p * 3 + c] = 0.5f;
+      }
+      std::vector<float> baseline;
+      for (const Set set : sets) {
+        SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + ", copy " + std::to_string(static_cast<int>(set)));
+        DenoiseSettings s;
+        s.instruction_set = set;
+        s.reach = 1;
+        s.taps = {0.0f, 0.2f, 0.6f, 0.2f, 0.0f};
+        DenoiseWorkspace workspace;
+        const std::vector<float> out = denoise(rgba, g, s, &workspace), again = denoise(rgba, g, s, &workspace);
+        EXPECT_EQ(0, std::memcmp(out.data(), again.data(), out.size() * sizeof(float)));
+        if (baseline.empty()) baseline = out;
+        EXPECT_EQ(0, std::memcmp(out.data(), baseline.data(), out.size() * sizeof(float)));
+      }
+    }
+}
+
+}  // namespace
+}  // namespace meshtour

@@ -1,0 +1,160 @@
+// The denoiser (denoiser.h): demodulate by the albedo, a-trous passes guided by normal, depth,
+// albedo and the lighting's variance, remodulate. Four pixels at a time (GCC vector extension;
+// SSE2 at the baseline every x86-64 CPU runs), rows in parallel.
+#include "tracer/denoiser.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+
+#include "tracer/denoiser_impl.h"
+
+namespace meshtour {
+
+void DenoiseGuides::reset(int w, int h, int spp) {
+  width = w;
+  height = h;
+  samples_per_pixel = spp;
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  albedo.assign(n * 3, 0.0f);
+  unshadowed.assign(n * 3, 0.0f);
+  normal.assign(n * 3, 0.0f);
+  depth.assign(n, std::numeric_limits<float>::infinity());
+  moments.assign(n * 2, 0.0f);
+}
+
+using namespace denoise_detail;
+
+namespace {
+AtrousPass pass_for(DenoiseSettings::InstructionSet set) {
+  switch (set) {
+#if defined(MESHTOUR_TILE_KERNELS_X86_64)
+    case DenoiseSettings::InstructionSet::x86_64_v3: return &atrous_pass_x86_64_v3;
+    case DenoiseSettings::InstructionSet::x86_64_v4: return &atrous_pass_x86_64_v4;
+#endif
+    default: return &atrous_pass_baseline;
+  }
+}
+}  // namespace
+
+std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& g, const DenoiseSettings& settings,
+                           DenoiseWorkspace* workspace) {
+  DenoiseWorkspace local;
+  DenoiseWorkspace& scratch = workspace ? *workspace : local;
+  const int width = g.width, height = g.height;
+  const std::size_t npix = static_cast<std::size_t>(width) * height;
+  const bool transparent = settings.transparent;
+  Planes guides(width, height, kGuides, scratch.guides), a(width, height, kPlanesPerImage, scratch.ping),
+      b(width, height, kPlanesPerImage, scratch.pong);
+  // The unshadowed light the beauty is divided by: the box means through the reconstruction
+  // filter's pixel weights (separable, renormalised at the frame's edges like the beauty).
+  std::vector<float>& unshadowed_h = scratch.unshadowed_h;
+  std::vector<float>& unshadowed_f = scratch.unshadowed_f;
+  unshadowed_h.resize(npix * 3);
+  unshadowed_f.resize(npix * 3);
+  const int reach = settings.reach;
+  // One axis of the separable filter: (dx, dy) is the step between taps; at the frame's edges
+  // only the taps inside count, renormalised.
+  const auto filter_axis = [&](const std::vector<float>& in, std::vector<float>& out, int dx, int dy) {
+    const std::ptrdiff_t step = (static_cast<std::ptrdiff_t>(dy) * width + dx) * 3;
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+      for (int y = range.begin(); y != range.end(); ++y)
+        for (int x = 0; x < width; ++x) {
+          const std::size_t p = (static_cast<std::size_t>(y) * width + x) * 3;
+          const int lo = std::max(-reach, dx ? -x : -y), hi = std::min(reach, dx ? width - 1 - x : height - 1 - y);
+          float acc[3] = {0, 0, 0}, sum = 0;
+          for (int i = lo; i <= hi; ++i) {
+            const float t = settings.taps[static_cast<std::size_t>(i + reach)];
+            const float* q = in.data() + static_cast<std::ptrdiff_t>(p) + i * step;
+            acc[0] += t * q[0];
+            acc[1] += t * q[1];
+            acc[2] += t * q[2];
+            sum += t;
+          }
+          for (int c = 0; c < 3; ++c) out[p + static_cast<std::size_t>(c)] = acc[c] / sum;
+        }
+    });
+  };
+  filter_axis(g.unshadowed, unshadowed_h, 1, 0);
+  filter_axis(unshadowed_h, unshadowed_f, 0, 1);
+  const auto divisor = [&](std::size_t p, int c) {
+    const float v = unshadowed_f[p * 3 + static_cast<std::size_t>(c)];
+    return v > 1e-3f ? v : 1.0f;
+  };
+
+  // Planes: the visibility (beauty / unshadowed light) and alpha, the variance of the pixel's mean, the guides.
+  const float n = static_cast<float>(std::max(1, g.samples_per_pixel));
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y != range.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        const std::size_t p = static_cast<std::size_t>(y) * width + x;
+        for (int c = 0; c < 3; ++c) *a.at(c, x, y) = rgba[p * 4 + static_cast<std::size_t>(c)] / divisor(p, c);
+        *a.at(kA, x, y) = rgba[p * 4 + 3];
+        const float mean = g.moments[p * 2] / n, second = g.moments[p * 2 + 1] / n;
+        *a.at(kVar, x, y) = std::max(0.0f, second - mean * mean) / n;
+        const float* nrm = &g.normal[p * 3];
+        const float len2 = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
+        const float inv = len2 > 0.0f ? 1.0f / std::sqrt(len2) : 0.0f;
+        for (int c = 0; c < 3; ++c) *guides.at(kNx + c, x, y) = nrm[c] * inv;
+        *guides.at(kDepth, x, y) = std::isfinite(g.depth[p]) ? g.depth[p] : 0.0f;
+        for (int c = 0; c < 3; ++c) *guides.at(kAlbedoR + c, x, y) = g.albedo[p * 3 + static_cast<std::size_t>(c)];
+      }
+  });
+  // The depth's gradient: the smaller one-sided difference along each axis, so that a
+  // silhouette (a jump on one side only) does not count as a steep surface.
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y != range.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        const float z = *guides.at(kDepth, x, y);
+        const auto one_sided = [&](int dx, int dy) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= width || qy >= height) return std::numeric_limits<float>::infinity();
+          return std::abs(*guides.at(kDepth, qx, qy) - z);
+        };
+        const float gx = std::min(one_sided(-1, 0), one_sided(1, 0)), gy = std::min(one_sided(0, -1), one_sided(0, 1));
+        *guides.at(kDepthGradient, x, y) = (std::isfinite(gx) ? gx : 0.0f) + (std::isfinite(gy) ? gy : 0.0f);
+      }
+  });
+  // SVGF's variance prefilter: a 3x3 blur, so that the luminance weights of the first pass do
+  // not follow the variance estimate's own noise.
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    constexpr float k[3] = {0.25f, 0.5f, 0.25f};
+    for (int y = range.begin(); y != range.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        float acc = 0, w = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (x + dx < 0 || y + dy < 0 || x + dx >= width || y + dy >= height) continue;
+            acc += k[dx + 1] * k[dy + 1] * *a.at(kVar, x + dx, y + dy);
+            w += k[dx + 1] * k[dy + 1];
+          }
+        *b.at(kVar, x, y) = acc / w;
+      }
+  });
+  std::memcpy(a.plane(kVar), b.plane(kVar), sizeof(float) * static_cast<std::size_t>(a.stride) * a.rows);
+
+  Planes* in = &a;
+  Planes* out = &b;
+  const int passes = std::clamp(settings.passes, 1, 5);
+  for (int pass = 0; pass < passes; ++pass) {
+    pass_for(settings.instruction_set)(*in, *out, guides, 1 << pass, transparent);
+    std::swap(in, out);
+  }
+
+  std::vector<float> result(npix * 4);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y != range.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        const std::size_t p = static_cast<std::size_t>(y) * width + x;
+        for (int c = 0; c < 3; ++c) result[p * 4 + static_cast<std::size_t>(c)] = *in->at(c, x, y) * divisor(p, c);
+        result[p * 4 + 3] = *in->at(kA, x, y);
+      }
+  });
+  return result;
+}
+
+}  // namespace meshtour

@@ -1,0 +1,69 @@
+#pragma once
+// The denoiser: an edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with the
+// variance-guided luminance weights of SVGF's spatial filter (Schied et al. 2017), applied to the
+// lighting, not the colours: the frame is divided by the light its samples would reflect
+// unshadowed (albedo x lights and sky; tracer-computed, noise-free), filtered, and multiplied
+// back, so textures, vertex colours and the shading of small bumps stay sharp and only the
+// visibility of the lights and the sky, the noise, is filtered (the ratio estimator of Heitz et al.
+// 2018, "Combining analytic direct illumination and stochastic shadows"). Frame-local.
+//
+// Same bits on every CPU: without FMA contraction (-ffp-contract=off for the whole project), with
+// IEEE add/multiply/divide/sqrt only and its own rational weight function (no exp, pow or log,
+// whose glibc versions differ by CPU). Its hot loop, the a-trous pass (denoiser_pass.cpp), is
+// compiled once per x86-64 level like the tile kernel, and every copy runs each pixel through the
+// same operations whatever the vector width (Renderer.SamePixelsWithEveryInstructionSet compares
+// the denoised frames too); rows are filtered in parallel, each row's result a function of the
+// previous pass only, so the thread count does not change a bit.
+#include <array>
+#include <vector>
+
+namespace meshtour {
+
+/// What the tracer gathers for the denoiser, per pixel, from the pixel's own samples (a box, not
+/// the reconstruction filter).
+struct DenoiseGuides {
+  int width = 0, height = 0;
+  int samples_per_pixel = 1;
+  /// Mean surface colour of the samples: the model's albedo; for the ground and the background
+  /// the background's colour (white in transparent frames), whose "lighting" is then the shadow.
+  std::vector<float> albedo;  ///< 3 per pixel
+  /// Mean light the samples would reflect if no shadow or occlusion ray were blocked (albedo times
+  /// the lights and the sky, with highlights; the background's colour where the ground and the
+  /// background are seen): the frame is divided by it, filtered and multiplied back, so only the
+  /// visibility is filtered and the shading's detail stays sharp.
+  std::vector<float> unshadowed;  ///< 3 per pixel
+  std::vector<float> normal;  ///< 3 per pixel: sum of the hit samples' shading normals (0: none hit)
+  std::vector<float> depth;   ///< 1 per pixel: nearest hit's distance along the camera axis, +inf if none
+  /// Sum and sum of squares of the samples' visibility (luminance / unshadowed luminance, plus
+  /// alpha in transparent frames): the variance estimate.
+  std::vector<float> moments;  ///< 2 per pixel
+
+  void reset(int width, int height, int samples_per_pixel);
+};
+
+struct DenoiseSettings {
+  /// The reconstruction filter along one axis, as weights of a pixel's box mean on the pixels
+  /// from -reach to +reach (taps[reach] is the pixel itself): the unshadowed light is filtered
+  /// with it, so that it matches the beauty it divides.
+  std::array<float, 5> taps{0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
+  int reach = 0;
+  bool transparent = false;  ///< RGB premultiplied; the shadows on the ground are in alpha
+  int passes = 4;            ///< a-trous passes (steps 1, 2, 4, ...: 3x3 taps each), 1..5
+  /// Which copy of the a-trous pass runs (the same bits; the renderer picks its tile kernel's).
+  enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
+};
+
+/// The denoiser's scratch memory (about 70 MB for 1280x720), kept between frames by the caller:
+/// mapping and page-faulting it afresh for every frame cost more than the filter itself.
+struct DenoiseWorkspace {
+  DenoiseGuides frame_guides;  ///< for the renderer: the guides of the frame being rendered
+  std::vector<float> guides, ping, pong, unshadowed_h, unshadowed_f;
+};
+
+/// The denoised frame (RGBA, premultiplied like `rgba`, width * height * 4) from the filtered
+/// beauty `rgba` and the guides. Uses the calling thread's TBB arena; `workspace` (may be null)
+/// is reused memory, its contents do not change the result.
+std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& guides, const DenoiseSettings& settings,
+                           DenoiseWorkspace* workspace = nullptr);
+
+}  // namespace meshtour
