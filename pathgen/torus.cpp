@@ -24,7 +24,6 @@ Eigen::Vector3d centroid(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, c
   return (*c[0] + *c[1] + *c[2]) / 3.0;
 }
 
-
 }  // namespace
 
 Torus osculating_torus(const Eigen::Vector3d& p, const Eigen::Vector3d& normal, double k1,

@@ -80,34 +80,45 @@ Stopped interrupt_after(const std::vector<std::string>& args, std::chrono::milli
   return {code, std::chrono::duration<double>(Clock::now() - sent).count()};
 }
 
-// The bunny split twice (1.1M faces): its feature orbit takes tens of seconds, so signals at
-// growing delays land in loading, the surface analysis, the views and the search.
+// The bunny split twice (1.1M faces), written into `dir`.
+fs::path write_big_bunny(const fs::path& bunny, const fs::path& dir) {
+  const fs::path big = dir / "bunny-1m.ply";
+  save_mesh(split_at_midpoints(split_at_midpoints(load_mesh(bunny))), big);
+  return big;
+}
+
+// Runs `args`, sends `signal` after `delay`, and checks what every interrupted command must do:
+// exit 130 soon after the signal, without `output` and without temporaries in `dir`.
+void expect_clean_stop(const std::vector<std::string>& args, std::chrono::milliseconds delay, int signal,
+                       const fs::path& dir, const fs::path& output) {
+  SCOPED_TRACE("signal " + std::to_string(signal) + " after " + std::to_string(delay.count()) + " ms");
+  const fs::path log = dir / "log.txt";
+  const Stopped s = interrupt_after(args, delay, signal, log);
+  const std::string text = read_text(log);
+  if (text.empty())  // still starting: nothing of meshtour ran yet
+    EXPECT_EQ(s.exit_code, 128 + signal);
+  else
+    EXPECT_EQ(s.exit_code, 130) << text;
+  // A second is the goal (the watchdog acts after 0.5 s); the margin is for a loaded CI machine
+  // running other tests at once, or a sanitizer build.
+  EXPECT_LT(s.seconds_after_signal, 3.0) << text;
+  std::cout << "[ stopped ] " << s.seconds_after_signal << " s after the signal\n";
+  EXPECT_FALSE(fs::exists(output)) << output << " was written";
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_NE(e.path().filename().string()[0], '.') << "temporary left: " << e.path();
+}
+
+// Signals at growing delays land in loading, the surface analysis, the views and the search of
+// the feature orbit (tens of seconds on 1.1M faces).
 TEST(Interrupt, FeatureOrbitPathOfABigMeshStopsWithinASecondAtEveryStage) {
   MESHTOUR_SHARED_MESH(bunny, "bunny.ply");
   const fs::path dir = test::scratch_dir();
-  const fs::path big = dir / "bunny-1m.ply";
-  save_mesh(split_at_midpoints(split_at_midpoints(load_mesh(bunny))), big);
+  const fs::path big = write_big_bunny(bunny, dir), out = dir / "cameras.csv";
   const std::pair<int, int> cases[] = {{300, SIGINT}, {2000, SIGTERM}, {6000, SIGINT}};
   for (const auto& [ms, signal] : cases) {
-    {
-      SCOPED_TRACE("signal " + std::to_string(signal) + " after " + std::to_string(ms) + " ms");
-      const fs::path out = dir / "cameras.csv", log = dir / "log.txt";
-      const Stopped s = interrupt_after({"path", big.string(), "--path", "feature-orbit", "--camera-frames", out.string(), "--verbose"},
-                                        std::chrono::milliseconds(ms), signal, log);
-      const std::string text = read_text(log);
-      if (text.empty())  // still starting: nothing of meshtour ran yet
-        EXPECT_EQ(s.exit_code, 128 + signal);
-      else
-        EXPECT_EQ(s.exit_code, 130) << text;
-      // A second is the goal (the watchdog acts after 0.5 s); the margin is for a loaded CI machine
-      // running other tests at once, or a sanitizer build.
-      EXPECT_LT(s.seconds_after_signal, 3.0) << text;
-      std::cout << "[ stopped ] " << s.seconds_after_signal << " s after the signal\n";
-      EXPECT_FALSE(fs::exists(out)) << "the camera list was written";
-      for (const auto& e : fs::directory_iterator(dir))
-        EXPECT_NE(e.path().filename().string()[0], '.') << "temporary left: " << e.path();
-      if (::testing::Test::HasFailure()) return;
-    }
+    expect_clean_stop({"path", big.string(), "--path", "feature-orbit", "--camera-frames", out.string(), "--verbose"},
+                      std::chrono::milliseconds(ms), signal, dir, out);
+    if (::testing::Test::HasFailure()) return;
   }
 }
 
@@ -116,21 +127,11 @@ TEST(Interrupt, FeatureOrbitPathOfABigMeshStopsWithinASecondAtEveryStage) {
 TEST(Interrupt, TurntableTourOfABigMeshStopsWithinASecond) {
   MESHTOUR_SHARED_MESH(bunny, "bunny.ply");
   const fs::path dir = test::scratch_dir();
-  const fs::path big = dir / "bunny-1m.ply";
-  save_mesh(split_at_midpoints(split_at_midpoints(load_mesh(bunny))), big);
+  const fs::path big = write_big_bunny(bunny, dir), video = dir / "tour.mp4";
   for (const int ms : {2500, 6000}) {
-    SCOPED_TRACE("SIGINT after " + std::to_string(ms) + " ms");
-    const fs::path video = dir / "tour.mp4", log = dir / "log.txt";
-    const Stopped s = interrupt_after({"tour", big.string(), "--path", "turntable", "-o", video.string(), "--frames", "240",
-                                       "--width", "640", "--height", "360", "--spp", "16", "--progress", "none", "--verbose"},
-                                      std::chrono::milliseconds(ms), SIGINT, log);
-    const std::string text = read_text(log);
-    EXPECT_EQ(s.exit_code, 130) << text;
-    EXPECT_LT(s.seconds_after_signal, 3.0) << text;
-    std::cout << "[ stopped ] " << s.seconds_after_signal << " s after the signal\n";
-    EXPECT_FALSE(fs::exists(video)) << "a video was written";
-    for (const auto& e : fs::directory_iterator(dir))
-      EXPECT_NE(e.path().filename().string()[0], '.') << "temporary left: " << e.path();
+    expect_clean_stop({"tour", big.string(), "--path", "turntable", "-o", video.string(), "--frames", "240", "--width", "640",
+                       "--height", "360", "--spp", "16", "--progress", "none", "--verbose"},
+                      std::chrono::milliseconds(ms), SIGINT, dir, video);
     if (::testing::Test::HasFailure()) return;
   }
 }
