@@ -16,7 +16,7 @@ ctest --test-dir build --output-on-failure -j "$jobs" --timeout 600
 
 if [ "${MESHTOUR_SKIP_SANITIZERS:-0}" != 1 ]; then
   echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
-  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHTOUR_SANITIZE=ON >/dev/null
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHTOUR_SANITIZE=ON -DMESHTOUR_BUILD_BENCH=OFF >/dev/null
   cmake --build build-asan -j "$jobs"
   # TBB keeps worker threads and their arenas alive until exit, which LeakSanitizer reports as
   # leaks of the runtime, not of meshtour; leaks are still checked, with TBB's suppressed.
