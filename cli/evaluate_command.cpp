@@ -25,22 +25,27 @@ void add_evaluate_command(CLI::App& app) {
   auto args = std::make_shared<EvaluateJob>();
   CLI::App* cmd = app.add_subcommand(
       "evaluate",
-      "Measures what a tour shows: renders an item buffer (which face is visible in each pixel) for every "
-      "frame of the tour `meshtour tour` would render, with the same path, framing and field of view, and "
-      "reports: features = share of the feature area seen well in at least one frame; surface = the same "
-      "for the whole surface; f.min / f.median = fewest and median number of frames in which a feature "
-      "region is seen well; cam.speed / cam.accel = largest angular speed (rad/frame: angle between "
-      "consecutive directions) and angular acceleration (rad/frame^2: change of the angular velocity of "
-      "the frame that follows the direction with the camera's up, so a steady orbit at any height has "
-      "none) of the camera position around the centre of the model's bounding box; view.spd / view.acc "
-      "= the same for the view direction; "
-      "out = frames in which some vertex is outside the image. A face is seen well in a frame when it "
-      "is visible in the item buffer and the angle between its normal and the direction to the camera "
-      "is below --seen-angle (either side of the face). Feature faces: w(f) of ALGORITHM.md §8 at or "
-      "above its area-weighted --feature-quantile, computed once per mesh. A feature region is a "
-      "connected component (faces sharing an edge) of feature faces; it is seen well in a frame when "
-      "at least --region-share of its area is. Motion is measured around the loop including the jump "
-      "from the last frame back to the first.");
+      "Measures what a tour shows: asks what every frame of the tour `meshtour tour` would render (same "
+      "path, framing and field of view) sees of a fixed number of surface samples (area-weighted, so the "
+      "figures do not depend on the tessellation), and reports: features = share of the feature area seen "
+      "well in at least one frame; surface = the same for the whole surface; f.min / f.median = fewest and "
+      "median number of frames in which a feature region is seen well; cam.speed / cam.accel = largest "
+      "angular speed (rad/frame: angle between consecutive directions) and angular acceleration (rad/frame^2: "
+      "change of the angular velocity of the frame that follows the direction with the camera's up, so a "
+      "steady orbit at any height has none) of the camera position around the centre of the model's bounding "
+      "box; view.spd / view.acc = the same for the view direction; out = frames in which some vertex is "
+      "outside the image. A sample is seen well in a frame when it is inside the image, not hidden by the "
+      "surface, and the angle between its normal and the direction to the camera is below the seen-well "
+      "angle (either side of the surface). Features are judged four ways, so no path wins by one yardstick: "
+      "two measures computed on a fixed-resolution proxy of the mesh (patch density = w(f) of ALGORITHM.md "
+      "§8; saliency = mesh saliency of Lee, Varshney & Jacobs 2005), each at two seen-well angles "
+      "(--seen-angle, --strict-angle); the samples at or above the --feature-quantile of a measure are its "
+      "features. The first table uses the default (patch density at --seen-angle); the second gives the "
+      "feature coverage under every definition, the objective the feature orbit maximizes (the mean over "
+      "the definitions of features seen plus 0.3 x other surface seen, over the features) and the frame "
+      "whose view alone scores highest. A feature region is a connected part of the features; it is seen "
+      "well in a frame when at least --region-share of it is. Motion is measured around the loop including "
+      "the jump from the last frame back to the first.");
   cmd->option_defaults()->always_capture_default();
   cmd->add_option("mesh", args->scene.input, "Mesh file (" + supported_mesh_formats() + ")")->required()->type_name("MESH");
   add_scene_options(*cmd, args->scene, options::evaluate, /*with_input=*/false);
@@ -49,18 +54,26 @@ void add_evaluate_command(CLI::App& app) {
                   "Also write the numbers as JSON: {\"modes\": {\"<mode>\": {\"feature_coverage\": ..., "
                   "\"surface_coverage\": ..., \"feature_min_frames\": ..., \"feature_median_frames\": ..., "
                   "\"camera_max_angular_speed\": ..., \"view_max_angular_speed\": ..., "
-                  "\"view_max_angular_acceleration\": ..., \"frames_out_of_frame\": ...}}} (fractions, rad/frame, rad/frame^2)")
+                  "\"view_max_angular_acceleration\": ..., \"frames_out_of_frame\": ..., \"objective\": ..., "
+                  "\"frame_scores\": [...], \"definitions\": {\"patch-density-75deg\": {\"feature_coverage\": ..., "
+                  "\"surface_coverage\": ..., \"feature_min_frames\": ..., \"feature_median_frames\": ...}, "
+                  "\"saliency-75deg\": {...}, \"patch-density-60deg\": {...}, \"saliency-60deg\": {...}}}}} "
+                  "(fractions, rad/frame, rad/frame^2; the top-level coverage keys are the first definition's)")
       ->type_name("FILE");
-  cmd->add_option("--pixels", args->evaluation.long_side_pixels, "Item-buffer pixels on the frame's long side")
-      ->check(CLI::Range(8, 8192))
+  cmd->add_option("--samples", args->evaluation.coverage.samples, "Surface samples the coverage is measured on")
+      ->check(CLI::Range(1024, 1 << 24))
       ->capture_default_str();
-  cmd->add_option("--seen-angle", args->evaluation.seen_angle_deg,
-                  "A visible face is seen well when its normal is within this many degrees of the direction to the camera")
+  cmd->add_option("--seen-angle", args->evaluation.coverage.seen_angle_deg[0],
+                  "A visible sample is seen well when its normal is within this many degrees of the direction to the camera")
       ->check(CLI::Range(1.0, 90.0))
       ->capture_default_str();
-  cmd->add_option("--feature-quantile", args->feature_quantile,
-                  "Feature faces: w(f) at or above this area-weighted quantile of all face weights")
-      ->check(CLI::Range(0.0, 1.0))
+  cmd->add_option("--strict-angle", args->evaluation.coverage.seen_angle_deg[1],
+                  "The stricter seen-well angle of the second pair of feature definitions")
+      ->check(CLI::Range(1.0, 90.0))
+      ->capture_default_str();
+  cmd->add_option("--feature-quantile", args->evaluation.coverage.feature_quantile,
+                  "Features: the samples at or above this quantile of a measure")
+      ->check(CLI::Range(0.0, 0.99))
       ->capture_default_str();
   cmd->add_option("--region-share", args->evaluation.region_seen_share,
                   "Share of a feature region's area that must be seen well for the region to count as seen in a frame")

@@ -1,7 +1,10 @@
 #pragma once
-// What a camera tour shows: item buffers cast with Embree for every frame give the share of the
-// surface, and of its feature faces, that the tour shows well; the camera's motion gives its
-// smoothness. Used by `meshtour evaluate` to compare path modes with numbers instead of by eye.
+// What a camera tour shows: every frame is asked what it sees of the surface through the
+// coverage module (pathgen/coverage.h, the same one the feature orbit's search uses): surface
+// samples, features under two independent measures (patch density, saliency) and two seen-well
+// angles. The camera's motion gives its smoothness. Used by `meshtour evaluate` to compare path
+// modes with numbers instead of by eye, under more than one yardstick.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -9,17 +12,14 @@
 #include <utility>
 #include <vector>
 
+#include "core/camera.h"
 #include "mesh/mesh.h"
-#include "tracer/tracer.h"
+#include "pathgen/coverage.h"
 
 namespace meshtour {
 
 struct EvaluationOptions {
-  /// Pixels on the long side of each frame's item buffer (the short side follows the aspect).
-  int long_side_pixels = 256;
-  /// A visible face is seen well when the angle between its normal and the direction to the
-  /// camera is below this (either side of the face counts: orientation is not trusted).
-  double seen_angle_deg = 75.0;
+  CoverageOptions coverage;  ///< samples, features, seen-well angles
   /// A feature region counts as seen well in a frame when at least this share of its area is.
   double region_seen_share = 0.25;
 
@@ -27,14 +27,27 @@ struct EvaluationOptions {
   void validate() const;
 };
 
-/// The numbers of one tour. Coverages are fractions of area; angles are radians per frame
-/// (speed) and per frame² (acceleration), measured around the loop including its join.
-struct PathEvaluation {
-  int frames = 0;
-  double surface_coverage = 0.0;  ///< area seen well in at least one frame / total area
-  double feature_coverage = 0.0;  ///< the same over the feature faces
+/// The coverage figures of one tour under one feature definition (fractions of area).
+struct DefinitionFigures {
+  double feature_coverage = 0.0;  ///< feature area seen well in at least one frame / feature area
+  double surface_coverage = 0.0;  ///< the same for the whole surface (at this definition's angle)
   int feature_min_frames = 0;     ///< fewest frames any feature region is seen well in
   double feature_median_frames = 0.0;  ///< median over the feature regions
+};
+
+/// The numbers of one tour. The top-level coverage fields are those of the default definition
+/// (patch density at 75°); by_definition has all of them, in feature_definitions() order.
+/// Angles are radians per frame (speed) and per frame² (acceleration), measured around the loop
+/// including its join.
+struct PathEvaluation {
+  int frames = 0;
+  double surface_coverage = 0.0;
+  double feature_coverage = 0.0;
+  int feature_min_frames = 0;
+  double feature_median_frames = 0.0;
+  std::array<DefinitionFigures, kFeatureDefinitions> by_definition{};
+  double objective = 0.0;            ///< the feature orbit's objective for the whole tour
+  std::vector<double> frame_scores;  ///< the same objective for each frame alone
   double camera_max_angular_speed = 0.0;         ///< of the eye's direction from the model centre
   /// Change of the angular velocity of that direction's frame (up = the camera's up), see
   /// pathgen/motion.h: a constant-rate orbit has none, a jerk or a sudden climb has.
@@ -44,21 +57,12 @@ struct PathEvaluation {
   int frames_out_of_frame = 0;  ///< frames where a vertex is behind the camera or outside the image
 };
 
-/// Edge-connected components of the feature faces: region id per face (-1 for other faces).
-struct FeatureRegions {
-  std::vector<int> face_region;
-  int count = 0;
-};
-FeatureRegions feature_regions(const TriangleMesh& mesh, const std::vector<std::uint8_t>& feature_face);
-
-/// Evaluates camera sets on one mesh. Builds the Embree scene once; evaluate() may be called
+/// Evaluates camera sets on one mesh. Builds the coverage model once; evaluate() may be called
 /// for any number of tours. Results do not depend on the thread count.
 class PathEvaluator {
 public:
-  /// `feature_face`: 1 for each feature face of `mesh` (see pathgen/features.h).
-  /// \throw InputError for an empty mesh, sizes that do not match or bad options,
-  ///        RuntimeFailure if Embree fails.
-  PathEvaluator(const TriangleMesh& mesh, std::vector<std::uint8_t> feature_face, const EvaluationOptions& options = {});
+  /// \throw InputError for an empty mesh or bad options, RuntimeFailure if Embree fails.
+  explicit PathEvaluator(const TriangleMesh& mesh, const EvaluationOptions& options = {});
   ~PathEvaluator();
   PathEvaluator(const PathEvaluator&) = delete;
   PathEvaluator& operator=(const PathEvaluator&) = delete;
@@ -67,15 +71,10 @@ public:
   /// first) rendered at `aspect` = width / height.
   PathEvaluation evaluate(std::span<const Camera> cameras, double aspect) const;
 
-  /// 1 for each face seen well by `camera` (visible in its item buffer and within the angle).
-  std::vector<std::uint8_t> seen_well(const Camera& camera, double aspect) const;
-
-  const std::vector<std::uint8_t>& feature_face() const;
-  const FeatureRegions& regions() const;
-
-  struct Impl;
+  const CoverageModel& coverage() const;
 
 private:
+  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
@@ -86,8 +85,9 @@ void measure_motion(std::span<const Camera> cameras, const Eigen::Vector3d& cent
 /// Number of cameras that do not see every one of `points` inside their frame (no margin).
 int count_out_of_frame(std::span<const Camera> cameras, const std::vector<Eigen::Vector3d>& points, double aspect);
 
-/// The JSON document of `meshtour evaluate --json`:
-/// {"modes": {"<mode>": {"feature_coverage": ..., ...}, ...}} in the order given.
-std::string evaluation_json(const std::vector<std::pair<std::string, PathEvaluation>>& modes);
+/// The JSON document of `meshtour evaluate --json`: {"modes": {"<mode>": {"feature_coverage": ...,
+/// ..., "objective": ..., "frame_scores": [...], "definitions": {"<key>": {...}, ...}}, ...}} in
+/// the order given; the keys of the definitions come from `options`.
+std::string evaluation_json(const std::vector<std::pair<std::string, PathEvaluation>>& modes, const CoverageOptions& options);
 
 }  // namespace meshtour

@@ -38,6 +38,10 @@ void write_frame_dir_info(const std::filesystem::path& dir, const FrameDirInfo& 
   j["denoise"] = info.denoise;
   j["source"] = info.source;
   j["path_file"] = info.path_file;
+  if (!info.view_scores.empty()) {
+    j["view_scores"] = info.view_scores;
+    j["best_view_frame"] = info.best_view_frame;
+  }
   const std::string text = j.dump(2) + "\n";
   const std::filesystem::path file = dir / kFrameDirManifestName;
   write_text_file_atomically(file, text, "frames manifest");
@@ -80,6 +84,16 @@ FrameDirInfo read_frame_dir_info(const std::filesystem::path& dir) {
   r.read("denoise", info.denoise);
   r.read("source", info.source);
   r.read("path_file", info.path_file);
+  if (j.contains("view_scores")) {
+    const nlohmann::json& scores = j["view_scores"];
+    if (!scores.is_array() || static_cast<int>(scores.size()) != info.frame_count)
+      r.fail_key("view_scores", "must be an array of one number per frame");
+    for (const auto& v : scores) {
+      if (!v.is_number()) r.fail_key("view_scores", "must hold numbers");
+      info.view_scores.push_back(v.get<double>());
+    }
+    info.best_view_frame = r.integer("best_view_frame", 0, info.frame_count - 1);
+  }
   return info;
 }
 

@@ -26,6 +26,11 @@ struct FrameDirInfo {
   /// Whether the frames are denoised (--denoise): PNGs show the denoised frame, EXRs carry it as
   /// the `denoised` layer beside the raw one. Manifests of meshtour before the denoiser: false.
   bool denoise = false;
+  /// The score of each frame's view alone (pathgen/coverage.h's objective), when the path search
+  /// measured them (the feature orbit does), and the frame with the highest: the thumbnail or
+  /// poster frame. Informative; empty and -1 when not measured.
+  std::vector<double> view_scores;
+  int best_view_frame = -1;
 
   /// Same tour (frame count, rate, size, formats, denoising)? Source and path file are informative only.
   bool same_tour(const FrameDirInfo& other) const;

@@ -11,7 +11,6 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
-#include "pathgen/features.h"
 #include "pathgen/motion.h"
 
 namespace meshtour {
@@ -37,8 +36,7 @@ std::vector<Eigen::Vector3d> used_points(const TriangleMesh& mesh) {
 
 // Sets g.distance to a smooth envelope of the distance each direction of the orbit needs to keep
 // every vertex in frame: least-squares two-harmonic fit, raised until it is nowhere too close.
-void plan_dolly(const TriangleMesh& mesh, const FeatureOrbitOptions& options, FeatureOrbitGeometry& g) {
-  const std::vector<Eigen::Vector3d> points = used_points(mesh);
+void plan_dolly(const std::vector<Eigen::Vector3d>& points, const FeatureOrbitOptions& options, FeatureOrbitGeometry& g) {
   Lens lens;
   lens.vertical_fov_deg = options.vertical_fov_deg;
   lens.aspect = options.aspect;
@@ -71,12 +69,10 @@ void FeatureOrbitOptions::validate() const {
   check(phases >= 1 && phases <= 360, "phases must be 1 to 360");
   check(lowest_deg > -85.0 && highest_deg < 85.0 && lowest_deg < highest_deg, "elevations must stay within (-85, 85) degrees");
   check(max_angular_speed > 0.0 && max_angular_acceleration > 0.0, "the smoothness limits must be positive");
-  check(surface_weight >= 0.0, "the surface weight must not be negative");
   check(azimuth_samples >= 4 && azimuth_samples <= 720, "azimuth samples must be 4 to 720");
   check(elevation_grid_deg > 0.0, "the elevation grid spacing must be positive");
-  check(view_pixels >= 16 && view_pixels <= 2048, "view pixels must be 16 to 2048");
-  check(seen_angle_deg > 0.0 && seen_angle_deg <= 90.0, "the seen-well angle must be in (0, 90]");
-  check(feature_quantile >= 0.0 && feature_quantile <= 1.0, "the feature quantile must be in [0, 1]");
+  check(frames >= 0, "frames must not be negative");
+  check(tie_tolerance >= 0.0, "the tie tolerance must not be negative");
   check(vertical_fov_deg >= 5.0 && vertical_fov_deg <= 120.0, "the field of view must be 5 to 120 degrees");
   check(aspect > 0.0, "the aspect ratio must be positive");
 }
@@ -99,7 +95,8 @@ double FeatureOrbitGeometry::distance_at(double a) const {
 }
 
 CameraPose FeatureOrbitPath::pose(double t) const {
-  return CameraPose{geometry_.center + geometry_.distance_at(t) * geometry_.direction(t), geometry_.center, geometry_.up};
+  const double a = t + geometry_.start;
+  return CameraPose{geometry_.center + geometry_.distance_at(a) * geometry_.direction(a), geometry_.center, geometry_.up};
 }
 
 std::pair<double, double> loop_angular_extremes(const std::function<Eigen::Vector3d(double)>& direction,
@@ -110,89 +107,17 @@ std::pair<double, double> loop_angular_extremes(const std::function<Eigen::Vecto
   return {speed * samples, acceleration * samples * samples};
 }
 
-std::vector<std::uint32_t> faces_seen_well(const TriangleMesh& mesh, const Eigen::Vector3d& eye,
-                                           const Eigen::Vector3d& target, const Eigen::Vector3d& up, double fov_deg,
-                                           int pixels, double seen_angle_deg) {
-  const LookAtFrame frame = look_at(eye, target, up);
-  const Eigen::Vector3d &forward = frame.forward, &right = frame.right, &cam_up = frame.up;
-  const double tan_half = std::tan(0.5 * fov_deg * kDegree);
-  const double size = static_cast<double>(pixels);
-
-  struct Projected {
-    double x, y, inv_z;
-    bool valid;
-  };
-  std::vector<Projected> projected(mesh.positions.size());
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const Eigen::Vector3d d = mesh.positions[v] - eye;
-    const double z = d.dot(forward);
-    if (!(z > 1e-12)) {
-      projected[v] = {0, 0, 0, false};
-      continue;
-    }
-    const double sx = d.dot(right) / (z * tan_half), sy = d.dot(cam_up) / (z * tan_half);
-    projected[v] = {0.5 * (sx + 1.0) * size, 0.5 * (1.0 - sy) * size, 1.0 / z, true};
-  }
-
-  const std::size_t pixel_count = static_cast<std::size_t>(pixels) * pixels;
-  std::vector<double> depth(pixel_count, 0.0);  // 1/z of the nearest face, 0 = nothing
-  std::vector<std::uint32_t> item(pixel_count, std::numeric_limits<std::uint32_t>::max());
-  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-    if ((f & 0xffff) == 0) throw_if_interrupted();  // one view of a big mesh takes a while
-    const auto& t = mesh.triangles[f];
-    const Projected &a = projected[t[0]], &b = projected[t[1]], &c = projected[t[2]];
-    if (!a.valid || !b.valid || !c.valid) continue;  // crosses the eye plane: cannot happen outside the model
-    const double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-    if (!(std::abs(area) > 1e-12)) continue;
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, c.x}) - 0.5)));
-    const int x1 = std::min(pixels - 1, static_cast<int>(std::ceil(std::max({a.x, b.x, c.x}) - 0.5)));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, c.y}) - 0.5)));
-    const int y1 = std::min(pixels - 1, static_cast<int>(std::ceil(std::max({a.y, b.y, c.y}) - 0.5)));
-    for (int py = y0; py <= y1; ++py) {
-      for (int px = x0; px <= x1; ++px) {
-        const double x = px + 0.5, y = py + 0.5;
-        const double wa = ((b.x - x) * (c.y - y) - (b.y - y) * (c.x - x)) / area;
-        const double wb = ((c.x - x) * (a.y - y) - (c.y - y) * (a.x - x)) / area;
-        const double wc = 1.0 - wa - wb;
-        if (wa < 0.0 || wb < 0.0 || wc < 0.0) continue;
-        const double inv_z = wa * a.inv_z + wb * b.inv_z + wc * c.inv_z;
-        const std::size_t p = static_cast<std::size_t>(py) * pixels + px;
-        if (inv_z > depth[p]) {
-          depth[p] = inv_z;
-          item[p] = static_cast<std::uint32_t>(f);
-        }
-      }
-    }
-  }
-
-  std::sort(item.begin(), item.end());
-  item.erase(std::unique(item.begin(), item.end()), item.end());
-  if (!item.empty() && item.back() == std::numeric_limits<std::uint32_t>::max()) item.pop_back();
-  const double cos_limit = std::cos(seen_angle_deg * kDegree);
-  std::vector<std::uint32_t> seen;
-  for (std::uint32_t f : item) {
-    const auto& t = mesh.triangles[f];
-    const Eigen::Vector3d &p0 = mesh.positions[t[0]], &p1 = mesh.positions[t[1]], &p2 = mesh.positions[t[2]];
-    const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
-    const Eigen::Vector3d to_eye = eye - (p0 + p1 + p2) / 3.0;
-    const double norms = n.norm() * to_eye.norm();
-    if (norms > 0.0 && std::abs(n.dot(to_eye)) > cos_limit * norms) seen.push_back(f);
-  }
-  return seen;
-}
-
 FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const FeatureOrbitOptions& options) {
   options.validate();
-  const SurfaceAnalysis surface = analyze_surface(mesh, options.surface);
-  const std::vector<double> weights = input_face_weights(surface, mesh.triangles.size());
-  return compute_feature_orbit(mesh, feature_faces(weights, face_areas(mesh), options.feature_quantile), options);
+  if (mesh.triangles.empty()) throw InputError("feature orbit: the mesh has no triangles");
+  const CoverageModel coverage(mesh, options.coverage);
+  return compute_feature_orbit(mesh, coverage, options);
 }
 
-FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::vector<std::uint8_t>& feature_face,
+FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const CoverageModel& coverage,
                                          const FeatureOrbitOptions& options) {
   options.validate();
   if (mesh.triangles.empty()) throw InputError("feature orbit: the mesh has no triangles");
-  if (feature_face.size() != mesh.triangles.size()) throw InputError("feature orbit: one feature flag per face is needed");
 
   FeatureOrbitGeometry g;
   const Bounds bounds = mesh.bounds();
@@ -200,36 +125,26 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::ve
   g.up = options.up.vector();
   g.front = front_direction(options.up);
   g.side = g.up.cross(g.front);
+  const std::vector<Eigen::Vector3d> points = used_points(mesh);
   double radius = 0.0;
-  for (const auto& t : mesh.triangles)
-    for (std::uint32_t v : t) radius = std::max(radius, (mesh.positions[v] - g.center).norm());
+  for (const Eigen::Vector3d& p : points) radius = std::max(radius, (p - g.center).norm());
   if (!(radius > 0.0)) throw InputError("feature orbit: all vertices coincide; nothing to look at");
   // The bounding sphere just fills the lens: every view of the orbit frames the whole model.
   const double sphere_distance = radius / std::sin(0.5 * options.vertical_fov_deg * kDegree);
   g.distance = {sphere_distance, 0.0, 0.0, 0.0, 0.0};
 
-  // What is worth seeing: feature area counts 1, other area surface_weight, in shares of the feature area.
-  const std::vector<double> areas = face_areas(mesh);
-  double feature_area = 0.0, total_area = 0.0;
-  for (std::size_t f = 0; f < areas.size(); ++f) {
-    total_area += areas[f];
-    if (feature_face[f]) feature_area += areas[f];
-  }
-  if (!(total_area > 0.0)) throw InputError("feature orbit: the mesh has no area");
-  const double unit = feature_area > 0.0 ? feature_area : total_area;
-  std::vector<double> value(areas.size());
-  for (std::size_t f = 0; f < areas.size(); ++f) value[f] = areas[f] * (feature_face[f] ? 1.0 : options.surface_weight) / unit;
-
-  const std::vector<Eigen::Vector3d> points = used_points(mesh);
   Lens lens;
   lens.vertical_fov_deg = options.vertical_fov_deg;
   lens.aspect = options.aspect;
+  auto view_at = [&](const Eigen::Vector3d& eye) {
+    return View{Camera{eye, g.center, g.up, options.vertical_fov_deg}, options.aspect};
+  };
 
   // Views on a grid of azimuths × elevations; a curve is scored with the view nearest to it at
   // each sampled azimuth.
   const int n = options.azimuth_samples;
   const int m = static_cast<int>(std::floor((options.highest_deg - options.lowest_deg) / options.elevation_grid_deg + 1e-9)) + 1;
-  std::vector<std::vector<std::uint32_t>> views(static_cast<std::size_t>(n) * m);
+  std::vector<ViewCoverage> views(static_cast<std::size_t>(n) * m);
   tbb::parallel_for(0, n * m, [&](int k) {
     throw_if_interrupted();
     const int j = k / m, e = k % m;
@@ -242,29 +157,17 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::ve
       const double start = 1e-6 * sphere_distance;
       distance = start + fit_pullback(points, CameraPose{g.center + start * dir, g.center, g.up}, lens);
     }
-    views[k] = faces_seen_well(mesh, g.center + distance * dir, g.center, g.up, options.vertical_fov_deg,
-                               options.view_pixels, options.seen_angle_deg);
+    views[k] = coverage.coverage(view_at(g.center + distance * dir));
   });
 
-  std::vector<std::uint32_t> stamp(areas.size(), 0);
-  std::uint32_t current = 0;
-  auto score = [&](const ElevationCurve& curve, double* feature_share, double* surface_share) {
-    ++current;
-    double covered = 0.0, features = 0.0, surface = 0.0;
+  std::vector<const ViewCoverage*> chosen(static_cast<std::size_t>(n));
+  auto score = [&](const ElevationCurve& curve) {
     for (int j = 0; j < n; ++j) {
       const double e = curve(static_cast<double>(j) / n) / kDegree;
       const int row = std::clamp(static_cast<int>(std::lround((e - options.lowest_deg) / options.elevation_grid_deg)), 0, m - 1);
-      for (std::uint32_t f : views[static_cast<std::size_t>(j) * m + row]) {
-        if (stamp[f] == current) continue;
-        stamp[f] = current;
-        covered += value[f];
-        surface += areas[f];
-        if (feature_face[f]) features += areas[f];
-      }
+      chosen[j] = &views[static_cast<std::size_t>(j) * m + row];
     }
-    if (feature_share) *feature_share = feature_area > 0.0 ? features / feature_area : 0.0;
-    if (surface_share) *surface_share = surface / total_area;
-    return covered;
+    return coverage.scores(chosen);
   };
   auto feasible = [&](const ElevationCurve& curve) {
     const double lo = curve.base - std::abs(curve.swing) - std::abs(curve.ripple);
@@ -277,26 +180,37 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::ve
   };
 
   // Search: mean elevation × swing × phase, then a ripple on top of the best. A level orbit at the
-  // lowest mean elevation is always a candidate, so there is always a feasible curve.
+  // lowest mean elevation is always a candidate, so there is always a feasible curve. The
+  // objective is the mean over the feature definitions (pathgen/coverage.h).
   FeatureOrbitResult result;
-  ElevationCurve best;
-  best.base = std::clamp(0.0, options.base_min_deg, options.base_max_deg) * kDegree;
-  double best_score = -1.0;
+  std::vector<std::pair<ElevationCurve, double>> scored;
   auto consider = [&](const ElevationCurve& curve) {
     throw_if_interrupted();
     if (!feasible(curve)) return;
     ++result.candidates;
-    const double s = score(curve, nullptr, nullptr);
-    if (s > best_score + 1e-12) {
-      best_score = s;
-      best = curve;
-    }
+    scored.emplace_back(curve, score(curve).objective);
+  };
+  // Among curves that score alike (within tie_tolerance of the best), the plainest wins: least
+  // swing and ripple, then the mean elevation nearest the turntable's 15 degrees. Otherwise a
+  // different tessellation of the same shape, which moves the scores by a little noise, could
+  // flip the choice between two equally good but very different curves.
+  auto plainest = [&] {
+    double top = -1.0;
+    for (const auto& [curve, value] : scored) top = std::max(top, value);
+    const ElevationCurve* pick = nullptr;
+    auto plainness = [](const ElevationCurve& c) {
+      return std::make_pair(std::round(1e6 * (std::abs(c.swing) + std::abs(c.ripple))), std::abs(c.base - 15.0 * kDegree));
+    };
+    for (const auto& [curve, value] : scored)
+      if (value >= top - options.tie_tolerance && (!pick || plainness(curve) < plainness(*pick))) pick = &curve;
+    return pick;
   };
   for (double base = options.base_min_deg; base <= options.base_max_deg + 1e-9; base += options.base_step_deg)
     for (double swing = 0.0; swing <= options.swing_max_deg + 1e-9; swing += options.swing_step_deg)
       for (int p = 0; p < (swing > 0.0 ? options.phases : 1); ++p)
         consider(ElevationCurve{base * kDegree, swing * kDegree, static_cast<double>(p) / options.phases, 0.0, 0.0});
-  const ElevationCurve swing_only = best;
+  if (scored.empty()) throw InputError("feature orbit: no elevation curve meets the smoothness limits; raise them");
+  const ElevationCurve swing_only = *plainest();
   for (double ripple = options.ripple_step_deg; ripple <= options.ripple_max_deg + 1e-9; ripple += options.ripple_step_deg)
     for (int p = 0; p < options.phases; ++p) {
       ElevationCurve curve = swing_only;
@@ -304,12 +218,76 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::ve
       curve.ripple_phase = 0.5 * p / options.phases;  // the ripple repeats every half loop
       consider(curve);
     }
-  if (best_score < 0.0) throw InputError("feature orbit: no elevation curve meets the smoothness limits; raise them");
+  const ElevationCurve best = *plainest();
 
   g.elevation = best;
-  score(best, &result.feature_share_seen, &result.surface_share_seen);
-  if (options.dolly) plan_dolly(mesh, options, g);
+  result.scores = score(best);
+  result.feature_share_seen = result.scores.feature_share[0];
+  result.surface_share_seen = result.scores.surface_share[0];
+  if (options.dolly) plan_dolly(points, options, g);
   std::tie(result.angular_speed, result.angular_acceleration) = loop_angular_extremes([&](double a) { return g.direction(a); }, g.up);
+
+  // The best first view. The grid's views along the chosen curve give a coarse profile of single
+  // views; the three best azimuths are refined on the final path (dolly included) by halving
+  // steps. With a frame count, the loop is then turned so that the best of its frames comes first.
+  auto view_score = [&](double a) {
+    throw_if_interrupted();
+    FeatureOrbitGeometry at = g;
+    at.start = 0.0;  // pose(a) is azimuth fraction a
+    return coverage.scores(coverage.coverage(view_at(FeatureOrbitPath(at).pose(a).eye))).objective;
+  };
+  score(best);  // fills `chosen` with the grid views along the curve
+  std::vector<std::pair<double, int>> coarse;
+  for (int j = 0; j < n; ++j) coarse.emplace_back(-coverage.scores(*chosen[j]).objective, j);
+  std::sort(coarse.begin(), coarse.end());  // best first; ties to the lower azimuth
+  std::vector<std::pair<double, double>> refined;  // (azimuth fraction, score)
+  for (std::size_t c = 0; c < std::min<std::size_t>(3, coarse.size()); ++c) {
+    double a = static_cast<double>(coarse[c].second) / n, value = view_score(a);
+    for (double step = 0.5 / n; step > 0.1 / n; step *= 0.5)
+      for (double candidate : {a - step, a + step}) {
+        const double v = view_score(candidate);
+        if (v > value + 1e-12) {
+          value = v;
+          a = candidate;
+        }
+      }
+    refined.emplace_back(a - std::floor(a), value);
+  }
+  // Of starts that score alike, the one nearest the model's conventional front (azimuth 0).
+  double top = -1.0;
+  for (const auto& r : refined) top = std::max(top, r.second);
+  double start = 0.0, start_score = -1.0, nearest = 2.0;
+  for (const auto& [a, value] : refined) {
+    const double from_front = std::min(a, 1.0 - a);
+    if (value >= top - options.tie_tolerance && from_front < nearest) {
+      nearest = from_front;
+      start = a;
+      start_score = value;
+    }
+  }
+  g.start = start - std::floor(start);
+  result.start_score = start_score;
+  if (options.frames > 0) {
+    auto frame_scores = [&] {
+      const FeatureOrbitPath path(g);
+      std::vector<double> scores(static_cast<std::size_t>(options.frames));
+      tbb::parallel_for(0, options.frames, [&](int k) {
+        throw_if_interrupted();
+        scores[k] = coverage.scores(coverage.coverage(view_at(frame_pose(path, k, options.frames).eye))).objective;
+      });
+      return scores;
+    };
+    result.frame_scores = frame_scores();
+    // The frames sample the loop more finely or differently than the refinement: if one of them
+    // beats frame 0, the loop starts there instead (the same frames, turned).
+    const auto top = std::max_element(result.frame_scores.begin(), result.frame_scores.end()) - result.frame_scores.begin();
+    if (top > 0 && result.frame_scores[top] > result.frame_scores[0] + 1e-12) {
+      g.start += static_cast<double>(top) / options.frames;
+      g.start -= std::floor(g.start);
+      result.frame_scores = frame_scores();
+    }
+    result.start_score = result.frame_scores[0];
+  }
   result.geometry = std::move(g);
   return result;
 }

@@ -8,12 +8,15 @@
 //  - its elevation is a smooth periodic curve, a mean height plus a once-per-loop swing plus a
 //    twice-per-loop ripple, so it can rise to show the top or dip to show the underside where
 //    that reveals features, and the loop is seamless by construction;
-//  - every curve whose angular speed and acceleration stay within the limits is scored by the
-//    feature area (plus a smaller worth for other area) that its views see well, in small depth
-//    buffers (occlusion counts); the best one wins.
+//  - every curve whose angular speed and acceleration stay within the limits is scored by what its
+//    views see well (pathgen/coverage.h: surface samples, occlusion counts, features under two
+//    independent measures and two viewing angles, so the search does not chase one yardstick);
+//    the best one wins;
+//  - the loop starts at the azimuth whose single view scores highest, so the first frame (the
+//    thumbnail of every player and catalogue page) is the best view of the loop.
 //
-// Feature faces are the top quarter of the area by weight, so flat-dominated models still have
-// features, and no column is ever "empty": every view counts what it shows.
+// Features are measured on a fixed-resolution proxy and visibility on a fixed number of surface
+// samples, so the same shape gives the same orbit however finely it is tessellated.
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -24,12 +27,12 @@
 #include "core/axis.h"
 #include "mesh/mesh.h"
 #include "pathgen/camera_path.h"
-#include "pathgen/surface.h"
+#include "pathgen/coverage.h"
 
 namespace meshtour {
 
 struct FeatureOrbitOptions {
-  SurfaceOptions surface;  ///< how w(f) is computed (§3–§8 defaults)
+  CoverageOptions coverage;  ///< what views are judged by (features, samples; w(f) at §3–§8 defaults)
   Axis up{1, false};
   /// Mean elevations tried, degrees: from level to well above the top.
   double base_min_deg = -15.0, base_max_deg = 60.0, base_step_deg = 5.0;
@@ -45,12 +48,13 @@ struct FeatureOrbitOptions {
   /// 2π rad/loop is a level orbit's speed (an elevated one is slower, leaving room for climbing).
   double max_angular_speed = 6.3;
   double max_angular_acceleration = 15.0;
-  double surface_weight = 0.3;     ///< worth of other area relative to feature area
   int azimuth_samples = 24;        ///< views per loop at which coverage is estimated
   double elevation_grid_deg = 7.5; ///< elevation spacing of the precomputed views
-  int view_pixels = 160;           ///< depth-buffer size of a view (square)
-  double seen_angle_deg = 75.0;    ///< a face is seen well below this angle (as in the evaluation)
-  double feature_quantile = 0.75;  ///< feature faces: w(f) at or above this area-weighted quantile
+  /// Curves (and first views) whose objective is within this of the best count as equally good;
+  /// the plainest curve (and the start nearest the front) among them wins.
+  double tie_tolerance = 0.01;
+  /// When > 0, the score of each frame of a loop of this many frames is reported (frame_scores).
+  int frames = 0;
   double vertical_fov_deg = 35.0;  ///< the lens the distance is planned for
   double aspect = 16.0 / 9.0;      ///< frame width / height the distance is planned for
   /// Dolly: the distance follows (a smooth two-harmonic envelope of) what each view needs to keep
@@ -76,6 +80,8 @@ struct FeatureOrbitGeometry {
   Eigen::Vector3d up = Eigen::Vector3d::UnitY();
   Eigen::Vector3d front = Eigen::Vector3d::UnitZ();  ///< azimuth 0 (where the loop starts)
   Eigen::Vector3d side = Eigen::Vector3d::UnitX();   ///< azimuth π/2 (counter-clockwise seen from +up)
+  /// Azimuth fraction at which the loop starts (t = 0): the best single view.
+  double start = 0.0;
   /// Distance of the eye from the centre: d0 + c1 cos 2πa + s1 sin 2πa + c2 cos 4πa + s2 sin 4πa.
   std::array<double, 5> distance{1.0, 0.0, 0.0, 0.0, 0.0};
   ElevationCurve elevation;
@@ -99,8 +105,12 @@ private:
 
 struct FeatureOrbitResult {
   FeatureOrbitGeometry geometry;
-  double feature_share_seen = 0.0;  ///< share of the feature area the sampled views see well
+  double feature_share_seen = 0.0;  ///< share of the feature area the sampled views see well (default definition)
   double surface_share_seen = 0.0;  ///< the same for the whole surface
+  CoverageScores scores;            ///< of the sampled views, under every definition
+  double start_score = 0.0;         ///< objective of the first view alone (the loop's best)
+  /// Objective of each frame's view alone, when FeatureOrbitOptions::frames > 0 (frame 0 first).
+  std::vector<double> frame_scores;
   double angular_speed = 0.0;        ///< largest, rad per loop
   double angular_acceleration = 0.0; ///< largest, rad per loop²
   int candidates = 0;                ///< curves that met the smoothness limits and were scored
@@ -112,17 +122,10 @@ struct FeatureOrbitResult {
 std::pair<double, double> loop_angular_extremes(const std::function<Eigen::Vector3d(double)>& direction,
                                                 const Eigen::Vector3d& up, int samples = 360);
 
-/// Analyses the surface (w(f)), then plans the orbit.
+/// Builds the coverage model of `mesh` (options.coverage), then plans the orbit.
 FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const FeatureOrbitOptions& options);
-/// Plans the orbit for given feature flags (one per face of `mesh`).
-FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const std::vector<std::uint8_t>& feature_face,
+/// Plans the orbit with a coverage model already built for `mesh` (options.coverage is not used).
+FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const CoverageModel& coverage,
                                          const FeatureOrbitOptions& options);
-
-/// Faces of `mesh` that a pinhole camera (eye, looking at `target`, `up`, square image of
-/// `pixels`², vertical field of view `fov_deg`) sees in a depth buffer and within `seen_angle_deg`
-/// of their normal (either side). A software z-buffer: pathgen does not depend on the ray tracer.
-std::vector<std::uint32_t> faces_seen_well(const TriangleMesh& mesh, const Eigen::Vector3d& eye,
-                                           const Eigen::Vector3d& target, const Eigen::Vector3d& up, double fov_deg,
-                                           int pixels, double seen_angle_deg);
 
 }  // namespace meshtour

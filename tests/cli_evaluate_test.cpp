@@ -45,7 +45,7 @@ meshtour::test::CommandResult validate_gltf(const fs::path& file) {
 TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
   const fs::path dir = meshtour::test::scratch_dir();
   const fs::path mesh = small_mesh(dir);
-  const auto r = run_meshtour("evaluate " + q(mesh) + " --compare --frames 24 --pixels 96 --json " + q(dir / "e.json"));
+  const auto r = run_meshtour("evaluate " + q(mesh) + " --compare --frames 24 --samples 32768 --json " + q(dir / "e.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* mode : {"turntable ", "paper ", "feature-orbit "}) EXPECT_NE(r.output.find(mode), std::string::npos) << r.output;
   std::ifstream in(dir / "e.json");
@@ -54,7 +54,15 @@ TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
   ASSERT_EQ(doc["modes"].size(), 3u);
   for (const char* mode : {"turntable", "paper", "feature-orbit"}) {
     const auto& m = doc["modes"].at(mode);
-    EXPECT_EQ(m.size(), 8u) << mode;
+    EXPECT_EQ(m.size(), 11u) << mode;  // today's 8 keys, objective, frame_scores, definitions
+    ASSERT_EQ(m.at("frame_scores").size(), 24u) << mode;
+    ASSERT_EQ(m.at("definitions").size(), 4u) << mode;
+    // The default definition's figures are today's top-level keys.
+    EXPECT_EQ(m["definitions"]["patch-density-75deg"]["feature_coverage"], m["feature_coverage"]) << mode;
+    for (const auto& [key, d] : m["definitions"].items()) {
+      EXPECT_GT(d.at("feature_coverage").get<double>(), 0.2) << mode << " " << key;
+      EXPECT_LE(d.at("feature_coverage").get<double>(), 1.0) << mode << " " << key;
+    }
     const double features = m.at("feature_coverage"), surface = m.at("surface_coverage");
     EXPECT_GT(features, 0.3) << mode;
     EXPECT_LE(features, 1.0) << mode;
@@ -67,8 +75,13 @@ TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
     EXPECT_LT(m.at("camera_max_angular_speed").get<double>(), 0.4);
     EXPECT_EQ(m.at("frames_out_of_frame").get<int>(), 0) << mode;
   }
+  // The feature orbit starts at its best view: frame 0 scores highest (the search's objective,
+  // measured here by evaluate on the tour's own cameras).
+  const auto& scores = doc["modes"]["feature-orbit"]["frame_scores"];
+  for (std::size_t k = 1; k < scores.size(); ++k)
+    EXPECT_GE(scores[0].get<double>(), scores[k].get<double>() - 1e-3) << "frame " << k;
   // The path modes see the same mesh: a fixed evaluation gives the same numbers again.
-  const auto again = run_meshtour("evaluate " + q(mesh) + " --path turntable --frames 24 --pixels 96 -q --json " + q(dir / "t.json"));
+  const auto again = run_meshtour("evaluate " + q(mesh) + " --path turntable --frames 24 --samples 32768 -q --json " + q(dir / "t.json"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
   std::ifstream in2(dir / "t.json");
   const nlohmann::json single = nlohmann::json::parse(in2);
@@ -80,9 +93,9 @@ TEST(CliEvaluate, PathFileGivesTheSameNumbersAsThePaperMode) {
   const fs::path mesh = small_mesh(dir);
   auto r = run_meshtour("path " + q(mesh) + " -q -o " + q(dir / "p.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("evaluate " + q(mesh) + " --path-file " + q(dir / "p.json") + " --frames 12 --pixels 64 -q --json " + q(dir / "f.json"));
+  r = run_meshtour("evaluate " + q(mesh) + " --path-file " + q(dir / "p.json") + " --frames 12 --samples 16384 -q --json " + q(dir / "f.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("evaluate " + q(mesh) + " --path paper --frames 12 --pixels 64 -q --json " + q(dir / "m.json"));
+  r = run_meshtour("evaluate " + q(mesh) + " --path paper --frames 12 --samples 16384 -q --json " + q(dir / "m.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream f(dir / "f.json"), m(dir / "m.json");
   const nlohmann::json from_file = nlohmann::json::parse(f), from_mode = nlohmann::json::parse(m);

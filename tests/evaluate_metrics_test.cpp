@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "evaluate/evaluate.h"
 #include "pathgen/features.h"
+#include "visibility/visibility.h"
 #include "test_meshes.h"
 
 namespace {
@@ -38,12 +39,19 @@ std::vector<Camera> axis_cameras(double distance) {
   return cameras;
 }
 
+EvaluationOptions given_features(std::vector<std::uint8_t> features) {
+  EvaluationOptions o;
+  o.coverage.samples = 6 * 4096;
+  o.coverage.face_features = std::move(features);
+  return o;
+}
+
 TEST(EvaluateMetrics, CubeSeenByItsSixAxisCamerasIsFullyCovered) {
   const TriangleMesh mesh = cube();
   std::vector<std::uint8_t> features(12, 0);
   features[2] = features[3] = 1;  // the +x side: one region of two triangles
-  const PathEvaluator evaluator(mesh, features);
-  EXPECT_EQ(evaluator.regions().count, 1);
+  const PathEvaluator evaluator(mesh, given_features(features));
+  EXPECT_EQ(evaluator.coverage().region_count(FeatureMeasure::patch_density), 1);
   const std::vector<Camera> cameras = axis_cameras(6.0);
   const PathEvaluation e = evaluator.evaluate(cameras, 1.0);
   EXPECT_DOUBLE_EQ(e.surface_coverage, 1.0);
@@ -52,44 +60,57 @@ TEST(EvaluateMetrics, CubeSeenByItsSixAxisCamerasIsFullyCovered) {
   EXPECT_EQ(e.feature_min_frames, 1);
   EXPECT_DOUBLE_EQ(e.feature_median_frames, 1.0);
   EXPECT_EQ(e.frames_out_of_frame, 0);
-  // One camera alone sees exactly one side.
-  const auto seen = evaluator.seen_well(cameras[1], 1.0);
-  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), 2);
-  EXPECT_TRUE(seen[2] && seen[3]);
+  // Every definition agrees here (given features, both angles see a side head-on).
+  for (const DefinitionFigures& d : e.by_definition) EXPECT_DOUBLE_EQ(d.feature_coverage, 1.0);
+  // One camera alone sees exactly one side: a sixth of the samples, all on faces 2 and 3.
+  const ViewCoverage one = evaluator.coverage().coverage(View{cameras[1], 1.0});
+  EXPECT_NEAR(static_cast<double>(count_bits(one.seen[0])), 4096.0, 1.0);
+  const auto& samples = evaluator.coverage().samples();
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    if (one.seen[0][i / 64] >> (i % 64) & 1u) {
+      ASSERT_TRUE(samples.faces[i] == 2 || samples.faces[i] == 3);
+    }
   // Five of the six cameras leave the +x side unseen: coverage 5/6.
   const std::vector<Camera> five = {cameras[0], cameras[2], cameras[3], cameras[4], cameras[5]};
   const PathEvaluation partial = evaluator.evaluate(five, 1.0);
-  EXPECT_NEAR(partial.surface_coverage, 5.0 / 6.0, 1e-12);
+  EXPECT_NEAR(partial.surface_coverage, 5.0 / 6.0, 1e-4);
   EXPECT_DOUBLE_EQ(partial.feature_coverage, 0.0);
   EXPECT_EQ(partial.feature_min_frames, 0);
+  // Frame scores: the one camera that sees the feature side scores highest.
+  ASSERT_EQ(e.frame_scores.size(), 6u);
+  EXPECT_EQ(std::max_element(e.frame_scores.begin(), e.frame_scores.end()) - e.frame_scores.begin(), 1);
 }
 
 TEST(EvaluateMetrics, SphereSeenWellCapMatchesTheAnalyticAngle) {
   // A unit sphere seen from distance D: a point at angle θ from the camera axis is seen well
-  // when the angle between its normal and the direction to the eye is below 75 degrees, i.e.
-  // (D cos θ - 1) / |eye - p| > cos 75°. The cap fraction is (1 - cos θmax) / 2.
+  // when the angle between its normal and the direction to the eye is below the angle, i.e.
+  // (D cos θ - 1) / |eye - p| > cos(angle). The cap fraction is (1 - cos θmax) / 2.
   const TriangleMesh mesh = test_meshes::icosphere(5);
-  const double D = 4.0, limit = std::cos(75.0 * kPi / 180.0);
-  double lo = 0.0, hi = kPi / 2;
-  for (int i = 0; i < 100; ++i) {
-    const double th = 0.5 * (lo + hi);
-    const double c = (D * std::cos(th) - 1.0) / std::sqrt(D * D - 2.0 * D * std::cos(th) + 1.0);
-    (c > limit ? lo : hi) = th;
-  }
-  const double expected = 0.5 * (1.0 - std::cos(lo));
-  EvaluationOptions options;
-  options.long_side_pixels = 512;
-  const PathEvaluator evaluator(mesh, std::vector<std::uint8_t>(mesh.triangles.size(), 1), options);
+  const double D = 4.0;
+  auto cap = [&](double angle_deg) {
+    const double limit = std::cos(angle_deg * kPi / 180.0);
+    double lo = 0.0, hi = kPi / 2;
+    for (int i = 0; i < 100; ++i) {
+      const double th = 0.5 * (lo + hi);
+      const double c = (D * std::cos(th) - 1.0) / std::sqrt(D * D - 2.0 * D * std::cos(th) + 1.0);
+      (c > limit ? lo : hi) = th;
+    }
+    return 0.5 * (1.0 - std::cos(lo));
+  };
+  EvaluationOptions options = given_features(std::vector<std::uint8_t>(mesh.triangles.size(), 1));
+  options.coverage.samples = 1u << 16;
+  const PathEvaluator evaluator(mesh, options);
   const Camera camera{Eigen::Vector3d(0, 0, D), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 40.0};
   const PathEvaluation e = evaluator.evaluate(std::vector<Camera>{camera}, 1.0);
-  EXPECT_NEAR(e.surface_coverage, expected, 0.01) << "analytic cap " << expected;
+  EXPECT_NEAR(e.surface_coverage, cap(75.0), 0.005) << "analytic cap " << cap(75.0);
   EXPECT_DOUBLE_EQ(e.surface_coverage, e.feature_coverage);
+  EXPECT_NEAR(e.by_definition[2].surface_coverage, cap(60.0), 0.005);  // the stricter angle
   // A wider seen-well angle shows more, and the far side is never seen.
-  options.seen_angle_deg = 89.0;
-  const PathEvaluator wide(mesh, std::vector<std::uint8_t>(mesh.triangles.size(), 1), options);
+  options.coverage.seen_angle_deg[0] = 89.0;
+  const PathEvaluator wide(mesh, options);
   const double wide_coverage = wide.evaluate(std::vector<Camera>{camera}, 1.0).surface_coverage;
   EXPECT_GT(wide_coverage, e.surface_coverage + 0.03);
-  EXPECT_LT(wide_coverage, 0.5 * (1.0 - 1.0 / D) + 0.01);  // the horizon cap: cos θ = 1/D
+  EXPECT_LT(wide_coverage, 0.5 * (1.0 - 1.0 / D) + 0.005);  // the horizon cap: cos θ = 1/D
 }
 
 TEST(EvaluateMetrics, CircularOrbitHasConstantSpeedAndNoAcceleration) {
@@ -139,27 +160,11 @@ TEST(EvaluateMetrics, FeatureFacesAreAtOrAboveTheAreaWeightedQuantile) {
   EXPECT_THROW(area_weighted_quantile({1}, {1, 2}, 0.5), InputError);
 }
 
-TEST(EvaluateMetrics, FeatureRegionsAreEdgeConnectedComponents) {
-  const TriangleMesh mesh = cube();
-  // +x side (2 triangles sharing an edge) and -x side: two regions; a corner-touching triangle
-  // of the +y side joins neither... it shares an edge with -x? Face 6 (2,6,7) shares edge 2-6
-  // with face 1 (0,6,2), so it joins the -x region.
-  std::vector<std::uint8_t> features(12, 0);
-  features[0] = features[1] = features[2] = features[3] = features[6] = 1;
-  const FeatureRegions regions = feature_regions(mesh, features);
-  EXPECT_EQ(regions.count, 2);
-  EXPECT_EQ(regions.face_region[0], regions.face_region[1]);
-  EXPECT_EQ(regions.face_region[0], regions.face_region[6]);
-  EXPECT_EQ(regions.face_region[2], regions.face_region[3]);
-  EXPECT_NE(regions.face_region[0], regions.face_region[2]);
-  EXPECT_EQ(regions.face_region[4], -1);
-}
-
 TEST(EvaluateMetrics, ResultsDoNotDependOnTheThreadCount) {
   const TriangleMesh mesh = test_meshes::bumpy_sphere(3);
-  std::vector<std::uint8_t> features(mesh.triangles.size());
-  for (std::size_t f = 0; f < features.size(); ++f) features[f] = f % 3 == 0;
-  const PathEvaluator evaluator(mesh, features);
+  EvaluationOptions options;
+  options.coverage.samples = 1u << 15;
+  const PathEvaluator evaluator(mesh, options);  // computed features: patch density and saliency
   std::vector<Camera> cameras;
   for (int k = 0; k < 12; ++k)
     cameras.push_back(Camera{Eigen::Vector3d(4 * std::cos(k * 0.5), 1.0, 4 * std::sin(k * 0.5)), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 35});
@@ -172,6 +177,8 @@ TEST(EvaluateMetrics, ResultsDoNotDependOnTheThreadCount) {
   EXPECT_EQ(one.surface_coverage, all.surface_coverage);
   EXPECT_EQ(one.feature_coverage, all.feature_coverage);
   EXPECT_EQ(one.feature_median_frames, all.feature_median_frames);
+  EXPECT_EQ(one.frame_scores, all.frame_scores);
+  for (int d = 0; d < kFeatureDefinitions; ++d) EXPECT_EQ(one.by_definition[d].feature_coverage, all.by_definition[d].feature_coverage);
   EXPECT_GT(all.surface_coverage, 0.5);
   EXPECT_LT(all.surface_coverage, 1.0);
 }
@@ -186,7 +193,10 @@ TEST(EvaluateMetrics, JsonHasExactlyTheDocumentedShape) {
   a.view_max_angular_speed = 0.06;
   a.view_max_angular_acceleration = 0.001;
   a.frames_out_of_frame = 2;
-  const nlohmann::json doc = nlohmann::json::parse(evaluation_json({{"turntable", a}, {"paper", PathEvaluation{}}}));
+  a.by_definition[3].feature_coverage = 0.25;
+  a.objective = 0.9;
+  a.frame_scores = {0.5, 0.25};
+  const nlohmann::json doc = nlohmann::json::parse(evaluation_json({{"turntable", a}, {"paper", PathEvaluation{}}}, CoverageOptions{}));
   ASSERT_EQ(doc.size(), 1u);
   ASSERT_TRUE(doc.at("modes").is_object());
   ASSERT_EQ(doc["modes"].size(), 2u);
@@ -195,9 +205,20 @@ TEST(EvaluateMetrics, JsonHasExactlyTheDocumentedShape) {
                                          "view_max_angular_acceleration", "frames_out_of_frame"};
   for (const char* mode : {"turntable", "paper"}) {
     const auto& m = doc["modes"].at(mode);
-    EXPECT_EQ(m.size(), keys.size());
+    EXPECT_EQ(m.size(), keys.size() + 3);  // + objective, frame_scores, definitions
     for (const auto& k : keys) EXPECT_TRUE(m.contains(k) && m[k].is_number()) << mode << " " << k;
+    EXPECT_TRUE(m.at("objective").is_number());
+    EXPECT_TRUE(m.at("frame_scores").is_array());
+    const auto& d = m.at("definitions");
+    ASSERT_EQ(d.size(), 4u);
+    for (const char* key : {"patch-density-75deg", "saliency-75deg", "patch-density-60deg", "saliency-60deg"}) {
+      ASSERT_TRUE(d.contains(key)) << key;
+      for (const char* k : {"feature_coverage", "surface_coverage", "feature_min_frames", "feature_median_frames"})
+        EXPECT_TRUE(d[key].contains(k) && d[key][k].is_number()) << key << " " << k;
+    }
   }
+  EXPECT_EQ(doc["modes"]["turntable"]["definitions"]["saliency-60deg"]["feature_coverage"].get<double>(), 0.25);
+  EXPECT_EQ(doc["modes"]["turntable"]["frame_scores"][1].get<double>(), 0.25);
   const auto& t = doc["modes"]["turntable"];
   EXPECT_EQ(t["feature_coverage"].get<double>(), 0.5);
   EXPECT_EQ(t["feature_median_frames"].get<double>(), 7.5);

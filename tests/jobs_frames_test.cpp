@@ -82,6 +82,17 @@ TEST(FrameDir, ManifestRoundTripsAndMissingFramesAreListed) {
   FrameDirInfo other = info;
   other.width = 66;
   EXPECT_FALSE(back.same_tour(other));
+  EXPECT_TRUE(back.view_scores.empty());
+  EXPECT_EQ(back.best_view_frame, -1);
+  // The view scores of the path search and the best frame's index round-trip (informative only).
+  FrameDirInfo scored = info;
+  scored.view_scores = {0.5, 0.75, 0.25, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.0, 0.125};
+  scored.best_view_frame = 1;
+  write_frame_dir_info(dir, scored);
+  const FrameDirInfo again = read_frame_dir_info(dir);
+  EXPECT_EQ(again.view_scores, scored.view_scores);
+  EXPECT_EQ(again.best_view_frame, 1);
+  EXPECT_TRUE(again.same_tour(info));
 }
 
 TEST(FrameDir, BadManifestsAreInputErrors) {
@@ -100,6 +111,13 @@ TEST(FrameDir, BadManifestsAreInputErrors) {
   write(R"({"format":"meshtour-frames","version":1,"frame_count":-3,"fps":30,"width":8,"height":8,"image_formats":["png"]})");
   EXPECT_THROW(read_frame_dir_info(dir), InputError);
   write(R"({"format":"meshtour-frames","version":1,"frame_count":3,"fps":30,"width":8,"height":8,"image_formats":["tiff"]})");
+  EXPECT_THROW(read_frame_dir_info(dir), InputError);
+  // View scores: one number per frame, and a best frame inside the tour.
+  write(R"({"format":"meshtour-frames","version":1,"frame_count":3,"fps":30,"width":8,"height":8,"image_formats":["png"],"view_scores":[1,2],"best_view_frame":1})");
+  EXPECT_THROW(read_frame_dir_info(dir), InputError);
+  write(R"({"format":"meshtour-frames","version":1,"frame_count":3,"fps":30,"width":8,"height":8,"image_formats":["png"],"view_scores":[1,2,"x"],"best_view_frame":1})");
+  EXPECT_THROW(read_frame_dir_info(dir), InputError);
+  write(R"({"format":"meshtour-frames","version":1,"frame_count":3,"fps":30,"width":8,"height":8,"image_formats":["png"],"view_scores":[1,2,3],"best_view_frame":3})");
   EXPECT_THROW(read_frame_dir_info(dir), InputError);
 }
 

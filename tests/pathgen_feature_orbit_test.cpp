@@ -24,10 +24,11 @@ std::vector<std::uint8_t> polar_features(const TriangleMesh& mesh, double sign, 
   return features;
 }
 
-FeatureOrbitOptions fast_options() {
+FeatureOrbitOptions fast_options(std::vector<std::uint8_t> features = {}) {
   FeatureOrbitOptions o;
-  o.surface_weight = 0.0;  // the polar caps are 1 % of the area: judge by them alone
-  o.view_pixels = 96;
+  o.coverage.surface_weight = 0.0;  // the polar caps are 1 % of the area: judge by them alone
+  o.coverage.samples = 1u << 15;
+  o.coverage.face_features = std::move(features);
   o.azimuth_samples = 16;
   o.phases = 8;
   return o;
@@ -36,8 +37,8 @@ FeatureOrbitOptions fast_options() {
 TEST(FeatureOrbit, RisesToShowFeaturesOnTheTop) {
   const TriangleMesh mesh = test_meshes::icosphere(4);
   // Within 12° of the pole: a level camera sees them at 78° or more, never "well" (75°).
-  const FeatureOrbitOptions options = fast_options();
-  const FeatureOrbitResult r = compute_feature_orbit(mesh, polar_features(mesh, 1.0, 12.0), options);
+  const FeatureOrbitOptions options = fast_options(polar_features(mesh, 1.0, 12.0));
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
   EXPECT_GT(r.geometry.elevation.base / kDegree, 10.0);
   EXPECT_GT(r.feature_share_seen, 0.95);
   EXPECT_LE(r.angular_speed, options.max_angular_speed);
@@ -46,7 +47,7 @@ TEST(FeatureOrbit, RisesToShowFeaturesOnTheTop) {
 
 TEST(FeatureOrbit, DipsToShowFeaturesUnderneath) {
   const TriangleMesh mesh = test_meshes::icosphere(4);
-  const FeatureOrbitResult r = compute_feature_orbit(mesh, polar_features(mesh, -1.0, 12.0), fast_options());
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, fast_options(polar_features(mesh, -1.0, 12.0)));
   double lowest = 1e9;
   for (int k = 0; k < 360; ++k) lowest = std::min(lowest, r.geometry.elevation(k / 360.0));
   EXPECT_LT(lowest / kDegree, -10.0);
@@ -58,9 +59,9 @@ TEST(FeatureOrbit, LoopsSeamlesslyLooksAtTheCentreAndKeepsItsLimits) {
   for (auto& p : mesh.positions) p = Eigen::Vector3d(3.0 * p.x(), p.y(), p.z()) + Eigen::Vector3d(1, 2, 3);  // slender, off-centre
   std::vector<std::uint8_t> features(mesh.triangles.size());
   for (std::size_t f = 0; f < features.size(); ++f) features[f] = mesh.positions[mesh.triangles[f][0]].z() > 3.4;
-  FeatureOrbitOptions options = fast_options();
-  options.surface_weight = 0.3;
-  const FeatureOrbitResult r = compute_feature_orbit(mesh, features, options);
+  FeatureOrbitOptions options = fast_options(features);
+  options.coverage.surface_weight = 0.3;
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
   const FeatureOrbitPath path = r.camera_path();
   const CameraPose a = path.pose(0.0), b = path.pose(1.0), c = path.pose(1e-6);
   EXPECT_LT((a.eye - b.eye).norm(), 1e-9);
@@ -84,13 +85,48 @@ TEST(FeatureOrbit, LoopsSeamlesslyLooksAtTheCentreAndKeepsItsLimits) {
   EXPECT_GT(farthest, 1.1 * nearest);
 }
 
-TEST(FeatureOrbit, SoftwareDepthBufferHidesTheFarSide) {
-  const TriangleMesh mesh = test_meshes::icosphere(3);
-  const auto seen = faces_seen_well(mesh, Eigen::Vector3d(0, 0, 5), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 30.0, 128, 75.0);
-  ASSERT_FALSE(seen.empty());
-  for (std::uint32_t f : seen) EXPECT_GT(mesh.positions[mesh.triangles[f][0]].z(), 0.0);
-  EXPECT_GT(seen.size(), mesh.triangles.size() / 5);
-  EXPECT_LT(seen.size(), mesh.triangles.size() / 2);
+TEST(FeatureOrbit, TheLoopStartsAtItsBestView) {
+  // Features on one side only (+x): the best single view looks at them, so frame 0 must too.
+  TriangleMesh mesh = test_meshes::bumpy_sphere(3);
+  std::vector<std::uint8_t> features(mesh.triangles.size());
+  for (std::size_t f = 0; f < features.size(); ++f) features[f] = mesh.positions[mesh.triangles[f][0]].x() > 0.5;
+  FeatureOrbitOptions options = fast_options(features);
+  options.coverage.surface_weight = 0.3;
+  options.frames = 24;
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
+  ASSERT_EQ(r.frame_scores.size(), 24u);
+  for (int k = 1; k < 24; ++k) EXPECT_GE(r.frame_scores[0], r.frame_scores[k]) << "frame " << k << " scores higher than frame 0";
+  EXPECT_DOUBLE_EQ(r.frame_scores[0], r.start_score);
+  EXPECT_GT(r.frame_scores[0], r.frame_scores[12] + 0.1);  // the far side shows none of them
+  const CameraPose first = r.camera_path().pose(0.0);
+  EXPECT_GT((first.eye - first.target).normalized().x(), 0.7) << "frame 0 does not look at the +x features";
+}
+
+TEST(FeatureOrbit, SameShapeFinerTessellationSameOrbit) {
+  // The same shape split 1-to-4 twice (16 times the faces), with the same features (by position):
+  // the search and the start must give the same orbit (elevation within 1 degree everywhere).
+  const TriangleMesh coarse = test_meshes::bumpy_sphere(3, 0.0, 11);
+  const TriangleMesh fine = test_meshes::split_at_midpoints(test_meshes::split_at_midpoints(coarse));
+  auto features = [](const TriangleMesh& mesh) {
+    std::vector<std::uint8_t> f(mesh.triangles.size());
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const auto& t = mesh.triangles[i];
+      const Eigen::Vector3d c = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
+      f[i] = c.y() > 0.4 || c.x() < -0.6;
+    }
+    return f;
+  };
+  FeatureOrbitOptions oa = fast_options(features(coarse)), ob = fast_options(features(fine));
+  oa.coverage.surface_weight = ob.coverage.surface_weight = 0.3;
+  oa.frames = ob.frames = 12;
+  const FeatureOrbitResult a = compute_feature_orbit(coarse, oa), b = compute_feature_orbit(fine, ob);
+  const FeatureOrbitPath pa = a.camera_path(), pb = b.camera_path();
+  for (int k = 0; k < 72; ++k) {
+    const Eigen::Vector3d da = (pa.pose(k / 72.0).eye - pa.pose(k / 72.0).target).normalized();
+    const Eigen::Vector3d db = (pb.pose(k / 72.0).eye - pb.pose(k / 72.0).target).normalized();
+    EXPECT_NEAR(std::asin(da.y()) / kDegree, std::asin(db.y()) / kDegree, 1.0) << "at " << k * 5 << " degrees into the loop";
+  }
+  EXPECT_NEAR(a.scores.objective, b.scores.objective, 0.01 * a.scores.objective);
 }
 
 }  // namespace

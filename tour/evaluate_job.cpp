@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <algorithm>
 #include <optional>
 #include "core/error.h"
 #include "evaluate/evaluate.h"
@@ -35,6 +36,30 @@ void print_table(const std::vector<std::pair<std::string, PathEvaluation>>& rows
   }
 }
 
+// The feature coverage under every definition, and the objective the feature orbit maximizes.
+void print_definitions(const std::vector<std::pair<std::string, PathEvaluation>>& rows, const CoverageOptions& options,
+                       std::ostream& out) {
+  char cell[64];
+  std::snprintf(cell, sizeof cell, "%-14s", "features by");
+  out << "\n" << cell;
+  for (const FeatureDefinition& d : feature_definitions()) {
+    std::snprintf(cell, sizeof cell, " %20s", options.key(d).c_str());
+    out << cell;
+  }
+  out << "  objective  best frame\n";
+  for (const auto& [mode, e] : rows) {
+    std::snprintf(cell, sizeof cell, "%-14s", mode.c_str());
+    out << cell;
+    for (const DefinitionFigures& f : e.by_definition) {
+      std::snprintf(cell, sizeof cell, " %19.2f%%", 100.0 * f.feature_coverage);
+      out << cell;
+    }
+    const auto best = std::max_element(e.frame_scores.begin(), e.frame_scores.end());
+    std::snprintf(cell, sizeof cell, "  %9.4f  %10d\n", e.objective, static_cast<int>(best - e.frame_scores.begin()));
+    out << cell;
+  }
+}
+
 }  // namespace
 
 void run_evaluate(EvaluateJob& a) {
@@ -53,11 +78,10 @@ void run_evaluate(EvaluateJob& a) {
 
   const TriangleMesh mesh = load_scene_model(scene);
   throw_if_interrupted();
-  // Feature faces once per mesh, whatever the path mode: w(f) of §8 at the paper's settings.
-  const SurfaceAnalysis surface = analyze_surface(mesh, paper.surface);
-  const std::vector<std::uint8_t> features =
-      feature_faces(input_face_weights(surface, mesh.triangles.size()), face_areas(mesh), a.feature_quantile);
-  const PathEvaluator evaluator(mesh, features, a.evaluation);
+  // Features once per mesh, whatever the path mode: w(f) of §8 at the paper's settings and mesh
+  // saliency, both on the coverage module's fixed-resolution proxy.
+  a.evaluation.coverage.surface = paper.surface;
+  const PathEvaluator evaluator(mesh, a.evaluation);
   throw_if_interrupted();
 
   Lens lens;
@@ -82,13 +106,15 @@ void run_evaluate(EvaluateJob& a) {
     throw_if_interrupted();
   }
   if (!a.json.empty()) {
-    const std::string text = evaluation_json(rows);
+    const std::string text = evaluation_json(rows, a.evaluation.coverage);
     write_text_file_atomically(a.json, text, "evaluation");
   }
   if (!a.quiet) {
     std::cout << "meshtour evaluate: " << a.scene.input << " (up " << scene.up.name() << ", " << scene.frames << " frames, "
-              << mesh.triangles.size() << " faces, " << evaluator.regions().count << " feature regions)\n";
+              << mesh.triangles.size() << " faces, " << evaluator.coverage().region_count(FeatureMeasure::patch_density)
+              << " feature regions)\n";
     print_table(rows, std::cout);
+    print_definitions(rows, a.evaluation.coverage, std::cout);
     if (!a.json.empty()) std::cout << "wrote " << a.json << "\n";
   }
 }

@@ -18,7 +18,6 @@ struct EvaluateJob {
   std::string json;
   bool compare = false;
   bool quiet = false;
-  double feature_quantile = 0.75;
   EvaluationOptions evaluation;
 };
 

@@ -95,6 +95,9 @@ double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices) {
 }
 double estimate_path_bytes(std::size_t triangles) { return 1800.0 * static_cast<double>(triangles); }
 double estimate_bvh_bytes(std::size_t triangles) { return 250.0 * static_cast<double>(triangles); }
+double estimate_coverage_bytes(std::size_t triangles, std::size_t vertices) {
+  return 150e6 + 130.0 * static_cast<double>(triangles) + 60.0 * static_cast<double>(vertices);
+}
 double estimate_frame_bytes(int width, int height, int extra_layers, bool denoise) {
   // The float image and its film, the 8-bit copy, and the encoder's look-ahead of about 40
   // YUV 4:2:0 frames; the denoiser's guides, planes and output (tracer/denoiser.h) about 170

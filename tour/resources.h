@@ -43,6 +43,9 @@ struct MemoryEstimate {
 double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices);  ///< loading: OpenMesh + arrays
 double estimate_path_bytes(std::size_t triangles);                        ///< toroidal-patch path stages
 double estimate_bvh_bytes(std::size_t triangles);                         ///< Embree BVH + shading data
+/// The feature orbit's coverage model (pathgen/coverage.h): an Embree scene of the whole mesh,
+/// the clustering's arrays and the proxy's analysis.
+double estimate_coverage_bytes(std::size_t triangles, std::size_t vertices);
 double estimate_frame_bytes(int width, int height, int extra_layers, bool denoise);     ///< frame buffers + encoder
 
 /// Refuses (InputError, exit 2) a job whose estimated peak exceeds the budget, naming the budget,

@@ -6,6 +6,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <numeric>
 #include <thread>
 
@@ -106,7 +107,9 @@ std::unique_ptr<CameraPath> frame_for_lens(std::unique_ptr<CameraPath> path, con
 
 }  // namespace
 
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet) {
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet,
+                                      std::vector<double>* view_scores) {
+  if (view_scores) view_scores->clear();
   if (scene.path_file) {
     auto path = read_path_file(*scene.path_file);
     if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
@@ -114,16 +117,20 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
   }
   if (scene.path_mode == "feature-orbit") {
     FeatureOrbitOptions orbit;
-    orbit.surface = path_search_options(scene.path_search).surface;
+    orbit.coverage.surface = path_search_options(scene.path_search).surface;
     orbit.up = scene.up;
     orbit.aspect = lens.aspect;
+    if (view_scores) orbit.frames = scene.frames;
     const FeatureOrbitResult result = compute_feature_orbit(mesh, orbit);
+    if (view_scores) *view_scores = result.frame_scores;
     if (!quiet) {
       const ElevationCurve& e = result.geometry.elevation;
       constexpr double deg = 180.0 / 3.14159265358979323846;
-      std::fprintf(stderr, "camera path (feature orbit): elevation %.1f%+.1f cos(2pi(t-%.2f))%+.1f cos(4pi(t-%.2f)) degrees; "
-                   "its views see %.1f %% of the feature area\n", e.base * deg, e.swing * deg,
-                   e.swing_phase, e.ripple * deg, e.ripple_phase, 100.0 * result.feature_share_seen);
+      std::fprintf(stderr, "camera path (feature orbit): elevation %.1f%+.1f cos(2pi(t-%.2f))%+.1f cos(4pi(t-%.2f)) degrees, "
+                   "starting at the best view (%.0f degrees around); its views see %.1f %% of the feature area "
+                   "(objective %.3f over patch density and saliency at two angles)\n", e.base * deg, e.swing * deg,
+                   e.swing_phase, e.ripple * deg, e.ripple_phase, 360.0 * result.geometry.start,
+                   100.0 * result.feature_share_seen, result.scores.objective);
     }
     return frame_for_lens(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, mesh, lens);
   }
@@ -187,10 +194,12 @@ void check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
   }
   const auto& layers = scene.render.layers;
   const int extra_layers = int(layers.albedo) + int(layers.normal) + int(layers.depth);
-  const bool path_stages = !scene.path_file && scene.path_mode == "paper";
+  const bool path_stages = !scene.path_file && scene.path_mode != "turntable";
   MemoryEstimate e;
   e.parts = {{"runtime", 100e6}, {"mesh", estimate_mesh_bytes(triangles, vertices)}};
-  if (path_stages) e.parts.push_back({"camera path", estimate_path_bytes(triangles)});
+  if (path_stages)
+    e.parts.push_back({"camera path", scene.path_mode == "paper" ? estimate_path_bytes(triangles)
+                                                                 : estimate_coverage_bytes(triangles, vertices)});
   e.parts.push_back({"ray-tracing BVH", estimate_bvh_bytes(triangles)});
   e.parts.push_back({"frame buffers", estimate_frame_bytes(scene.render.width, scene.render.height, extra_layers, scene.render.denoise)});
   // The path's structures are freed before the BVH is built.
@@ -221,7 +230,7 @@ PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log) {
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
   stage("path");
-  tour.path = make_path(scene, mesh, lens, quiet);
+  tour.path = make_path(scene, mesh, lens, quiet, &tour.view_scores);
   tour.fov = choose_fov(scene, *tour.path, mesh, lens, quiet);
   stage("bvh");
   tour.renderer = std::make_unique<Renderer>(mesh, scene.render);
@@ -249,7 +258,7 @@ int thread_count(int requested, bool quiet) {
   return requested;
 }
 
-FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& formats) {
+FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& formats, const std::vector<double>& view_scores) {
   FrameDirInfo info;
   info.frame_count = scene.frames;
   info.fps = scene.fps;
@@ -259,6 +268,11 @@ FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& 
   info.denoise = scene.render.denoise;
   info.source = scene.source;
   if (scene.path_file) info.path_file = std::filesystem::absolute(*scene.path_file).string();
+  if (static_cast<int>(view_scores.size()) == scene.frames && !view_scores.empty()) {
+    info.view_scores = view_scores;
+    // The first of equal maxima, as the path search picks its start.
+    info.best_view_frame = static_cast<int>(std::max_element(view_scores.begin(), view_scores.end()) - view_scores.begin());
+  }
   return info;
 }
 
@@ -303,7 +317,7 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
     std::vector<std::string> formats;
     if (write_png) formats.push_back("png");
     if (write_exr) formats.push_back("exr");
-    const FrameDirInfo info = frame_dir_info(scene, formats);
+    const FrameDirInfo info = frame_dir_info(scene, formats, tour.view_scores);
     prepare_frame_dir(job.frames_dir, info);
   }
 

@@ -51,7 +51,10 @@ PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh&
 
 /// The camera path of the scene. Geometry-driven paths are wrapped in FramedPath when the fov is
 /// fixed: the paper's 4r/6r distance rule frames typical models, but every vertex is checked.
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet);
+/// When the path search scores each frame's view (the feature orbit), the scores are stored in
+/// `view_scores` if given (one per frame of scene.frames), else it is left empty.
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet,
+                                      std::vector<double>* view_scores = nullptr);
 
 /// The field of view to render with. With "auto", a geometry-driven path keeps its distances and
 /// the lens is fitted to the model over EVERY frame of the tour (one fov for the whole tour, so
@@ -65,6 +68,7 @@ struct PreparedTour {
   std::unique_ptr<CameraPath> path;
   double fov = 0.0;
   std::unique_ptr<Renderer> renderer;
+  std::vector<double> view_scores;  ///< per frame, when the path search measured them (else empty)
 
   /// Frame `k` of the tour (k in 0 .. scene.frames-1); the same pixels in any process.
   Image render_frame(int k) const;
@@ -86,7 +90,9 @@ int thread_count(int requested, bool quiet);
 
 /// The frames directory of `scene` holding `formats` ("png", "exr"): the description `render`,
 /// `tour --frames-dir` and `farm` write as its manifest (so `encode` reads any of them).
-FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& formats);
+/// `view_scores` (one per frame, or empty) go into it with the best frame's index.
+FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& formats,
+                            const std::vector<double>& view_scores = {});
 
 /// The one frame loop: renders `frames` of the tour in order, checking for an interrupt before
 /// each, and hands each image to `done` with its render time in seconds.

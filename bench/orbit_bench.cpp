@@ -1,0 +1,137 @@
+// The feature orbit at scan sizes: the shared bunny (70k faces) split 1-to-4 at edge midpoints
+// 2, 3 and 4 times (1.1M, 4.5M, 17.8M faces; the same shape). Google Benchmark timings of the
+// coverage model's stages and of the whole search, per size:
+//
+//   build/bench/orbit_bench --benchmark_filter=FeatureOrbit/3
+//
+// and, with --invariance[=LEVELS], the check that the same shape gives the same tour: the
+// elevation of every level's orbit against level 0's (degrees, over 360 azimuths) and the
+// evaluation figures of every level's 12 frames under every feature definition:
+//
+//   build/bench/orbit_bench --invariance=3 [--mesh=FILE] [--up=y]
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "core/axis.h"
+#include "evaluate/evaluate.h"
+#include "mesh/mesh.h"
+#include "pathgen/coverage.h"
+#include "pathgen/feature_orbit.h"
+#include "test_meshes.h"
+
+namespace {
+
+std::filesystem::path g_source_mesh;
+meshtour::Axis g_up{1, false};
+
+// The source mesh split `levels` times, built once on first use.
+const meshtour::TriangleMesh& mesh_at(int levels) {
+  static std::map<int, meshtour::TriangleMesh> cache;
+  auto it = cache.find(levels);
+  if (it != cache.end()) return it->second;
+  if (!std::filesystem::exists(g_source_mesh)) {
+    std::cerr << "orbit_bench: " << g_source_mesh << " not found; pass --mesh=FILE\n";
+    std::exit(2);
+  }
+  meshtour::TriangleMesh mesh = levels > 0 ? mesh_at(levels - 1) : meshtour::load_mesh(g_source_mesh);
+  if (levels > 0) mesh = meshtour::test_meshes::split_at_midpoints(mesh);
+  return cache.emplace(levels, std::move(mesh)).first->second;
+}
+
+meshtour::FeatureOrbitOptions orbit_options() {
+  meshtour::FeatureOrbitOptions o;
+  o.up = g_up;
+  o.frames = 12;
+  return o;
+}
+
+void BM_CoverageModel(benchmark::State& state) {
+  const auto& mesh = mesh_at(static_cast<int>(state.range(0)));
+  std::vector<std::pair<std::string, double>> stages;
+  for (auto _ : state) {
+    const meshtour::CoverageModel model(mesh, orbit_options().coverage);
+    stages = model.stage_seconds();
+  }
+  for (const auto& [name, s] : stages) state.counters[name + "_s"] = s;
+  state.counters["faces"] = static_cast<double>(mesh.triangles.size());
+}
+BENCHMARK(BM_CoverageModel)->Arg(0)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
+
+// The whole search: coverage model, the grid of views, the curve search, the dolly and the start.
+void BM_FeatureOrbit(benchmark::State& state) {
+  const auto& mesh = mesh_at(static_cast<int>(state.range(0)));
+  meshtour::FeatureOrbitResult result;
+  for (auto _ : state) result = meshtour::compute_feature_orbit(mesh, orbit_options());
+  state.counters["faces"] = static_cast<double>(mesh.triangles.size());
+  state.counters["objective"] = result.scores.objective;
+}
+BENCHMARK(BM_FeatureOrbit)->Arg(0)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
+
+double elevation_deg(const meshtour::CameraPose& p, const Eigen::Vector3d& up) {
+  return std::asin(std::clamp((p.eye - p.target).normalized().dot(up), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+}
+
+int invariance(int levels) {
+  const Eigen::Vector3d up = g_up.vector();
+  std::vector<meshtour::FeatureOrbitPath> paths;
+  std::printf("%-6s %10s %8s %9s %9s %10s", "level", "faces", "orbit_s", "objective", "max_dElev", "start_deg");
+  for (const auto& d : meshtour::feature_definitions()) std::printf(" %20s", meshtour::CoverageOptions{}.key(d).c_str());
+  std::printf("\n");
+  for (int level = 0; level <= levels; ++level) {
+    const auto& mesh = mesh_at(level);
+    const auto start = std::chrono::steady_clock::now();
+    const meshtour::FeatureOrbitResult r = meshtour::compute_feature_orbit(mesh, orbit_options());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    paths.push_back(r.camera_path());
+    double worst = 0.0;
+    for (int k = 0; k < 360; ++k)
+      worst = std::max(worst, std::abs(elevation_deg(paths.back().pose(k / 360.0), up) - elevation_deg(paths.front().pose(k / 360.0), up)));
+    std::vector<meshtour::Camera> cameras;
+    for (int k = 0; k < 12; ++k) cameras.push_back(meshtour::Camera::at(meshtour::frame_pose(paths.back(), k, 12), 35.0));
+    const meshtour::PathEvaluator evaluator(mesh);
+    const meshtour::PathEvaluation e = evaluator.evaluate(cameras, 16.0 / 9.0);
+    std::printf("%-6d %10zu %8.2f %9.4f %9.2f %10.1f", level, mesh.triangles.size(), seconds, r.scores.objective, worst,
+                360.0 * r.geometry.start);
+    for (const auto& f : e.by_definition) std::printf(" %19.2f%%", 100.0 * f.feature_coverage);
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  g_source_mesh = std::filesystem::path(MESHTOUR_SOURCE_DIR).parent_path() / "shared" / "meshes" / "bunny.ply";
+  int invariance_levels = -1;
+  std::vector<char*> rest = {argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    if (std::strncmp(argv[i], "--mesh=", 7) == 0)
+      g_source_mesh = argv[i] + 7;
+    else if (std::strncmp(argv[i], "--up=", 5) == 0)
+      g_up = meshtour::Axis::parse(argv[i] + 5);
+    else if (std::strcmp(argv[i], "--invariance") == 0)
+      invariance_levels = 3;
+    else if (std::strncmp(argv[i], "--invariance=", 13) == 0)
+      invariance_levels = std::atoi(argv[i] + 13);
+    else
+      rest.push_back(argv[i]);
+  }
+  if (invariance_levels >= 0) return invariance(invariance_levels);
+  int rest_count = static_cast<int>(rest.size());
+  benchmark::Initialize(&rest_count, rest.data());
+  if (benchmark::ReportUnrecognizedArguments(rest_count, rest.data())) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

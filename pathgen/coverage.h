@@ -1,0 +1,115 @@
+#pragma once
+// What views show of a mesh's features, measured so that neither the tessellation nor one
+// particular notion of "feature" decides the answer. The one coverage module: the feature orbit's
+// search scores its candidate views with it, `meshtour evaluate` scores whole tours with it, and
+// the tour records each frame's score with it.
+//
+//  - Where: a fixed number of area-weighted samples of the surface (visibility/), so a shape and
+//    any finer tessellation of it are measured alike.
+//  - What counts as a feature: each sample takes its value from a proxy of the mesh at a fixed
+//    resolution (mesh/vertex_clustering.h), under two independent measures: the paper's patch
+//    density w(f) (ALGORITHM.md §8) and mesh saliency (Lee, Varshney & Jacobs 2005,
+//    pathgen/saliency.h). The top `feature_quantile` of the samples by value are the features.
+//  - Seen well: in the frame, unoccluded, and facing the camera within an angle; two angles,
+//    the evaluation's traditional 75° and a stricter 60°.
+// A definition is one measure at one angle; the objective of a set of views is the mean over the
+// four definitions of (features seen + surface_weight × other surface seen) / features.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "mesh/mesh.h"
+#include "pathgen/surface.h"
+#include "visibility/visibility.h"
+
+namespace meshtour {
+
+enum class FeatureMeasure { patch_density, saliency };
+constexpr int kFeatureMeasures = 2;
+constexpr int kSeenAngles = 2;
+constexpr int kFeatureDefinitions = kFeatureMeasures * kSeenAngles;
+
+/// One way of judging what a view shows: which samples are features, and how squarely they must be seen.
+struct FeatureDefinition {
+  FeatureMeasure measure = FeatureMeasure::patch_density;
+  int angle = 0;  ///< index into CoverageOptions::seen_angle_deg
+};
+/// The definitions, default (today's: patch density at the first angle, 75°) first.
+const std::array<FeatureDefinition, kFeatureDefinitions>& feature_definitions();
+
+struct CoverageOptions {
+  SurfaceOptions surface;             ///< how w(f) is computed on the proxy
+  std::size_t samples = 1u << 16;     ///< surface samples (fixed: independent of the face count)
+  /// Resolution of the proxy the features are measured on (cells of the clustering grid, for the
+  /// surface's area). Coarser than the meshes it should not tell apart: a scan whose edges are
+  /// longer than a cell is measured on itself, not on a proxy.
+  std::size_t proxy_cells = 8000;
+  double feature_quantile = 0.75;     ///< features: samples at or above this quantile of a measure
+  double surface_weight = 0.3;        ///< worth of non-feature area relative to feature area
+  /// Seen well below these angles between the normal and the direction to the eye: the
+  /// evaluation's traditional angle, and a stricter one.
+  std::array<double, kSeenAngles> seen_angle_deg{75.0, 60.0};
+  /// Test hook: when not empty (one flag per face), both measures take these feature faces
+  /// instead of computing w(f) and saliency.
+  std::vector<std::uint8_t> face_features;
+
+  /// \throw InputError naming the value out of range.
+  void validate() const;
+  /// "patch-density-75deg", "saliency-60deg", ...: the key under which evaluate --json reports `d`.
+  std::string key(const FeatureDefinition& d) const;
+};
+
+/// What one view sees: a bitset over the samples for each seen-well angle.
+struct ViewCoverage {
+  std::array<std::vector<std::uint64_t>, kSeenAngles> seen;
+};
+
+/// Shares seen by a set of views under each definition (same order as feature_definitions()).
+struct CoverageScores {
+  std::array<double, kFeatureDefinitions> feature_share{};  ///< feature samples seen / features
+  std::array<double, kSeenAngles> surface_share{};                     ///< samples seen / all samples
+  /// Per definition: (features seen + surface_weight × others seen) / features.
+  std::array<double, kFeatureDefinitions> value{};
+  double objective = 0.0;  ///< mean of `value` over the definitions: what the path search maximizes
+};
+
+/// Samples, features and the visibility scene of one mesh. Building it is the expensive part
+/// (proxy, w(f) and saliency on the proxy, an Embree scene of the full mesh); views are cheap.
+class CoverageModel {
+public:
+  /// \throw InputError for a mesh without area or bad options, Interrupted on Ctrl-C / SIGTERM.
+  CoverageModel(const TriangleMesh& mesh, const CoverageOptions& options);
+  ~CoverageModel();
+  CoverageModel(const CoverageModel&) = delete;
+  CoverageModel& operator=(const CoverageModel&) = delete;
+
+  /// What `view` sees. Thread-safe.
+  ViewCoverage coverage(const View& view) const;
+  /// Scores of the union of `views`.
+  CoverageScores scores(std::span<const ViewCoverage* const> views) const;
+  CoverageScores scores(const ViewCoverage& view) const;
+
+  const SurfaceSamples& samples() const;
+  /// 1 for each feature sample under `measure`.
+  const std::vector<std::uint8_t>& features(FeatureMeasure measure) const;
+  /// Connected feature regions under `measure` (connected through the proxy): region of each
+  /// sample, -1 for non-features.
+  const std::vector<int>& sample_region(FeatureMeasure measure) const;
+  int region_count(FeatureMeasure measure) const;
+  const CoverageOptions& options() const;
+  /// Seconds spent on each part of the construction: {"proxy", s}, {"patch density", s}, ...
+  const std::vector<std::pair<std::string, double>>& stage_seconds() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Number of bits set in `bits` (a ViewCoverage bitset).
+std::size_t count_bits(const std::vector<std::uint64_t>& bits);
+
+}  // namespace meshtour

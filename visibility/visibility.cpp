@@ -1,0 +1,233 @@
+#include "visibility/visibility.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/interrupt.h"
+
+namespace meshtour {
+namespace {
+
+struct DeviceRelease {
+  void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
+};
+struct SceneRelease {
+  void operator()(RTCScene s) const { rtcReleaseScene(s); }
+};
+using DeviceHandle = std::unique_ptr<RTCDeviceTy, DeviceRelease>;
+using SceneHandle = std::unique_ptr<RTCSceneTy, SceneRelease>;
+
+// Samples are tested in blocks of this many: one task, one result list, concatenated in order.
+constexpr std::size_t kBlock = 2048;
+
+}  // namespace
+
+SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count) {
+  if (count < 1) throw InputError("surface sampling needs at least one sample");
+  const std::size_t faces = mesh.triangles.size();
+  std::vector<double> area(faces);
+  double total = 0.0;
+  for (std::size_t f = 0; f < faces; ++f) {
+    const auto& t = mesh.triangles[f];
+    const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    area[f] = 0.5 * (b - a).cross(c - a).norm();
+    if (!std::isfinite(area[f])) area[f] = 0.0;
+    total += area[f];
+  }
+  if (!(total > 0.0)) throw InputError("the mesh has no surface area to sample");
+
+  SurfaceSamples s;
+  s.area_per_sample = total / static_cast<double>(count);
+  s.points.reserve(count);
+  s.normals.reserve(count);
+  s.faces.reserve(count);
+  s.barycentric.reserve(count);
+  // The R2 sequence (generalised golden ratio in 2-D) places the samples that fall in one face
+  // evenly inside it; folding the unit square onto the triangle keeps the spread.
+  constexpr double kPhi2 = 1.32471795724474602596;
+  constexpr double kA1 = 1.0 / kPhi2, kA2 = 1.0 / (kPhi2 * kPhi2);
+  double before = 0.0;  // area of the faces before f
+  std::size_t next = 0;
+  for (std::size_t f = 0; f < faces && next < count; ++f) {
+    const double end = before + area[f];
+    while (next < count && (static_cast<double>(next) + 0.5) * s.area_per_sample < end) {
+      double u = std::fmod(0.5 + kA1 * static_cast<double>(next), 1.0);
+      double v = std::fmod(0.5 + kA2 * static_cast<double>(next), 1.0);
+      if (u + v > 1.0) {
+        u = 1.0 - u;
+        v = 1.0 - v;
+      }
+      const auto& t = mesh.triangles[f];
+      const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+      s.points.push_back(a + u * (b - a) + v * (c - a));
+      s.normals.push_back((b - a).cross(c - a).normalized());
+      s.faces.push_back(static_cast<std::uint32_t>(f));
+      s.barycentric.emplace_back(u, v);
+      ++next;
+    }
+    before = end;
+  }
+  // Rounding can leave the last sample or two past the running sum: they go to the last face with area.
+  for (std::size_t f = faces; next < count && f-- > 0;) {
+    if (!(area[f] > 0.0)) continue;
+    const auto& t = mesh.triangles[f];
+    const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    while (next < count) {
+      s.points.push_back((a + b + c) / 3.0);
+      s.normals.push_back((b - a).cross(c - a).normalized());
+      s.faces.push_back(static_cast<std::uint32_t>(f));
+      s.barycentric.emplace_back(1.0 / 3.0, 1.0 / 3.0);
+      ++next;
+    }
+  }
+  return s;
+}
+
+struct VisibilityScene::Impl {
+  DeviceHandle device;
+  SceneHandle scene;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // the scene is stored relative to this (float precision)
+  double diagonal = 0.0;
+};
+
+VisibilityScene::VisibilityScene(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
+  if (mesh.triangles.empty()) throw InputError("the mesh has no triangles to look at");
+  Impl& s = *impl_;
+  const Bounds bounds = mesh.bounds();
+  s.origin = bounds.center();
+  s.diagonal = bounds.diagonal();
+  s.device.reset(rtcNewDevice("threads=0"));
+  if (!s.device) throw RuntimeFailure("Embree could not create a device for the visibility tests");
+  s.scene.reset(rtcNewScene(s.device.get()));
+  RTCGeometry geometry = rtcNewGeometry(s.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+  const std::size_t faces = mesh.triangles.size(), vertices = mesh.positions.size();
+  auto* vertex = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices));
+  auto* index = static_cast<std::uint32_t*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), faces));
+  if (!vertex || !index) {
+    rtcReleaseGeometry(geometry);
+    throw RuntimeFailure("Embree could not allocate the visibility scene (out of memory?)");
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t v = r.begin(); v < r.end(); ++v) {
+      const Eigen::Vector3f p = (mesh.positions[v] - s.origin).cast<float>();
+      vertex[3 * v] = p.x();
+      vertex[3 * v + 1] = p.y();
+      vertex[3 * v + 2] = p.z();
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t f = r.begin(); f < r.end(); ++f)
+      for (int c = 0; c < 3; ++c) index[3 * f + c] = mesh.triangles[f][c];
+  });
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(s.scene.get(), geometry);
+  rtcReleaseGeometry(geometry);
+  // Occlusion rays only ask "is anything in the way", so a quick build pays off even on big scans.
+  rtcSetSceneBuildQuality(s.scene.get(), RTC_BUILD_QUALITY_MEDIUM);
+  rtcSetSceneProgressMonitorFunction(s.scene.get(), [](void*, double) { return !interrupt_requested(); }, nullptr);
+  rtcCommitScene(s.scene.get());
+  throw_if_interrupted();  // a cancelled build is an interrupt, not an Embree failure
+  if (rtcGetDeviceError(s.device.get()) != RTC_ERROR_NONE)
+    throw RuntimeFailure("Embree failed to build the visibility scene (out of memory?)");
+}
+
+VisibilityScene::~VisibilityScene() = default;
+
+double VisibilityScene::diagonal() const { return impl_->diagonal; }
+
+VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& samples, double seen_angle_deg) const {
+  if (!(seen_angle_deg > 0.0 && seen_angle_deg <= 90.0)) throw InputError("the seen-well angle must be in (0, 90] degrees");
+  if (!(view.aspect > 0.0)) throw InputError("the frame's aspect ratio must be positive");
+  const Impl& s = *impl_;
+  const LookAtFrame frame = look_at(view.camera);
+  const double tan_y = std::tan(view.camera.vertical_fov_deg * std::numbers::pi / 360.0), tan_x = tan_y * view.aspect;
+  const double cos_limit = std::cos(seen_angle_deg * std::numbers::pi / 180.0);
+  const Eigen::Vector3d eye = view.camera.eye;
+  const Eigen::Vector3f eye_local = (eye - s.origin).cast<float>();
+  // A ray stops this far short of its sample, so the sample's own face (or a neighbour meeting
+  // it at the sample, in float precision) does not hide it.
+  const double clearance = 1e-5 * s.diagonal;
+
+  const std::size_t n = samples.size(), blocks = (n + kBlock - 1) / kBlock;
+  std::vector<VisibleSamples> parts(blocks);
+  std::atomic<bool> stopped{false};
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    if (stopped.load(std::memory_order_relaxed) || interrupt_requested()) {
+      stopped = true;
+      return;
+    }
+    VisibleSamples& out = parts[b];
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one eye, neighbouring samples
+    // The samples in frame and facing the eye, then their occlusion rays 16 at a time.
+    std::uint32_t candidate[kBlock];
+    float cosines[kBlock], lengths[kBlock];
+    Eigen::Vector3f directions[kBlock];
+    std::size_t count = 0;
+    const std::size_t end = std::min(n, (b + 1) * kBlock);
+    for (std::size_t i = b * kBlock; i < end; ++i) {
+      const Eigen::Vector3d d = samples.points[i] - eye;
+      const double z = d.dot(frame.forward);
+      if (!(z > 0.0) || std::abs(d.dot(frame.right)) > tan_x * z || std::abs(d.dot(frame.up)) > tan_y * z) continue;
+      const double distance = d.norm();
+      const double cosine = std::abs(samples.normals[i].dot(d)) / distance;
+      if (!(cosine > cos_limit) || !(distance > 2.0 * clearance)) continue;
+      candidate[count] = static_cast<std::uint32_t>(i);
+      cosines[count] = static_cast<float>(cosine);
+      lengths[count] = static_cast<float>(distance - clearance);
+      directions[count] = (d / distance).cast<float>();
+      ++count;
+    }
+    for (std::size_t first = 0; first < count; first += 16) {
+      const std::size_t lanes = std::min<std::size_t>(16, count - first);
+      alignas(64) int valid[16];
+      alignas(64) RTCRay16 rays;
+      for (std::size_t l = 0; l < 16; ++l) {
+        const std::size_t c = first + std::min(l, lanes - 1);
+        valid[l] = l < lanes ? -1 : 0;
+        rays.org_x[l] = eye_local.x();
+        rays.org_y[l] = eye_local.y();
+        rays.org_z[l] = eye_local.z();
+        rays.dir_x[l] = directions[c].x();
+        rays.dir_y[l] = directions[c].y();
+        rays.dir_z[l] = directions[c].z();
+        rays.tnear[l] = 0.0f;
+        rays.tfar[l] = lengths[c];
+        rays.time[l] = 0.0f;
+        rays.mask[l] = 0xFFFFFFFFu;
+        rays.id[l] = static_cast<unsigned>(l);
+        rays.flags[l] = 0;
+      }
+      rtcOccluded16(valid, s.scene.get(), &context, &rays);
+      for (std::size_t l = 0; l < lanes; ++l) {
+        if (rays.tfar[l] < 0.0f) continue;  // Embree sets tfar to -inf when something is in the way
+        out.samples.push_back(candidate[first + l]);
+        out.cosines.push_back(cosines[first + l]);
+      }
+    }
+  });
+  if (stopped) throw_if_interrupted();
+  VisibleSamples all;
+  std::size_t total = 0;
+  for (const auto& p : parts) total += p.samples.size();
+  all.samples.reserve(total);
+  all.cosines.reserve(total);
+  for (const auto& p : parts) {
+    all.samples.insert(all.samples.end(), p.samples.begin(), p.samples.end());
+    all.cosines.insert(all.cosines.end(), p.cosines.begin(), p.cosines.end());
+  }
+  return all;
+}
+
+}  // namespace meshtour

@@ -1,0 +1,74 @@
+#pragma once
+// What a camera sees of a surface, measured on sample points of the surface rather than on its
+// faces, so that the answer does not depend on how finely the surface is tessellated: the same
+// shape split into four times as many triangles gives the same samples' worth of visible area.
+//
+// The one visibility module of meshtour: the feature orbit's path search (pathgen) and
+// `meshtour evaluate` both ask it what a view sees. It sits between mesh/ and pathgen/ and uses
+// Embree for the occlusion rays (the same library the tracer uses, on its own scene).
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/camera.h"
+#include "mesh/mesh.h"
+
+namespace meshtour {
+
+/// Points spread over a surface in proportion to area: every sample stands for the same area.
+struct SurfaceSamples {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> normals;  ///< unit normal of the face the point lies on
+  std::vector<std::uint32_t> faces;      ///< the face the point lies on
+  /// Barycentric coordinates of the point in its face (weights of corners 1 and 2; corner 0 has the rest).
+  std::vector<Eigen::Vector2d> barycentric;
+  double area_per_sample = 0.0;  ///< total area / number of samples
+
+  std::size_t size() const { return points.size(); }
+};
+
+/// `count` samples of the surface of `mesh`, deterministic: systematic sampling of the cumulative
+/// face area (sample i at area (i + ½)·A/count) and a low-discrepancy position inside the face.
+/// Faces without area get none. \throw InputError if the mesh has no area or count < 1.
+SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count);
+
+/// A view: the camera and the frame's aspect ratio (width / height).
+struct View {
+  Camera camera;
+  double aspect = 16.0 / 9.0;
+};
+
+/// The samples a view sees: inside the frame, not hidden by the surface, and facing the camera
+/// within `seen_angle_deg` (the angle between the surface normal and the direction to the eye;
+/// either side of the surface counts, as scans are not reliably oriented). `cosines` holds
+/// |cos| of that angle for each sample listed, so a stricter angle is a filter on the result.
+struct VisibleSamples {
+  std::vector<std::uint32_t> samples;  ///< ascending
+  std::vector<float> cosines;
+};
+
+/// The surface as Embree sees it, built once and asked for any number of views. Thread-safe for
+/// concurrent queries. Results do not depend on the thread count.
+class VisibilityScene {
+public:
+  /// \throw InputError for a mesh without triangles, RuntimeFailure if Embree fails,
+  ///        Interrupted if Ctrl-C / SIGTERM arrives during the build.
+  explicit VisibilityScene(const TriangleMesh& mesh);
+  ~VisibilityScene();
+  VisibilityScene(const VisibilityScene&) = delete;
+  VisibilityScene& operator=(const VisibilityScene&) = delete;
+
+  /// The samples `view` sees within `seen_angle_deg` (0 < angle <= 90).
+  VisibleSamples visible(const View& view, const SurfaceSamples& samples, double seen_angle_deg) const;
+
+  /// Diagonal of the bounding box of the scene (model units).
+  double diagonal() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace meshtour
