@@ -11,39 +11,16 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
-#include <unordered_map>
 
 #include "helpers.h"
 #include "mesh/mesh.h"
+#include "test_meshes.h"
 
 namespace meshtour {
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-// One 1-to-4 split at edge midpoints: the same shape with four times the faces.
-TriangleMesh split_at_midpoints(const TriangleMesh& in) {
-  TriangleMesh out;
-  out.positions = in.positions;
-  std::unordered_map<std::uint64_t, std::uint32_t> midpoint;
-  midpoint.reserve(in.triangles.size() * 2);
-  const auto mid = [&](std::uint32_t a, std::uint32_t b) {
-    const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-    const auto [it, added] = midpoint.try_emplace(key, static_cast<std::uint32_t>(out.positions.size()));
-    if (added) out.positions.push_back(0.5 * (in.positions[a] + in.positions[b]));
-    return it->second;
-  };
-  out.triangles.reserve(in.triangles.size() * 4);
-  for (const auto& f : in.triangles) {
-    const std::uint32_t a = mid(f[0], f[1]), b = mid(f[1], f[2]), c = mid(f[2], f[0]);
-    out.triangles.push_back({f[0], a, c});
-    out.triangles.push_back({f[1], b, a});
-    out.triangles.push_back({f[2], c, b});
-    out.triangles.push_back({a, b, c});
-  }
-  return out;
-}
 
 std::string read_text(const fs::path& file) {
   std::ifstream in(file);
@@ -83,7 +60,7 @@ Stopped interrupt_after(const std::vector<std::string>& args, std::chrono::milli
 // The bunny split twice (1.1M faces), written into `dir`.
 fs::path write_big_bunny(const fs::path& bunny, const fs::path& dir) {
   const fs::path big = dir / "bunny-1m.ply";
-  save_mesh(split_at_midpoints(split_at_midpoints(load_mesh(bunny))), big);
+  save_mesh(test_meshes::split_at_midpoints(test_meshes::split_at_midpoints(load_mesh(bunny))), big);
   return big;
 }
 

@@ -2,10 +2,18 @@
 // help text, and one-line errors without partial outputs.
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
 #include <fstream>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "helpers.h"
+#include "mesh/mesh.h"
+#include "test_meshes.h"
+#include "tour/bitmap_text.h"
+#include "tour/path_plot.h"
 
 namespace {
 
@@ -84,6 +92,95 @@ TEST(CliPath, BunnyWithYUpWritesAPathFilePlotAndDebugOutputs) {
   EXPECT_GT(fs::file_size(dir / "bunny.png"), 1000u);
   for (const char* f : {"patches.ply", "face_weights.ply", "cell_weights.ply", "samples.csv"})
     EXPECT_TRUE(fs::exists(dir / "debug" / f)) << f;
+}
+
+// Where `text` is drawn in `image` with `color` inside `region` (its top-left corner), or nothing:
+// every ink pixel of the glyphs must have that colour and every other pixel of their box must not.
+std::optional<std::pair<int, int>> find_text(const meshtour::PlotImage& image, const meshtour::PlotRect& region,
+                                             const std::string& text, std::array<std::uint8_t, 3> color, int scale) {
+  meshtour::PlotImage glyphs{meshtour::text_width(text, scale), meshtour::text_height(scale), {}};
+  glyphs.rgb.assign(static_cast<std::size_t>(glyphs.width) * glyphs.height * 3, 0);
+  const std::array<std::uint8_t, 3> ink{255, 255, 255};
+  meshtour::draw_text(glyphs, 0, 0, text, ink, scale);
+  const auto pixel = [](const meshtour::PlotImage& im, int x, int y) {
+    const auto* p = &im.rgb[(static_cast<std::size_t>(y) * im.width + x) * 3];
+    return std::array<std::uint8_t, 3>{p[0], p[1], p[2]};
+  };
+  for (int y0 = std::max(0, region.y0); y0 + glyphs.height <= std::min(image.height, region.y1); ++y0)
+    for (int x0 = std::max(0, region.x0); x0 + glyphs.width <= std::min(image.width, region.x1); ++x0) {
+      bool match = true;
+      for (int y = 0; match && y < glyphs.height; ++y)
+        for (int x = 0; match && x < glyphs.width; ++x)
+          match = (pixel(glyphs, x, y) == ink) == (pixel(image, x0 + x, y0 + y) == color);
+      if (match) return std::pair{x0, y0};
+    }
+  return std::nullopt;
+}
+
+TEST(CliPath, PlotHasAxesAColourBarAndALegend) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  meshtour::save_mesh(meshtour::test_meshes::bumpy_sphere(3), dir / "ball.ply");
+  const auto result = run_meshtour("path '" + (dir / "ball.ply").string() + "' --up y -q -o '" + (dir / "p.json").string() +
+                                   "' --plot '" + (dir / "plot.png").string() + "'");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  auto in = OIIO::ImageInput::open((dir / "plot.png").string());
+  ASSERT_TRUE(in);
+  const meshtour::PathPlotLayout layout = meshtour::path_plot_layout();
+  ASSERT_EQ(in->spec().width, layout.width);
+  ASSERT_EQ(in->spec().height, layout.height);
+  ASSERT_EQ(in->spec().nchannels, 3);
+  meshtour::PlotImage image{layout.width, layout.height, std::vector<std::uint8_t>(static_cast<std::size_t>(layout.width) * layout.height * 3)};
+  ASSERT_TRUE(in->read_image(0, 0, 0, -1, OIIO::TypeDesc::UINT8, image.rgb.data()));
+  const auto pixel = [&](int x, int y) {
+    const auto* p = &image.rgb[(static_cast<std::size_t>(y) * image.width + x) * 3];
+    return std::array<std::uint8_t, 3>{p[0], p[1], p[2]};
+  };
+  const auto count = [&](const meshtour::PlotRect& r, std::array<std::uint8_t, 3> c) {
+    int n = 0;
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x) n += pixel(x, y) == c;
+    return n;
+  };
+
+  // The colour bar is the heat map's ramp, 0 at the bottom row and Wmax at the top row.
+  const meshtour::PlotRect& bar = layout.colour_bar;
+  const int column = (bar.x0 + bar.x1) / 2;
+  for (int y = bar.y0; y < bar.y1; ++y)
+    ASSERT_EQ(pixel(column, y), meshtour::weight_color(static_cast<double>(bar.y1 - 1 - y) / (bar.y1 - 1 - bar.y0))) << y;
+  EXPECT_NE(pixel(column, bar.y0), pixel(column, bar.y1 - 1));
+
+  // Labels, by their exact glyphs: the colour bar's ends, the axes' ticks and titles.
+  const int s = layout.text_scale;
+  namespace color = meshtour::plot_colors;
+  const meshtour::PlotRect right{bar.x1, 0, layout.width, layout.height};
+  char w_max[32];
+  std::snprintf(w_max, sizeof w_max, "%.3g", read_json(dir / "p.json")["metrics"]["weight_max"].get<double>());
+  const auto top = find_text(image, right, w_max, color::text, s);
+  ASSERT_TRUE(top) << w_max;
+  EXPECT_LT(std::abs(top->second - bar.y0), 12);  // level with the top of the bar
+  const auto bottom = find_text(image, {bar.x1, (bar.y0 + bar.y1) / 2 + 20, layout.width, layout.height}, "0", color::text, s);
+  ASSERT_TRUE(bottom);
+  EXPECT_LT(std::abs(bottom->second - bar.y1), 12);
+  const meshtour::PlotRect& map = layout.heat_map;
+  const meshtour::PlotRect below{0, map.y1, layout.width, layout.legend.y0};
+  for (const char* label : {"0°", "90°", "180°", "270°", "360°", "angle around the up axis (degrees)"})
+    EXPECT_TRUE(find_text(image, below, label, color::text, s)) << label;
+  const meshtour::PlotRect left{0, map.y0 - 10, map.x0, map.y1 + 10};
+  for (const char* label : {"0.25", "0.5", "0.75", "1"}) EXPECT_TRUE(find_text(image, left, label, color::text, s)) << label;
+  EXPECT_TRUE(find_text(image, {0, 0, layout.width, map.y0}, "height (fraction of the bounding cylinder", color::text, s));
+  // 360° is right of 0°, 1 above 0.25.
+  EXPECT_GT(find_text(image, below, "360°", color::text, s)->first, find_text(image, below, "0°", color::text, s)->first + 1000);
+  EXPECT_LT(find_text(image, left, "1", color::text, s)->second, find_text(image, left, "0.25", color::text, s)->second - 300);
+
+  // The legend names every mark and shows a sample of it in its colour.
+  const meshtour::PlotRect& legend = layout.legend;
+  for (const char* label : {"base curve", "gaze", "position", "control point", "start", "empty cell"})
+    EXPECT_TRUE(find_text(image, legend, label, color::legend_text, s)) << label;
+  for (const auto& c : {color::base, color::gaze, color::position, color::start, color::empty_cell, color::control_ring})
+    EXPECT_GT(count(legend, c), 20) << int(c[0]) << "," << int(c[1]) << "," << int(c[2]);
+  // The curves themselves are on the heat map.
+  EXPECT_GT(count(map, color::gaze), 500);
+  EXPECT_GT(count(map, color::position), 500);
 }
 
 TEST(CliPath, VenusWithZUp) {

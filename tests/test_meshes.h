@@ -11,6 +11,7 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -200,6 +201,30 @@ inline TriangleMesh combined(const TriangleMesh& a, const TriangleMesh& b) {
   const auto base = static_cast<std::uint32_t>(a.positions.size());
   out.positions.insert(out.positions.end(), b.positions.begin(), b.positions.end());
   for (const auto& t : b.triangles) out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  return out;
+}
+
+/// One 1-to-4 split at edge midpoints: the same shape with four times the faces. The original
+/// vertices keep their indices; face f becomes faces 4f..4f+3 (4f+3 the middle one).
+inline TriangleMesh split_at_midpoints(const TriangleMesh& in) {
+  TriangleMesh out;
+  out.positions = in.positions;
+  std::unordered_map<std::uint64_t, std::uint32_t> midpoint;
+  midpoint.reserve(in.triangles.size() * 2);
+  const auto mid = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+    const auto [it, added] = midpoint.try_emplace(key, static_cast<std::uint32_t>(out.positions.size()));
+    if (added) out.positions.push_back(0.5 * (in.positions[a] + in.positions[b]));
+    return it->second;
+  };
+  out.triangles.reserve(in.triangles.size() * 4);
+  for (const auto& f : in.triangles) {
+    const std::uint32_t a = mid(f[0], f[1]), b = mid(f[1], f[2]), c = mid(f[2], f[0]);
+    out.triangles.push_back({f[0], a, c});
+    out.triangles.push_back({f[1], b, a});
+    out.triangles.push_back({f[2], c, b});
+    out.triangles.push_back({a, b, c});
+  }
   return out;
 }
 
