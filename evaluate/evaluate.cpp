@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "mesh/convex_hull.h"
 #include "pathgen/motion.h"
 
 namespace meshtour {
@@ -102,7 +103,9 @@ struct PathEvaluator::Impl {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // centre of the bounding box
   std::vector<Eigen::Vector3d> normals, centroids;
   std::vector<double> areas;
-  std::vector<Eigen::Vector3d> used_points;  // vertices some face uses
+  // The convex hull's vertices of the vertices some face uses: whether every vertex is in frame
+  // is decided by them (count_out_of_frame's test is a largest value of linear functions).
+  std::vector<Eigen::Vector3d> hull_points;
   std::vector<std::uint8_t> feature_face;
   FeatureRegions regions;
   std::vector<double> region_area;
@@ -165,7 +168,6 @@ PathEvaluator::PathEvaluator(const TriangleMesh& mesh, std::vector<std::uint8_t>
   s.normals.resize(faces);
   s.centroids.resize(faces);
   s.areas.resize(faces);
-  std::vector<std::uint8_t> used(mesh.positions.size(), 0);
   for (std::size_t f = 0; f < faces; ++f) {
     const auto& t = mesh.triangles[f];
     const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
@@ -173,10 +175,8 @@ PathEvaluator::PathEvaluator(const TriangleMesh& mesh, std::vector<std::uint8_t>
     s.areas[f] = 0.5 * n.norm();
     s.normals[f] = s.areas[f] > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
     s.centroids[f] = (a + b + c) / 3.0;
-    for (std::uint32_t v : t) used[v] = 1;
   }
-  for (std::size_t v = 0; v < used.size(); ++v)
-    if (used[v]) s.used_points.push_back(mesh.positions[v]);
+  s.hull_points = convex_hull_vertices(mesh);
 
   s.regions = feature_regions(mesh, s.feature_face);
   s.region_area.assign(static_cast<std::size_t>(s.regions.count), 0.0);
@@ -265,7 +265,7 @@ PathEvaluation PathEvaluator::evaluate(std::span<const Camera> cameras, double a
     out.feature_median_frames = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
   }
   measure_motion(cameras, s.center, out);
-  out.frames_out_of_frame = count_out_of_frame(cameras, s.used_points, aspect);
+  out.frames_out_of_frame = count_out_of_frame(cameras, s.hull_points, aspect);
   return out;
 }
 

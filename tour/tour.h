@@ -11,6 +11,7 @@
 #include <string_view>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,12 +52,17 @@ PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh&
 
 /// The camera path of the scene. Geometry-driven paths are wrapped in FramedPath when the fov is
 /// fixed: the paper's 4r/6r distance rule frames typical models, but every vertex is checked.
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet);
+/// `hull` is convex_hull_vertices(mesh.positions) (mesh/convex_hull.h), computed once per mesh by
+/// the caller: the framing fits read its few vertices instead of every vertex, with the same result.
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
+                                      const Lens& lens, bool quiet);
 
 /// The field of view to render with. With "auto", a geometry-driven path keeps its distances and
 /// the lens is fitted to the model over EVERY frame of the tour (one fov for the whole tour, so
 /// the image does not pump, and every farm chunk of the tour gets the same one).
-double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, const Lens& lens, bool quiet);
+/// `hull` as for make_path().
+double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
+                  const Lens& lens, bool quiet);
 
 /// A tour ready to render frames: model, path, fov and renderer (its BVH built).
 struct PreparedTour {
