@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "mesh/convex_hull.h"
 #include "pathgen/motion.h"
 
 namespace meshtour {
@@ -43,7 +44,9 @@ struct PathEvaluator::Impl {
   EvaluationOptions options;
   std::unique_ptr<CoverageModel> coverage;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // centre of the bounding box
-  std::vector<Eigen::Vector3d> used_points;          // vertices some face uses
+  // The convex hull's vertices of the vertices some face uses: whether every vertex is in frame
+  // is decided by them (count_out_of_frame's test is a largest value of linear functions).
+  std::vector<Eigen::Vector3d> hull_points;
 };
 
 PathEvaluator::PathEvaluator(const TriangleMesh& mesh, const EvaluationOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -52,11 +55,7 @@ PathEvaluator::PathEvaluator(const TriangleMesh& mesh, const EvaluationOptions& 
   Impl& s = *impl_;
   s.options = options;
   s.center = mesh.bounds().center();
-  std::vector<std::uint8_t> used(mesh.positions.size(), 0);
-  for (const auto& t : mesh.triangles)
-    for (std::uint32_t v : t) used[v] = 1;
-  for (std::size_t v = 0; v < used.size(); ++v)
-    if (used[v]) s.used_points.push_back(mesh.positions[v]);
+  s.hull_points = convex_hull_vertices(mesh);
   s.coverage = std::make_unique<CoverageModel>(mesh, options.coverage);
 }
 
@@ -118,7 +117,7 @@ PathEvaluation PathEvaluator::evaluate(std::span<const Camera> cameras, double a
   out.feature_min_frames = main.feature_min_frames;
   out.feature_median_frames = main.feature_median_frames;
   measure_motion(cameras, s.center, out);
-  out.frames_out_of_frame = count_out_of_frame(cameras, s.used_points, aspect);
+  out.frames_out_of_frame = count_out_of_frame(cameras, s.hull_points, aspect);
   return out;
 }
 

@@ -38,6 +38,9 @@ inline CameraPose frame_pose(const CameraPath& path, int frame, int frame_count)
 /// Wraps a path so that the model stays in frame: every eye moves back along its view direction
 /// by the largest distance any of `samples` poses around the loop needs (one constant distance,
 /// so the framing does not pump). A path that already frames the model is left unchanged.
+/// `points` may be the model's vertices or only their convex hull's vertices (mesh/convex_hull.h):
+/// fit_pullback() is the largest of linear functions of a point, which a hull vertex attains, so
+/// both give the same pull-back.
 class FramedPath final : public CameraPath {
 public:
   FramedPath(std::unique_ptr<CameraPath> path, std::span<const Eigen::Vector3d> points, const Lens& lens,
@@ -54,6 +57,7 @@ private:
 /// Signed distance by which the eye of `pose` must move back along its view direction so that
 /// every point lies inside the view frustum of `lens` (with its margin). Negative when the camera
 /// could move closer. Points behind the eye are handled: the result always brings them in front.
+/// The result over a point set's convex hull vertices is the result over the set (see FramedPath).
 /// \throw InputError if `pose` has eye == target or up parallel to the view direction.
 double fit_pullback(std::span<const Eigen::Vector3d> points, const CameraPose& pose, const Lens& lens);
 

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "mesh/convex_hull.h"
 #include "pathgen/motion.h"
 
 namespace meshtour {
@@ -24,15 +25,6 @@ Eigen::Vector3d front_direction(const Axis& up) {
 }
 
 
-std::vector<Eigen::Vector3d> used_points(const TriangleMesh& mesh) {
-  std::vector<std::uint8_t> used(mesh.positions.size(), 0);
-  for (const auto& t : mesh.triangles)
-    for (std::uint32_t v : t) used[v] = 1;
-  std::vector<Eigen::Vector3d> points;
-  for (std::size_t v = 0; v < used.size(); ++v)
-    if (used[v]) points.push_back(mesh.positions[v]);
-  return points;
-}
 
 // Sets g.distance to a smooth envelope of the distance each direction of the orbit needs to keep
 // every vertex in frame: least-squares two-harmonic fit, raised until it is nowhere too close.
@@ -125,7 +117,8 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   g.up = options.up.vector();
   g.front = front_direction(options.up);
   g.side = g.up.cross(g.front);
-  const std::vector<Eigen::Vector3d> points = used_points(mesh);
+  // Framing (the dolly, each view's distance) reads only the hull's vertices: the same fit.
+  const std::vector<Eigen::Vector3d> points = convex_hull_vertices(mesh);
   double radius = 0.0;
   for (const Eigen::Vector3d& p : points) radius = std::max(radius, (p - g.center).norm());
   if (!(radius > 0.0)) throw InputError("feature orbit: all vertices coincide; nothing to look at");

@@ -21,6 +21,11 @@ struct TurntableOptions {
 /// radius is the smallest that keeps every vertex in frame at every angle.
 class TurntablePath final : public CameraPath {
 public:
+  /// `points`: the model's vertices, or only the vertices of their convex hull
+  /// (convex_hull_vertices() of mesh/convex_hull.h), which gives the same orbit far faster on a
+  /// big mesh: every fit is the largest of linear functions of a point (the bounding box, the
+  /// pull-back) or of a ratio of them with a positive denominator (the vertical balance), which a
+  /// hull vertex attains.
   /// \throw InputError if there are no points or they all coincide.
   TurntablePath(std::span<const Eigen::Vector3d> points, const TurntableOptions& options);
   CameraPose pose(double t) const override;

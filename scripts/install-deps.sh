@@ -9,6 +9,7 @@ packages=(
   libopenimageio-dev libopenexr-dev         # frames: PNG/EXR through OpenImageIO
   openimageio-tools                         # OpenImageIO's CMake config refers to its tools (iconvert, ...)
   libopenmesh-dev libeigen3-dev             # pathgen: mesh I/O and linear algebra
+  libqhull-dev                              # mesh: convex hulls (reentrant libqhull_r) for fast framing
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video encoder
   libavfilter-dev                           # video encoder: the GIF palette (palettegen, paletteuse)
   nlohmann-json3-dev libcli11-dev           # scene/path files, command line

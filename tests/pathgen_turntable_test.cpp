@@ -3,10 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <vector>
 
 #include "core/error.h"
+#include "helpers.h"
+#include "mesh/convex_hull.h"
+#include "mesh/mesh.h"
 #include "pathgen/turntable.h"
+#include "test_meshes.h"
 
 namespace meshtour {
 namespace {
@@ -135,6 +141,63 @@ TEST(FramedPath, PullsBackJustEnoughAndKeepsTheDirection) {
     }
   }
   EXPECT_NEAR(tightest, 1.0 - lens.margin, 1e-9);
+}
+
+// A lumpy, lopsided model: an icosphere (10k vertices) pushed in and out, stretched and moved off
+// the origin, so that many vertices are near the hull without being on it.
+std::vector<Eigen::Vector3d> lumpy_model() {
+  std::vector<Eigen::Vector3d> points = test_meshes::icosphere(5).positions;
+  for (auto& p : points) {
+    const double bump = 1.0 + 0.15 * std::sin(5.0 * p.x()) * std::cos(3.0 * p.y()) + 0.3 * std::max(0.0, p.z() - 0.6);
+    p = Eigen::Vector3d(2.0 * p.x(), 1.0 * p.y(), 0.7 * p.z()) * bump + Eigen::Vector3d(3.0, -1.0, 0.5);
+  }
+  return points;
+}
+
+// The framing fits read the hull's vertices instead of every vertex (issue 14): the orbit must be
+// the same, bit for bit.
+void expect_same_turntable(std::span<const Eigen::Vector3d> points, const TurntableOptions& options) {
+  const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(points);
+  EXPECT_LT(hull.size(), points.size());
+  const TurntablePath every(points, options), on_hull(hull, options);
+  EXPECT_EQ(on_hull.radius(), every.radius());
+  EXPECT_EQ(on_hull.center(), every.center());
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(on_hull.pose(k / 8.0).eye, every.pose(k / 8.0).eye);
+}
+
+TEST(Turntable, FramingOnTheHullIsTheFramingOnEveryVertex) {
+  const auto points = lumpy_model();
+  for (const double elevation : {-30.0, 0.0, 15.0, 60.0})
+    for (const char* up : {"y", "z", "-x"}) {
+      SCOPED_TRACE(std::string("up ") + up + ", elevation " + std::to_string(elevation));
+      TurntableOptions options;
+      options.up = Axis::parse(up);
+      options.elevation_deg = elevation;
+      options.lens.vertical_fov_deg = 30.0 + elevation / 4.0;
+      expect_same_turntable(points, options);
+    }
+}
+
+TEST(Turntable, FramingOnTheBunnysHullIsTheFramingOnEveryVertex) {
+  MESHTOUR_SHARED_MESH(file, "bunny.ply");
+  const TriangleMesh bunny = load_mesh(file);
+  expect_same_turntable(bunny.positions, TurntableOptions{});
+}
+
+TEST(FramedPath, PullbackOnTheHullIsThePullbackOnEveryVertex) {
+  const auto points = lumpy_model();
+  const auto hull = convex_hull_vertices(points);
+  Lens lens;
+  lens.aspect = 1.3;
+  const FramedPath every(std::make_unique<CloseCircle>(), points, lens, 90), on_hull(std::make_unique<CloseCircle>(), hull, lens, 90);
+  EXPECT_GT(every.pullback(), 0.0);
+  EXPECT_EQ(on_hull.pullback(), every.pullback());
+  // Single poses too, with the eye inside the model (points behind the eye count).
+  for (int k = 0; k < 36; ++k) {
+    const CameraPose pose = CloseCircle().pose(k / 36.0);
+    const CameraPose shifted{pose.eye + Eigen::Vector3d(3.0, -1.0, 0.5), pose.target + Eigen::Vector3d(3.0, -1.0, 0.5), pose.up};
+    EXPECT_EQ(fit_pullback(hull, shifted, lens), fit_pullback(points, shifted, lens)) << k;
+  }
 }
 
 TEST(Turntable, RejectsEmptyOrPointModels) {

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "helpers.h"
+#include "mesh/convex_hull.h"
 #include "test_meshes.h"
 #include "tracer/color.h"
 #include "tracer/tracer.h"
@@ -228,6 +229,28 @@ TEST(Renderer, FitFovKeepsEveryVertexInFrame) {
   EXPECT_GT(fit_vertical_fov({c}, sphere.positions, 16.0 / 9.0, 0.1), fov);
   EXPECT_GT(fit_vertical_fov({c}, sphere.positions, 0.5, 0.0), fov);
   EXPECT_THROW(fit_vertical_fov({Camera{{0, 0, 5}, {0, 0, 10}, {0, 1, 0}, 1.0}}, sphere.positions, 1.0), InputError);
+}
+
+TEST(Renderer, FitFovOnTheHullIsTheFitOnEveryVertex) {
+  // A squashed, shifted icosphere seen from around it; then with a point behind the cameras (the
+  // hull is not all in front of them, so they read every vertex).
+  TriangleMesh model = test_meshes::icosphere(4);
+  for (auto& p : model.positions)
+    p = Eigen::Vector3d(1.5 * p.x(), p.y() + 0.2 * p.x() * p.x(), 0.6 * p.z()) + Eigen::Vector3d(0.3, 2.0, -1.0);
+  std::vector<Camera> around;
+  for (int k = 0; k < 24; ++k) {
+    const double a = 2 * std::numbers::pi * k / 24;
+    around.push_back(Camera{{0.3 + 5 * std::cos(a), 3.0, -1.0 + 5 * std::sin(a)}, {0.3, 2.0, -1.0}, {0, 1, 0}, 40.0});
+  }
+  const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(model.positions);
+  for (const double aspect : {16.0 / 9.0, 0.7})
+    EXPECT_EQ(fit_vertical_fov(around, model.positions, hull, aspect, 0.05), fit_vertical_fov(around, model.positions, aspect, 0.05));
+
+  std::vector<Eigen::Vector3d> with_behind = model.positions;
+  with_behind.emplace_back(0.3, 2.0, 9.0);
+  const std::vector<Camera> front{Camera{{0.3, 2.5, 5.0}, {0.3, 2.0, -1.0}, {0, 1, 0}, 40.0}};
+  EXPECT_EQ(fit_vertical_fov(front, with_behind, convex_hull_vertices(with_behind), 1.5, 0.0),
+            fit_vertical_fov(front, model.positions, 1.5, 0.0));
 }
 
 TEST(Renderer, RejectsBadOptions) {

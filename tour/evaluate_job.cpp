@@ -10,6 +10,7 @@
 #include <optional>
 #include "core/error.h"
 #include "evaluate/evaluate.h"
+#include "mesh/convex_hull.h"
 #include "pathgen/features.h"
 #include "pathgen/path_file.h"
 #include "scenes/scene.h"
@@ -93,10 +94,12 @@ void run_evaluate(EvaluateJob& a) {
   else
     modes = {path_file ? std::string("path-file") : scene.path_mode};
   std::vector<std::pair<std::string, PathEvaluation>> rows;
+  // Once per mesh, for every mode: the framing fits read only the hull's vertices.
+  const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
   for (const std::string& mode : modes) {
     if (mode != "path-file") scene.path_mode = mode;
-    const auto path = make_path(scene, mesh, lens, true);
-    const double fov = choose_fov(scene, *path, mesh, lens, true);
+    const auto path = make_path(scene, mesh, hull, lens, true);
+    const double fov = choose_fov(scene, *path, mesh, hull, lens, true);
     std::vector<Camera> cameras;
     for (int k = 0; k < scene.frames; ++k) {
       const CameraPose pose = frame_pose(*path, k, scene.frames);

@@ -11,6 +11,7 @@
 #include "tour/path_overview.h"
 #include "tour/path_plot.h"
 #include "core/error.h"
+#include "mesh/convex_hull.h"
 #include "mesh/mesh.h"
 #include "scenes/scene.h"
 #include "pathgen/camera_export.h"
@@ -140,11 +141,13 @@ void run_path(PathJob& a) {
   const bool exports = !a.gltf.empty() || !a.camera_frames.empty() || !a.overview.empty();
   if (exports) {
     // The paper path as computed here (its up direction may be a vector or pca), else the tour's.
+    // Once per mesh: the framing fits read only the hull's vertices.
+    const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
     if (paper)
       camera_path = std::make_unique<PaperCameraPath>(result->camera_path());
     else
-      camera_path = make_path(scene, mesh, lens, a.quiet);
-    fov = choose_fov(scene, *camera_path, mesh, lens, true);
+      camera_path = make_path(scene, mesh, hull, lens, a.quiet);
+    fov = choose_fov(scene, *camera_path, mesh, hull, lens, true);
   }
   // Everything that can fail for a reason other than the file system happens before the first
   // output is written: the plot and the overview are drawn in memory first.

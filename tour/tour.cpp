@@ -18,6 +18,7 @@
 
 #include "core/interrupt.h"
 #include "encoder/video_encoder.h"
+#include "mesh/convex_hull.h"
 #include "pathgen/camera_export.h"
 #include "core/error.h"
 #include "pathgen/path_file.h"
@@ -99,21 +100,21 @@ namespace {
 
 // With "fov": "auto" a geometry-driven path keeps its distances (the lens is fitted later); with a
 // fixed fov it is wrapped in FramedPath, which moves the camera back where the model would not fit.
-std::unique_ptr<CameraPath> frame_for_lens(std::unique_ptr<CameraPath> path, const Scene& scene, const TriangleMesh& mesh,
-                                           const Lens& lens) {
+std::unique_ptr<CameraPath> frame_for_lens(std::unique_ptr<CameraPath> path, const Scene& scene,
+                                           std::span<const Eigen::Vector3d> hull, const Lens& lens) {
   if (scene.auto_fov) return path;
-  return std::make_unique<FramedPath>(std::move(path), mesh.positions, lens);
+  return std::make_unique<FramedPath>(std::move(path), hull, lens);
 }
 
 }  // namespace
 
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet,
-                                      std::vector<double>* view_scores) {
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
+                                      const Lens& lens, bool quiet, std::vector<double>* view_scores) {
   if (view_scores) view_scores->clear();
   if (scene.path_file) {
     auto path = read_path_file(*scene.path_file);
     if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
-    return frame_for_lens(std::move(path), scene, mesh, lens);
+    return frame_for_lens(std::move(path), scene, hull, lens);
   }
   if (scene.path_mode == "feature-orbit") {
     FeatureOrbitOptions orbit;
@@ -132,14 +133,14 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
                    e.swing_phase, e.ripple * deg, e.ripple_phase, 360.0 * result.geometry.start,
                    100.0 * result.feature_share_seen, result.scores.objective);
     }
-    return frame_for_lens(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, mesh, lens);
+    return frame_for_lens(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, hull, lens);
   }
   if (scene.path_mode == "turntable") {
     TurntableOptions options;
     options.up = scene.up;
     options.elevation_deg = scene.elevation_deg;
     options.lens = lens;
-    return std::make_unique<TurntablePath>(mesh.positions, options);
+    return std::make_unique<TurntablePath>(hull, options);
   }
   const std::string model = scene.mesh_file ? scene.mesh_file->string() : std::string("the built-in model");
   const PaperPathResult result = with_file_name(model, [&] { return compute_scene_paper_path(scene, mesh); });
@@ -153,13 +154,14 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     for (const auto& note : result.surface.cleanup_notes) std::fprintf(stderr, "  clean-up: %s\n", note.c_str());
   }
   if (scene.auto_fov) return std::make_unique<PaperCameraPath>(result.camera_path());
-  auto framed = std::make_unique<FramedPath>(std::make_unique<PaperCameraPath>(result.camera_path()), mesh.positions, lens);
+  auto framed = std::make_unique<FramedPath>(std::make_unique<PaperCameraPath>(result.camera_path()), hull, lens);
   if (!quiet && framed->pullback() > 0.0)
     std::fprintf(stderr, "  camera moved back by %.4g model units to keep the whole model in frame\n", framed->pullback());
   return framed;
 }
 
-double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, const Lens& lens, bool quiet) {
+double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
+                  const Lens& lens, bool quiet) {
   if (!scene.auto_fov || (scene.path_mode == "turntable" && !scene.path_file)) return lens.vertical_fov_deg;
   // All frames of the tour, never just the ones this process renders: a farm chunk must use the
   // fov of the whole tour.
@@ -169,7 +171,7 @@ double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh
     const CameraPose pose = frame_pose(path, k, scene.frames);
     cameras.push_back(Camera::at(pose, lens.vertical_fov_deg));
   }
-  const double fov = fit_vertical_fov(cameras, mesh.positions, lens.aspect, lens.margin);
+  const double fov = fit_vertical_fov(cameras, mesh.positions, hull, lens.aspect, lens.margin);
   if (fov > 120.0)
     throw InputError("the camera path passes too close to the model to frame it (it would need a " +
                      std::to_string(static_cast<int>(fov)) + " degree lens); give a fixed --fov to move the camera back instead");
@@ -230,8 +232,10 @@ PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log) {
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
   stage("path");
-  tour.path = make_path(scene, mesh, lens, quiet, &tour.view_scores);
-  tour.fov = choose_fov(scene, *tour.path, mesh, lens, quiet);
+  // Once per mesh: every framing fit of the path and the lens reads only the hull's vertices.
+  const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
+  tour.path = make_path(scene, mesh, hull, lens, quiet, &tour.view_scores);
+  tour.fov = choose_fov(scene, *tour.path, mesh, hull, lens, quiet);
   stage("bvh");
   tour.renderer = std::make_unique<Renderer>(mesh, scene.render);
   if (log) log->stop();

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,15 +52,19 @@ PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh&
 
 /// The camera path of the scene. Geometry-driven paths are wrapped in FramedPath when the fov is
 /// fixed: the paper's 4r/6r distance rule frames typical models, but every vertex is checked.
+/// `hull` is convex_hull_vertices(mesh.positions) (mesh/convex_hull.h), computed once per mesh by
+/// the caller: the framing fits read its few vertices instead of every vertex, with the same result.
 /// When the path search scores each frame's view (the feature orbit), the scores are stored in
 /// `view_scores` if given (one per frame of scene.frames), else it is left empty.
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, const Lens& lens, bool quiet,
-                                      std::vector<double>* view_scores = nullptr);
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
+                                      const Lens& lens, bool quiet, std::vector<double>* view_scores = nullptr);
 
 /// The field of view to render with. With "auto", a geometry-driven path keeps its distances and
 /// the lens is fitted to the model over EVERY frame of the tour (one fov for the whole tour, so
 /// the image does not pump, and every farm chunk of the tour gets the same one).
-double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, const Lens& lens, bool quiet);
+/// `hull` as for make_path().
+double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
+                  const Lens& lens, bool quiet);
 
 /// A tour ready to render frames: model, path, fov and renderer (its BVH built).
 struct PreparedTour {

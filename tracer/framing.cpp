@@ -11,18 +11,27 @@
 
 namespace meshtour {
 
-double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Eigen::Vector3d>& positions, double aspect,
+double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eigen::Vector3d> positions, double aspect,
                         double margin) {
+  return fit_vertical_fov(cameras, positions, {}, aspect, margin);
+}
+
+double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eigen::Vector3d> positions,
+                        std::span<const Eigen::Vector3d> hull, double aspect, double margin) {
   if (!(aspect > 0.0)) throw InputError("the frame's aspect ratio must be positive");
   if (!(margin >= 0.0 && margin < 1.0)) throw InputError("the framing margin must be between 0 and 1");
   // The half-height tangent each vertex needs: |y|/z vertically, |x|/z / aspect horizontally.
   double needed = 0.0;
   bool any = false;
   for (const Camera& c : cameras) {
-    throw_if_interrupted();  // every frame reads every vertex: seconds in all on a big scan
+    throw_if_interrupted();  // every frame reads every vertex (or hull vertex)
     const LookAtFrame view = look_at(c);
     const Eigen::Vector3d &f = view.forward, &r = view.right, &u = view.up;
-    for (const auto& p : positions) {
+    // z is linear in the point: its smallest value over the vertices is its smallest over the hull.
+    const bool hull_in_front = !hull.empty() && std::all_of(hull.begin(), hull.end(), [&](const Eigen::Vector3d& p) {
+      return (p - c.eye).dot(f) > 0.0;
+    });
+    for (const auto& p : hull_in_front ? hull : positions) {
       const Eigen::Vector3d d = p - c.eye;
       const double z = d.dot(f);
       if (!(z > 0.0)) continue;

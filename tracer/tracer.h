@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <span>
 #include <vector>
 
 #include "core/camera.h"
@@ -171,8 +172,16 @@ private:
 /// frame of every camera in `cameras` (their own fov is ignored), with `margin` of the half-frame
 /// left free on each side (0.05 = 5 %). Vertices behind a camera are ignored.
 /// \throw InputError if no vertex is in front of any camera or the model cannot fit in 170 degrees.
-double fit_vertical_fov(const std::vector<Camera>& cameras, const std::vector<Eigen::Vector3d>& positions,
+double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eigen::Vector3d> positions,
                         double aspect, double margin = 0.05);
+
+/// The same field of view, reading only `hull` (the vertices of the convex hull of `positions`,
+/// mesh/convex_hull.h) for every camera that has the whole hull in front of it: then every vertex
+/// is in front, and the largest |y|/z and |x|/z over the vertices is reached at a hull vertex, so
+/// the result is the one of every vertex. A camera with a hull vertex at or behind its eye (only
+/// part of the model counts) reads every vertex of `positions`.
+double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eigen::Vector3d> positions,
+                        std::span<const Eigen::Vector3d> hull, double aspect, double margin = 0.05);
 
 /// Writes `image` by extension: ".png" as 8-bit sRGB (RGBA when the image is transparent),
 /// tone mapped, of the denoised frame when there is one; ".exr" as half-float linear RGBA (the

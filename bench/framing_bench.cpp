@@ -1,0 +1,201 @@
+// Framing on big meshes (issue 14): the convex hull's vertices (mesh/convex_hull.h) and the
+// turntable framing, on bunny.ply subdivided 1-to-4 at edge midpoints 0, 2, 3 and 4 times (70k,
+// 1.1M, 4.5M and 17.8M faces). In one run: the hull alone, the framing on every vertex (as
+// before the hull) and the framing on the hull (the hull's time included), and whether the two
+// framings agree (counter same_path = 1 when radius and centre are bit-identical).
+//
+//   build/bench/framing_bench                                   # every size
+//   build/bench/framing_bench --benchmark_filter='/4$'          # the 17.8M-face mesh only
+//   build/bench/framing_bench --mesh=FILE --mesh-dir=DIR
+//
+// The source mesh is --mesh=FILE, else ../shared/meshes/bunny.ply next to the source tree. The
+// subdivided meshes are also written, once, as binary PLY to --mesh-dir (default: bench-meshes/ in
+// the build folder, never the repository), e.g. to time `meshtour tour` on them; the benchmark
+// itself uses the meshes it subdivided in memory.
+#include <benchmark/benchmark.h>
+#include <tbb/parallel_sort.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <iostream>
+#include <map>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "mesh/convex_hull.h"
+#include "mesh/mesh.h"
+#include "pathgen/turntable.h"
+
+namespace {
+
+std::filesystem::path g_source_mesh;
+std::filesystem::path g_mesh_dir;
+
+// 1-to-4 split: a new vertex at the midpoint of every edge, each triangle replaced by its three
+// corner triangles and the middle one. Edges are numbered by sorting the corners' edge keys.
+meshtour::TriangleMesh split_at_midpoints(const meshtour::TriangleMesh& in) {
+  const std::size_t corners = 3 * in.triangles.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> edges(corners);
+  for (std::size_t f = 0; f < in.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = in.triangles[f][k], b = in.triangles[f][(k + 1) % 3];
+      edges[3 * f + k] = {std::min(a, b) << 32 | std::max(a, b), static_cast<std::uint32_t>(3 * f + k)};
+    }
+  tbb::parallel_sort(edges.begin(), edges.end());
+  meshtour::TriangleMesh out;
+  out.positions = in.positions;
+  std::vector<std::uint32_t> midpoint(corners);
+  for (std::size_t i = 0; i < corners; ++i) {
+    if (i == 0 || edges[i].first != edges[i - 1].first) {
+      const std::uint64_t key = edges[i].first;
+      out.positions.push_back(0.5 * (in.positions[key >> 32] + in.positions[key & 0xffffffffu]));
+    }
+    midpoint[edges[i].second] = static_cast<std::uint32_t>(out.positions.size() - 1);
+  }
+  out.triangles.reserve(4 * in.triangles.size());
+  for (std::size_t f = 0; f < in.triangles.size(); ++f) {
+    const auto& t = in.triangles[f];
+    const std::uint32_t m0 = midpoint[3 * f], m1 = midpoint[3 * f + 1], m2 = midpoint[3 * f + 2];
+    out.triangles.push_back({t[0], m0, m2});
+    out.triangles.push_back({t[1], m1, m0});
+    out.triangles.push_back({t[2], m2, m1});
+    out.triangles.push_back({m0, m1, m2});
+  }
+  return out;
+}
+
+// Binary little-endian PLY, float coordinates (what scanners write).
+void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  const std::filesystem::path temporary = file.string() + ".partial";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.positions.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.triangles.size()
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto& p : mesh.positions) {
+      const float xyz[3] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
+      out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
+    }
+    for (const auto& t : mesh.triangles) {
+      char face[13];
+      face[0] = 3;
+      std::memcpy(face + 1, t.data(), 12);
+      out.write(face, sizeof face);
+    }
+    if (!out) throw std::runtime_error("could not write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+// The source mesh split `levels` times, built once on first use (filtered-out sizes cost nothing).
+const meshtour::TriangleMesh& bunny(int levels) {
+  static std::map<int, meshtour::TriangleMesh> cache;
+  if (const auto it = cache.find(levels); it != cache.end()) return it->second;
+  meshtour::TriangleMesh mesh;
+  if (levels == 0) {
+    if (!std::filesystem::exists(g_source_mesh)) {
+      std::cerr << "framing_bench: " << g_source_mesh << " not found; pass --mesh=FILE\n";
+      std::exit(2);
+    }
+    mesh = meshtour::load_mesh(g_source_mesh);
+  } else {
+    mesh = split_at_midpoints(bunny(levels - 1));
+    const auto file = g_mesh_dir / (g_source_mesh.stem().string() + "-split" + std::to_string(levels) + ".ply");
+    if (!std::filesystem::exists(file)) write_ply(mesh, file);
+  }
+  return cache.emplace(levels, std::move(mesh)).first->second;
+}
+
+meshtour::TurntableOptions turntable_options() {
+  meshtour::TurntableOptions options;
+  options.up = meshtour::Axis{1, false};
+  return options;
+}
+
+void size_counters(benchmark::State& state, const meshtour::TriangleMesh& mesh) {
+  state.counters["faces"] = static_cast<double>(mesh.triangles.size());
+  state.counters["vertices"] = static_cast<double>(mesh.positions.size());
+}
+
+void BM_Hull(benchmark::State& state) {
+  const auto& mesh = bunny(static_cast<int>(state.range(0)));
+  std::size_t kept = 0;
+  for (auto _ : state) kept = meshtour::convex_hull_vertices(mesh.positions).size();
+  size_counters(state, mesh);
+  state.counters["hull_points"] = static_cast<double>(kept);
+}
+
+// The orbit fitted on every vertex, per size, kept for the comparison (computed once).
+std::map<int, std::pair<double, Eigen::Vector3d>> g_every_vertex_orbit;
+
+// The framing as before the hull: every vertex, 180 angles x 4 fits plus the balancing passes.
+void BM_TurntableEveryVertex(benchmark::State& state) {
+  const int levels = static_cast<int>(state.range(0));
+  const auto& mesh = bunny(levels);
+  for (auto _ : state) {
+    const meshtour::TurntablePath path(mesh.positions, turntable_options());
+    g_every_vertex_orbit[levels] = {path.radius(), path.center()};
+  }
+  size_counters(state, mesh);
+}
+
+// The framing now: the hull, then the same fits on its vertices; same_path = 1 when the orbit is
+// bit-identical to the one fitted on every vertex.
+void BM_TurntableOnHull(benchmark::State& state) {
+  const auto& mesh = bunny(static_cast<int>(state.range(0)));
+  double radius = 0.0;
+  Eigen::Vector3d center;
+  for (auto _ : state) {
+    const std::vector<Eigen::Vector3d> hull = meshtour::convex_hull_vertices(mesh.positions);
+    const meshtour::TurntablePath path(hull, turntable_options());
+    radius = path.radius();
+    center = path.center();
+  }
+  size_counters(state, mesh);
+  const int levels = static_cast<int>(state.range(0));
+  if (!g_every_vertex_orbit.count(levels)) {
+    const meshtour::TurntablePath reference(mesh.positions, turntable_options());
+    g_every_vertex_orbit[levels] = {reference.radius(), reference.center()};
+  }
+  const auto& [reference_radius, reference_center] = g_every_vertex_orbit[levels];
+  state.counters["same_path"] = radius == reference_radius && center == reference_center ? 1.0 : 0.0;
+  state.counters["radius_rel_diff"] = std::abs(radius - reference_radius) / reference_radius;
+}
+
+// The big sizes run once: the old framing of the 17.8M-face mesh takes tens of seconds.
+void sizes(benchmark::internal::Benchmark* b) {
+  for (int levels : {0, 2, 3, 4}) b->Arg(levels);
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+BENCHMARK(BM_Hull)->Apply(sizes)->Iterations(3);
+BENCHMARK(BM_TurntableEveryVertex)->Apply(sizes)->Iterations(1);
+BENCHMARK(BM_TurntableOnHull)->Apply(sizes)->Iterations(3);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  g_source_mesh = std::filesystem::path(MESHTOUR_SOURCE_DIR).parent_path() / "shared" / "meshes" / "bunny.ply";
+  g_mesh_dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "bench-meshes";
+  // Our own flags first; everything else goes to Google Benchmark.
+  std::vector<char*> rest = {argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    if (std::strncmp(argv[i], "--mesh=", 7) == 0)
+      g_source_mesh = argv[i] + 7;
+    else if (std::strncmp(argv[i], "--mesh-dir=", 11) == 0)
+      g_mesh_dir = argv[i] + 11;
+    else
+      rest.push_back(argv[i]);
+  }
+  int rest_count = static_cast<int>(rest.size());
+  benchmark::Initialize(&rest_count, rest.data());
+  if (benchmark::ReportUnrecognizedArguments(rest_count, rest.data())) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
