@@ -68,7 +68,7 @@ std::vector<Eigen::Vector3d> ball(std::size_t n, std::uint64_t seed) {
 
 TEST(ConvexHull, RandomBallKeepsFewPointsAndTheSameSupport) {
   // More points than one block, so that the merging rounds run too.
-  const auto points = ball(100000, 1);
+  const auto points = ball(40000, 1);
   const auto kept = convex_hull_vertex_indices(points);
   expect_same_support(points, kept);
   EXPECT_GT(kept.size(), 50u);
@@ -113,8 +113,8 @@ TEST(ConvexHull, PointsOnTheCubesFacesAndEdgesAreDropped) {
   std::mt19937_64 rng(5);
   std::vector<Eigen::Vector3d> points;
   std::vector<std::size_t> corners;
-  for (int i = 0; i < 60000; ++i) {
-    if (i % 7000 == 3 && corners.size() < 8) {
+  for (int i = 0; i < 40000; ++i) {
+    if (i % 4000 == 3 && corners.size() < 8) {
       const auto c = corners.size();
       corners.push_back(points.size());
       points.emplace_back(c & 1 ? 1.0 : -1.0, c & 2 ? 1.0 : -1.0, c & 4 ? 1.0 : -1.0);
@@ -137,7 +137,7 @@ TEST(ConvexHull, BumpySurfaceWithInteriorPointsKeepsTheSameSupport) {
   // in dents) and points inside; more than the filter's threshold.
   std::mt19937_64 rng(12);
   std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < 120000; ++i) {
+  for (int i = 0; i < 50000; ++i) {
     const Eigen::Vector3d d = random_direction(rng);
     const double radius = 1.0 + 0.08 * std::sin(9.0 * d.x()) * std::cos(7.0 * d.y() + 2.0 * d.z());
     points.push_back(Eigen::Vector3d(1.7, 1.0, 0.6).cwiseProduct(d) * (i % 4 == 0 ? radius * uniform(rng) : radius));
