@@ -5,7 +5,8 @@
 // but floating-point robustness on scanned and CAD meshes (nearly coplanar facets, points within
 // rounding of a facet, duplicates), which Qhull handles by merging facets with tolerances derived
 // from the input's rounding error and has done on decades of degenerate input. Its option 'Qc'
-// keeps the points it finds within rounding of a facet (including vertices it merged away).
+// reports the points it finds within rounding of a facet (including vertices it merged away); of
+// those we keep the ones that stick out of their facet by more than kOnFacetShare.
 //
 // Why the filter: Qhull costs about a microsecond per input point on one core and cannot be
 // interrupted, so 8.9M points would take seconds. Most points of a mesh are well inside the hull of
@@ -23,7 +24,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -60,13 +60,13 @@ constexpr double kOnFacetShare = 1e-13;
 // only sets that Qhull has refused are measured against it.
 constexpr double kFlatShare = 1e-12;
 
-// What one Qhull run found: the positions (0 .. count-1 in its input) of the hull's vertices and
-// of the points it kept as coplanar; or its exit code and message when it failed.
 struct QhullFacet {
   Eigen::Vector3d normal;            // outward unit normal
   double offset = 0.0;               // normal . x + offset > 0 outside
   std::array<std::size_t, 3> corner{};  // input positions of the triangle's corners
 };
+// What one Qhull run found: the positions (0 .. count-1 in its input) of the hull's vertices and
+// of the coplanar points that stick out; or its exit code and message when it failed.
 struct QhullOutcome {
   int exit_code = qh_ERRnone;
   std::string message;
@@ -108,12 +108,11 @@ private:
   std::size_t error_size_ = 0;
 };
 
-// Qhull on `coords.size() / dim` points of `dim` coordinates each (row-major). 'Qc' keeps the
-// points within rounding of a facet; Qhull's default merging ('C-0', 'Qx') keeps the facets
-// convex under rounding. `coords` must stay alive while Qhull runs (it points into it).
-// Of the points Qhull finds within rounding of a facet ('Qc'), those more than `above` over it
-// are kept (a vertex that Qhull merged away sticks out); the others lie on the facet. With
-// `want_facets` (3D only), the facets triangulated ('Qt') instead.
+// Qhull on `coords.size() / dim` points of `dim` coordinates each (row-major); its default merging
+// keeps the facets convex under rounding. Of the points it finds within rounding of a facet
+// ('Qc'), those more than `above` over it are kept (a vertex that Qhull merged away sticks out);
+// the others lie on the facet. With `want_facets` (3D only): the vertices and the facets,
+// triangulated ('Qt'). `coords` must stay alive while Qhull runs (it points into it).
 QhullOutcome run_qhull(int dim, std::vector<double>& coords, double above, bool want_facets = false) {
   QhullOutcome out;
   const auto count = coords.size() / static_cast<std::size_t>(dim);
