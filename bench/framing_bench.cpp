@@ -150,7 +150,7 @@ void BM_TurntableEveryVertex(benchmark::State& state) {
 void BM_TurntableOnHull(benchmark::State& state) {
   const auto& mesh = bunny(static_cast<int>(state.range(0)));
   double radius = 0.0;
-  Eigen::Vector3d center;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
   for (auto _ : state) {
     const std::vector<Eigen::Vector3d> hull = meshtour::convex_hull_vertices(mesh.positions);
     const meshtour::TurntablePath path(hull, turntable_options());
