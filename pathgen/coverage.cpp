@@ -1,7 +1,5 @@
 #include "pathgen/coverage.h"
 
-#include <tbb/parallel_invoke.h>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <bit>
@@ -105,23 +103,26 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
   s.options = options;
   StageTimer timer(s.stage_seconds);
 
-  // The Embree scene of the full mesh builds while the proxy and its features are computed.
-  ClusteredMesh proxy;
-  std::array<std::vector<double>, kFeatureMeasures> proxy_value;
+  // One after the other, not side by side: an interrupt cancelling a TBB task group while
+  // Embree builds inside it leaves Embree's build state broken (a crash instead of exit 130).
   const bool given = !options.face_features.empty();
   if (given && options.face_features.size() != mesh.triangles.size())
     throw InputError("coverage: one feature flag per face is needed");
-  tbb::parallel_invoke([&] { s.scene = std::make_unique<VisibilityScene>(mesh); },
-                       [&] {
-                         s.samples = sample_surface(mesh, options.samples);
-                         proxy = cluster_vertices(mesh, options.proxy_cells);
-                         if (given) return;
-                         throw_if_interrupted();
-                         proxy_value[0] = proxy_patch_density(proxy.mesh, options.surface);
-                         throw_if_interrupted();
-                         proxy_value[1] = vertex_saliency(proxy.mesh);
-                       });
-  timer.done("features and visibility scene");
+  s.samples = sample_surface(mesh, options.samples);
+  ClusteredMesh proxy = cluster_vertices(mesh, options.proxy_cells);
+  std::array<std::vector<double>, kFeatureMeasures> proxy_value;
+  timer.done("samples and proxy");
+  if (!given) {
+    throw_if_interrupted();
+    proxy_value[0] = proxy_patch_density(proxy.mesh, options.surface);
+    timer.done("patch density");
+    throw_if_interrupted();
+    proxy_value[1] = vertex_saliency(proxy.mesh);
+    timer.done("saliency");
+  }
+  throw_if_interrupted();
+  s.scene = std::make_unique<VisibilityScene>(mesh);
+  timer.done("visibility scene");
 
   // Each sample takes the values of the proxy vertices its face's corners merged into, blended
   // by its barycentric coordinates.

@@ -61,6 +61,17 @@ void run_render(const RenderJob& args) {
   log.start("check");
   check_tour_memory(scene, args.resources);
   const PreparedTour tour = prepare_tour(scene, args.quiet, &log);
+  // The path search's view scores (feature orbit) join the manifest, as `tour --frames-dir`
+  // writes them: every chunk computes the same ones, so concurrent writers agree.
+  if (!tour.view_scores.empty()) {
+    FrameDirInfo scored = read_frame_dir_info(dir);
+    if (scored.view_scores.empty()) {
+      const FrameDirInfo with_scores = frame_dir_info(scene, formats, tour.view_scores);
+      scored.view_scores = with_scores.view_scores;
+      scored.best_view_frame = with_scores.best_view_frame;
+      write_frame_dir_info(dir, scored);
+    }
+  }
 
   Progress progress("frame", static_cast<int>(todo.size()), mode);  // from here: frames/s are rendering only
 
