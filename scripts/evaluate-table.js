@@ -21,6 +21,28 @@ for (const name of names) {
                `${e.view_max_angular_speed.toFixed(4)} | ${e.view_max_angular_acceleration.toFixed(4)} | ${e.frames_out_of_frame} |`);
   }
 }
+// Second table: feature coverage under every feature definition (evaluate's "definitions"), the
+// objective the feature orbit maximizes, and the best mode per definition in bold.
+const first = JSON.parse(fs.readFileSync(path.join(dir, names[0] + '.json'), 'utf8')).modes[modes[0]];
+const keys = Object.keys(first.definitions || {});
+if (keys.length) {
+  lines.push('', '| mesh | path | ' + keys.map((k) => 'features, ' + k).join(' | ') + ' | objective | best frame |',
+             '|---|---|' + keys.map(() => '---:|').join('') + '---:|---:|');
+  for (const name of names) {
+    const doc = JSON.parse(fs.readFileSync(path.join(dir, name + '.json'), 'utf8')).modes;
+    for (const m of modes) {
+      const e = doc[m];
+      const cells = keys.map((k) => {
+        const best = Math.max(...modes.map((n) => doc[n].definitions[k].feature_coverage));
+        const v = e.definitions[k].feature_coverage;
+        return v === best ? '**' + percent(v) + '**' : percent(v);
+      });
+      const scores = e.frame_scores;
+      const bestFrame = scores.indexOf(Math.max(...scores));
+      lines.push(`| ${m === modes[0] ? name : ''} | ${m} | ${cells.join(' | ')} | ${e.objective.toFixed(3)} | ${bestFrame} |`);
+    }
+  }
+}
 const begin = '<!-- evaluate-table:begin -->', end = '<!-- evaluate-table:end -->';
 const text = fs.readFileSync(readme, 'utf8');
 const a = text.indexOf(begin), b = text.indexOf(end);
