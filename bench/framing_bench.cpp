@@ -13,7 +13,6 @@
 // the build folder, never the repository), e.g. to time `meshtour tour` on them; the benchmark
 // itself uses the meshes it subdivided in memory.
 #include <benchmark/benchmark.h>
-#include <tbb/parallel_sort.h>
 
 #include <cmath>
 #include <cstdio>
@@ -27,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "mesh/convex_hull.h"
 #include "mesh/mesh.h"
 #include "pathgen/turntable.h"
@@ -35,39 +35,6 @@ namespace {
 
 std::filesystem::path g_source_mesh;
 std::filesystem::path g_mesh_dir;
-
-// 1-to-4 split: a new vertex at the midpoint of every edge, each triangle replaced by its three
-// corner triangles and the middle one. Edges are numbered by sorting the corners' edge keys.
-meshtour::TriangleMesh split_at_midpoints(const meshtour::TriangleMesh& in) {
-  const std::size_t corners = 3 * in.triangles.size();
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> edges(corners);
-  for (std::size_t f = 0; f < in.triangles.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint64_t a = in.triangles[f][k], b = in.triangles[f][(k + 1) % 3];
-      edges[3 * f + k] = {std::min(a, b) << 32 | std::max(a, b), static_cast<std::uint32_t>(3 * f + k)};
-    }
-  tbb::parallel_sort(edges.begin(), edges.end());
-  meshtour::TriangleMesh out;
-  out.positions = in.positions;
-  std::vector<std::uint32_t> midpoint(corners);
-  for (std::size_t i = 0; i < corners; ++i) {
-    if (i == 0 || edges[i].first != edges[i - 1].first) {
-      const std::uint64_t key = edges[i].first;
-      out.positions.push_back(0.5 * (in.positions[key >> 32] + in.positions[key & 0xffffffffu]));
-    }
-    midpoint[edges[i].second] = static_cast<std::uint32_t>(out.positions.size() - 1);
-  }
-  out.triangles.reserve(4 * in.triangles.size());
-  for (std::size_t f = 0; f < in.triangles.size(); ++f) {
-    const auto& t = in.triangles[f];
-    const std::uint32_t m0 = midpoint[3 * f], m1 = midpoint[3 * f + 1], m2 = midpoint[3 * f + 2];
-    out.triangles.push_back({t[0], m0, m2});
-    out.triangles.push_back({t[1], m1, m0});
-    out.triangles.push_back({t[2], m2, m1});
-    out.triangles.push_back({m0, m1, m2});
-  }
-  return out;
-}
 
 // Binary little-endian PLY, float coordinates (what scanners write).
 void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
@@ -93,23 +60,12 @@ void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem::path& 
   std::filesystem::rename(temporary, file);
 }
 
-// The source mesh split `levels` times, built once on first use (filtered-out sizes cost nothing).
+// The source mesh split `levels` times; each split level is also written to g_mesh_dir.
 const meshtour::TriangleMesh& bunny(int levels) {
-  static std::map<int, meshtour::TriangleMesh> cache;
-  if (const auto it = cache.find(levels); it != cache.end()) return it->second;
-  meshtour::TriangleMesh mesh;
-  if (levels == 0) {
-    if (!std::filesystem::exists(g_source_mesh)) {
-      std::cerr << "framing_bench: " << g_source_mesh << " not found; pass --mesh=FILE\n";
-      std::exit(2);
-    }
-    mesh = meshtour::load_mesh(g_source_mesh);
-  } else {
-    mesh = split_at_midpoints(bunny(levels - 1));
-    const auto file = g_mesh_dir / (g_source_mesh.stem().string() + "-split" + std::to_string(levels) + ".ply");
+  return meshtour::bench::split_mesh(g_source_mesh, levels, [](const meshtour::TriangleMesh& mesh, int level) {
+    const auto file = g_mesh_dir / (g_source_mesh.stem().string() + "-split" + std::to_string(level) + ".ply");
     if (!std::filesystem::exists(file)) write_ply(mesh, file);
-  }
-  return cache.emplace(levels, std::move(mesh)).first->second;
+  });
 }
 
 meshtour::TurntableOptions turntable_options() {
@@ -192,10 +148,5 @@ int main(int argc, char** argv) {
     else
       rest.push_back(argv[i]);
   }
-  int rest_count = static_cast<int>(rest.size());
-  benchmark::Initialize(&rest_count, rest.data());
-  if (benchmark::ReportUnrecognizedArguments(rest_count, rest.data())) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return meshtour::bench::run_benchmarks(rest);
 }

@@ -17,36 +17,23 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "core/axis.h"
 #include "evaluate/evaluate.h"
 #include "mesh/mesh.h"
 #include "pathgen/coverage.h"
 #include "pathgen/feature_orbit.h"
-#include "test_meshes.h"
 
 namespace {
 
 std::filesystem::path g_source_mesh;
 meshtour::Axis g_up{1, false};
 
-// The source mesh split `levels` times, built once on first use.
-const meshtour::TriangleMesh& mesh_at(int levels) {
-  static std::map<int, meshtour::TriangleMesh> cache;
-  auto it = cache.find(levels);
-  if (it != cache.end()) return it->second;
-  if (!std::filesystem::exists(g_source_mesh)) {
-    std::cerr << "orbit_bench: " << g_source_mesh << " not found; pass --mesh=FILE\n";
-    std::exit(2);
-  }
-  meshtour::TriangleMesh mesh = levels > 0 ? mesh_at(levels - 1) : meshtour::load_mesh(g_source_mesh);
-  if (levels > 0) mesh = meshtour::test_meshes::split_at_midpoints(mesh);
-  return cache.emplace(levels, std::move(mesh)).first->second;
-}
+const meshtour::TriangleMesh& mesh_at(int levels) { return meshtour::bench::split_mesh(g_source_mesh, levels); }
 
 meshtour::FeatureOrbitOptions orbit_options() {
   meshtour::FeatureOrbitOptions o;
@@ -128,10 +115,5 @@ int main(int argc, char** argv) {
       rest.push_back(argv[i]);
   }
   if (invariance_levels >= 0) return invariance(invariance_levels);
-  int rest_count = static_cast<int>(rest.size());
-  benchmark::Initialize(&rest_count, rest.data());
-  if (benchmark::ReportUnrecognizedArguments(rest_count, rest.data())) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return meshtour::bench::run_benchmarks(rest);
 }

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "mesh/mesh.h"
 #include "pathgen/paper_path.h"
 #include "pathgen/path_file.h"
@@ -146,10 +147,5 @@ int main(int argc, char** argv) {
               << " faces\n";
     return 0;
   }
-  int rest_count = static_cast<int>(rest.size());
-  benchmark::Initialize(&rest_count, rest.data());
-  if (benchmark::ReportUnrecognizedArguments(rest_count, rest.data())) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return meshtour::bench::run_benchmarks(rest);
 }

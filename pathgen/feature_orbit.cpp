@@ -229,7 +229,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     at.start = 0.0;  // pose(a) is azimuth fraction a
     return coverage.scores(coverage.coverage(view_at(FeatureOrbitPath(at).pose(a).eye))).objective;
   };
-  score(best);  // fills `chosen` with the grid views along the curve
+  // `chosen` still holds the grid views along the best curve (score(best) filled it above).
   std::vector<std::pair<double, int>> coarse;
   for (int j = 0; j < n; ++j) coarse.emplace_back(-coverage.scores(*chosen[j]).objective, j);
   std::sort(coarse.begin(), coarse.end());  // best first; ties to the lower azimuth

@@ -82,21 +82,10 @@ TEST(EvaluateMetrics, CubeSeenByItsSixAxisCamerasIsFullyCovered) {
 }
 
 TEST(EvaluateMetrics, SphereSeenWellCapMatchesTheAnalyticAngle) {
-  // A unit sphere seen from distance D: a point at angle θ from the camera axis is seen well
-  // when the angle between its normal and the direction to the eye is below the angle, i.e.
-  // (D cos θ - 1) / |eye - p| > cos(angle). The cap fraction is (1 - cos θmax) / 2.
+  // A unit sphere seen from distance D: the seen-well cap has a closed form (test_meshes.h).
   const TriangleMesh mesh = test_meshes::icosphere(5);
   const double D = 4.0;
-  auto cap = [&](double angle_deg) {
-    const double limit = std::cos(angle_deg * kPi / 180.0);
-    double lo = 0.0, hi = kPi / 2;
-    for (int i = 0; i < 100; ++i) {
-      const double th = 0.5 * (lo + hi);
-      const double c = (D * std::cos(th) - 1.0) / std::sqrt(D * D - 2.0 * D * std::cos(th) + 1.0);
-      (c > limit ? lo : hi) = th;
-    }
-    return 0.5 * (1.0 - std::cos(lo));
-  };
+  auto cap = [&](double angle_deg) { return test_meshes::sphere_seen_well_share(D, angle_deg); };
   EvaluationOptions options = given_features(std::vector<std::uint8_t>(mesh.triangles.size(), 1));
   options.coverage.samples = 1u << 16;
   const PathEvaluator evaluator(mesh, options);

@@ -17,7 +17,6 @@
 namespace {
 
 using namespace meshtour;
-constexpr double kPi = std::numbers::pi;
 
 View view_from(const Eigen::Vector3d& eye, double fov = 40.0, double aspect = 1.0) {
   return View{Camera{eye, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), fov}, aspect};
@@ -46,23 +45,15 @@ TEST(Visibility, SamplesFollowTheAreaAndAreTheSameEveryTime) {
 }
 
 TEST(Visibility, SphereSeenWellCapMatchesTheAnalyticAngleAndHidesTheFarSide) {
-  // A unit sphere seen from distance D: a point at angle θ from the camera axis is seen well when
-  // (D cos θ − 1) / |eye − p| > cos(angle). The cap's share of the area is (1 − cos θmax) / 2.
+  // A unit sphere seen from distance D: the seen-well cap has a closed form (test_meshes.h).
   const TriangleMesh mesh = test_meshes::icosphere(5);
   const double D = 4.0;
   const SurfaceSamples samples = sample_surface(mesh, 1u << 16);
   const VisibilityScene scene(mesh);
   for (double angle : {75.0, 60.0, 89.0}) {
-    const double limit = std::cos(angle * kPi / 180.0);
-    double lo = 0.0, hi = kPi / 2;
-    for (int i = 0; i < 100; ++i) {
-      const double th = 0.5 * (lo + hi);
-      const double c = (D * std::cos(th) - 1.0) / std::sqrt(D * D - 2.0 * D * std::cos(th) + 1.0);
-      (c > limit ? lo : hi) = th;
-    }
     const VisibleSamples seen = scene.visible(view_from({0, 0, D}), samples, angle);
     const double share = static_cast<double>(seen.samples.size()) / static_cast<double>(samples.size());
-    EXPECT_NEAR(share, 0.5 * (1.0 - std::cos(lo)), 0.005) << angle;
+    EXPECT_NEAR(share, test_meshes::sphere_seen_well_share(D, angle), 0.005) << angle;
     for (std::uint32_t i : seen.samples) ASSERT_GT(samples.points[i].z(), 0.0);
   }
   // Behind another object nothing is seen: a big plate between the eye and the sphere.

@@ -11,7 +11,6 @@
 #include <map>
 #include <numbers>
 #include <random>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -205,27 +204,52 @@ inline TriangleMesh combined(const TriangleMesh& a, const TriangleMesh& b) {
 }
 
 /// One 1-to-4 split at edge midpoints: the same shape with four times the faces. The original
-/// vertices keep their indices; face f becomes faces 4f..4f+3 (4f+3 the middle one).
+/// vertices keep their indices; face f becomes faces 4f..4f+3 (4f+3 the middle one). Edges are
+/// numbered by sorting the corners' edge keys, which stays fast at benchmark sizes (17.8M faces).
 inline TriangleMesh split_at_midpoints(const TriangleMesh& in) {
+  const std::size_t corners = 3 * in.triangles.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> edges(corners);
+  for (std::size_t f = 0; f < in.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = in.triangles[f][k], b = in.triangles[f][(k + 1) % 3];
+      edges[3 * f + k] = {std::min(a, b) << 32 | std::max(a, b), static_cast<std::uint32_t>(3 * f + k)};
+    }
+  std::sort(edges.begin(), edges.end());
   TriangleMesh out;
   out.positions = in.positions;
-  std::unordered_map<std::uint64_t, std::uint32_t> midpoint;
-  midpoint.reserve(in.triangles.size() * 2);
-  const auto mid = [&](std::uint32_t a, std::uint32_t b) {
-    const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-    const auto [it, added] = midpoint.try_emplace(key, static_cast<std::uint32_t>(out.positions.size()));
-    if (added) out.positions.push_back(0.5 * (in.positions[a] + in.positions[b]));
-    return it->second;
-  };
-  out.triangles.reserve(in.triangles.size() * 4);
-  for (const auto& f : in.triangles) {
-    const std::uint32_t a = mid(f[0], f[1]), b = mid(f[1], f[2]), c = mid(f[2], f[0]);
-    out.triangles.push_back({f[0], a, c});
-    out.triangles.push_back({f[1], b, a});
-    out.triangles.push_back({f[2], c, b});
-    out.triangles.push_back({a, b, c});
+  std::vector<std::uint32_t> midpoint(corners);
+  for (std::size_t i = 0; i < corners; ++i) {
+    if (i == 0 || edges[i].first != edges[i - 1].first) {
+      const std::uint64_t key = edges[i].first;
+      out.positions.push_back(0.5 * (in.positions[key >> 32] + in.positions[key & 0xffffffffu]));
+    }
+    midpoint[edges[i].second] = static_cast<std::uint32_t>(out.positions.size() - 1);
+  }
+  out.triangles.reserve(4 * in.triangles.size());
+  for (std::size_t f = 0; f < in.triangles.size(); ++f) {
+    const auto& t = in.triangles[f];
+    const std::uint32_t m0 = midpoint[3 * f], m1 = midpoint[3 * f + 1], m2 = midpoint[3 * f + 2];
+    out.triangles.push_back({t[0], m0, m2});
+    out.triangles.push_back({t[1], m1, m0});
+    out.triangles.push_back({t[2], m2, m1});
+    out.triangles.push_back({m0, m1, m2});
   }
   return out;
+}
+
+/// Share of a unit sphere's area seen well from distance `distance` (no occlusion but its own):
+/// a point at angle θ from the camera axis is seen well when the angle between its normal and the
+/// direction to the eye is below `angle_deg`, i.e. (D cos θ − 1) / |eye − p| > cos(angle); the cap
+/// up to θmax holds (1 − cos θmax) / 2 of the area.
+inline double sphere_seen_well_share(double distance, double angle_deg) {
+  const double D = distance, limit = std::cos(angle_deg * std::numbers::pi / 180.0);
+  double lo = 0.0, hi = std::numbers::pi / 2;
+  for (int i = 0; i < 100; ++i) {
+    const double th = 0.5 * (lo + hi);
+    const double c = (D * std::cos(th) - 1.0) / std::sqrt(D * D - 2.0 * D * std::cos(th) + 1.0);
+    (c > limit ? lo : hi) = th;
+  }
+  return 0.5 * (1.0 - std::cos(lo));
 }
 
 /// Rotation by `angle` (radians) about `axis`.
