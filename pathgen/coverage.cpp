@@ -5,6 +5,8 @@
 #include <bit>
 #include <cstdio>
 #include <cmath>
+#include <unordered_map>
+#include <limits>
 #include <numeric>
 
 #include "core/error.h"
@@ -47,6 +49,81 @@ std::vector<std::uint8_t> top_quantile(const std::vector<double>& value, double 
   for (std::size_t i = 0; i < value.size(); ++i)
     feature[i] = value[i] >= threshold && (value[i] > lowest || threshold > lowest) ? 1 : 0;
   return feature;
+}
+
+
+// For each sample, the proxy vertices it takes its values from and their weights (summing to 1),
+// and the nearest of them (its feature region's anchor).
+struct SampleKernel {
+  std::vector<std::size_t> first;  // sample i uses entries first[i] .. first[i+1]-1
+  std::vector<std::uint32_t> vertex;
+  std::vector<double> weight;
+  std::vector<std::uint32_t> nearest;
+};
+
+SampleKernel proxy_kernel(const ClusteredMesh& proxy, const SurfaceSamples& samples, const TriangleMesh& mesh) {
+  const TriangleMesh& p = proxy.mesh;
+  std::vector<Eigen::Vector3d> normal(p.positions.size(), Eigen::Vector3d::Zero());
+  for (const auto& t : p.triangles) {
+    const Eigen::Vector3d a = (p.positions[t[1]] - p.positions[t[0]]).cross(p.positions[t[2]] - p.positions[t[0]]);
+    for (std::uint32_t v : t) normal[v] += a;
+  }
+  for (auto& v : normal) v.normalize();
+  auto cell_of = [&](const Eigen::Vector3d& x) {
+    const Eigen::Vector3d q = ((x - proxy.grid_origin) / proxy.cell_size).array().floor();
+    return std::array<long long, 3>{static_cast<long long>(q.x()), static_cast<long long>(q.y()), static_cast<long long>(q.z())};
+  };
+  auto key = [](const std::array<long long, 3>& c) {
+    return (static_cast<std::uint64_t>(c[0] & 0x1FFFFF) << 42) | (static_cast<std::uint64_t>(c[1] & 0x1FFFFF) << 21) |
+           static_cast<std::uint64_t>(c[2] & 0x1FFFFF);
+  };
+  // A cluster's vertex is a mean of points in its cell, so it lies in that cell.
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> in_cell;
+  for (std::uint32_t v = 0; v < p.positions.size(); ++v) in_cell[key(cell_of(p.positions[v]))].push_back(v);
+  const double radius = proxy.cell_size;
+  SampleKernel k;
+  k.first.assign(samples.size() + 1, 0);
+  k.nearest.assign(samples.size(), 0);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Eigen::Vector3d& x = samples.points[i];
+    const auto c = cell_of(x);
+    const std::size_t start = k.vertex.size();
+    double total = 0.0, closest = std::numeric_limits<double>::infinity();
+    for (long long dx = -1; dx <= 1; ++dx)
+      for (long long dy = -1; dy <= 1; ++dy)
+        for (long long dz = -1; dz <= 1; ++dz) {
+          const auto it = in_cell.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
+          if (it == in_cell.end()) continue;
+          for (std::uint32_t v : it->second) {
+            const double d2 = (p.positions[v] - x).squaredNorm();
+            const double r = 1.0 - d2 / (radius * radius);
+            const double facing = std::abs(normal[v].dot(samples.normals[i]));
+            if (!(r > 0.0) || !(facing > 0.0)) continue;
+            const double w = r * r * facing;
+            k.vertex.push_back(v);
+            k.weight.push_back(w);
+            total += w;
+            if (d2 < closest) {
+              closest = d2;
+              k.nearest[i] = v;
+            }
+          }
+        }
+    if (total > 0.0) {
+      for (std::size_t e = start; e < k.vertex.size(); ++e) k.weight[e] /= total;
+    } else {
+      const auto& t = mesh.triangles[samples.faces[i]];
+      const Eigen::Vector2d& b = samples.barycentric[i];
+      const std::array<double, 3> w{1.0 - b.x() - b.y(), b.x(), b.y()};
+      for (int corner = 0; corner < 3; ++corner) {
+        k.vertex.push_back(proxy.vertex_cluster[t[corner]]);
+        k.weight.push_back(w[corner]);
+      }
+      k.nearest[i] = proxy.vertex_cluster[t[static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin())]];
+    }
+    k.first[i + 1] = k.vertex.size();
+  }
+  return k;
 }
 
 }  // namespace
@@ -124,21 +201,26 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
   s.scene = std::make_unique<VisibilityScene>(mesh);
   timer.done("visibility scene");
 
-  // Each sample takes the values of the proxy vertices its face's corners merged into, blended
-  // by its barycentric coordinates.
+  // Each sample takes the values of the proxy vertices near it (within one cell), weighted by a
+  // smooth kernel of the distance and by how well their normals agree with its own. What a sample
+  // gets then depends on where it is on the shape, not on the face it lies on: a coarse face
+  // spans several cells, a fine one none. Where no proxy vertex is near (a thin part that
+  // clustering collapsed), the vertices its face's corners merged into are blended instead.
   const std::size_t n = s.samples.size();
   s.words = (n + 63) / 64;
+  const SampleKernel kernel = proxy_kernel(proxy, s.samples, mesh);
   std::vector<std::uint32_t> nearest_cluster(n);
+  for (std::size_t i = 0; i < n; ++i) nearest_cluster[i] = kernel.nearest[i];
   for (int m = 0; m < kFeatureMeasures; ++m) {
     std::vector<double> value(n);
     for (std::size_t i = 0; i < n; ++i) {
-      const auto& t = mesh.triangles[s.samples.faces[i]];
-      const Eigen::Vector2d& b = s.samples.barycentric[i];
-      const std::array<double, 3> w{1.0 - b.x() - b.y(), b.x(), b.y()};
-      const std::array<std::uint32_t, 3> c{proxy.vertex_cluster[t[0]], proxy.vertex_cluster[t[1]], proxy.vertex_cluster[t[2]]};
-      value[i] = given ? options.face_features[s.samples.faces[i]]
-                       : w[0] * proxy_value[m][c[0]] + w[1] * proxy_value[m][c[1]] + w[2] * proxy_value[m][c[2]];
-      if (m == 0) nearest_cluster[i] = c[static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin())];
+      if (given) {
+        value[i] = options.face_features[s.samples.faces[i]];
+        continue;
+      }
+      double sum = 0.0;
+      for (std::size_t k = kernel.first[i]; k < kernel.first[i + 1]; ++k) sum += kernel.weight[k] * proxy_value[m][kernel.vertex[k]];
+      value[i] = sum;
     }
     if (given) {
       s.feature[m].resize(n);
@@ -183,12 +265,14 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
 
 CoverageModel::~CoverageModel() = default;
 
-ViewCoverage CoverageModel::coverage(const View& view) const {
+ViewCoverage CoverageModel::coverage(const View& view, std::size_t stride) const {
   const Impl& s = *impl_;
+  if (stride < 1 || stride > 64 || !std::has_single_bit(stride)) throw InputError("coverage: the sample stride must be a power of two up to 64");
   // One pass at the widest angle; the stricter angles filter its cosines.
   const double widest = std::max(s.options.seen_angle_deg[0], s.options.seen_angle_deg[1]);
-  const VisibleSamples visible = s.scene->visible(view, s.samples, widest);
+  const VisibleSamples visible = s.scene->visible(view, s.samples, widest, stride);
   ViewCoverage out;
+  out.stride = stride;
   for (int a = 0; a < kSeenAngles; ++a) {
     out.seen[a].assign(s.words, 0);
     const float limit = static_cast<float>(std::cos(s.options.seen_angle_deg[a] * 3.14159265358979323846 / 180.0));
@@ -201,7 +285,20 @@ ViewCoverage CoverageModel::coverage(const View& view) const {
 CoverageScores CoverageModel::scores(std::span<const ViewCoverage* const> views) const {
   const Impl& s = *impl_;
   CoverageScores out;
-  const std::size_t n = s.samples.size();
+  const std::size_t stride = views.empty() ? 1 : views.front()->stride;
+  for (const ViewCoverage* v : views)
+    if (v->stride != stride) throw InputError("coverage: views tested on different sample subsets cannot be scored together");
+  // The samples counted: all, or every stride-th (a bit pattern that repeats in every word,
+  // since the stride divides 64).
+  std::uint64_t tested = 0;
+  for (std::size_t b = 0; b < 64; b += stride) tested |= std::uint64_t{1} << b;
+  const std::size_t n = (s.samples.size() + stride - 1) / stride;
+  std::array<std::size_t, kFeatureMeasures> feature_count = s.feature_count;
+  if (stride > 1)
+    for (int m = 0; m < kFeatureMeasures; ++m) {
+      feature_count[m] = 0;
+      for (std::size_t w = 0; w < s.words; ++w) feature_count[m] += static_cast<std::size_t>(std::popcount(s.feature_bits[m][w] & tested));
+    }
   for (int a = 0; a < kSeenAngles; ++a) {
     std::array<std::size_t, kFeatureMeasures> features_seen{};
     std::size_t seen = 0;
@@ -216,7 +313,7 @@ CoverageScores CoverageModel::scores(std::span<const ViewCoverage* const> views)
       const FeatureDefinition& def = feature_definitions()[d];
       if (def.angle != a) continue;
       const int m = static_cast<int>(def.measure);
-      const double features = static_cast<double>(std::max<std::size_t>(1, s.feature_count[m]));
+      const double features = static_cast<double>(std::max<std::size_t>(1, feature_count[m]));
       out.feature_share[d] = static_cast<double>(features_seen[m]) / features;
       out.value[d] = (static_cast<double>(features_seen[m]) +
                       s.options.surface_weight * static_cast<double>(seen - features_seen[m])) / features;

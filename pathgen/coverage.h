@@ -66,6 +66,8 @@ struct CoverageOptions {
 /// What one view sees: a bitset over the samples for each seen-well angle.
 struct ViewCoverage {
   std::array<std::vector<std::uint64_t>, kSeenAngles> seen;
+  /// Every stride-th sample was tested (1 = all); scores count only those samples.
+  std::size_t stride = 1;
 };
 
 /// Shares seen by a set of views under each definition (same order as feature_definitions()).
@@ -87,9 +89,11 @@ public:
   CoverageModel(const CoverageModel&) = delete;
   CoverageModel& operator=(const CoverageModel&) = delete;
 
-  /// What `view` sees. Thread-safe.
-  ViewCoverage coverage(const View& view) const;
-  /// Scores of the union of `views`.
+  /// What `view` sees. Thread-safe. With `stride` > 1 (a power of two up to 64) only every
+  /// stride-th sample is tested: an estimate at 1/stride of the cost, for searches that compare
+  /// many views (the scores of such views are shares of that subset, on the same scale).
+  ViewCoverage coverage(const View& view, std::size_t stride = 1) const;
+  /// Scores of the union of `views` (all of one stride). \throw InputError for mixed strides.
   CoverageScores scores(std::span<const ViewCoverage* const> views) const;
   CoverageScores scores(const ViewCoverage& view) const;
 

@@ -5,9 +5,11 @@
 #include <Eigen/Geometry>
 #include <Eigen/QR>
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 
 #include "core/error.h"
 #include "core/interrupt.h"
@@ -63,6 +65,9 @@ void FeatureOrbitOptions::validate() const {
   check(max_angular_speed > 0.0 && max_angular_acceleration > 0.0, "the smoothness limits must be positive");
   check(azimuth_samples >= 4 && azimuth_samples <= 720, "azimuth samples must be 4 to 720");
   check(elevation_grid_deg > 0.0, "the elevation grid spacing must be positive");
+  check(search_sample_stride >= 1 && search_sample_stride <= 64 && std::has_single_bit(static_cast<unsigned>(search_sample_stride)),
+        "the search's sample stride must be a power of two up to 64");
+  check(leaders >= 1, "at least one leading curve must be scored on every sample");
   check(frames >= 0, "frames must not be negative");
   check(tie_tolerance >= 0.0, "the tie tolerance must not be negative");
   check(vertical_fov_deg >= 5.0 && vertical_fov_deg <= 120.0, "the field of view must be 5 to 120 degrees");
@@ -137,7 +142,9 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   // each sampled azimuth.
   const int n = options.azimuth_samples;
   const int m = static_cast<int>(std::floor((options.highest_deg - options.lowest_deg) / options.elevation_grid_deg + 1e-9)) + 1;
-  std::vector<ViewCoverage> views(static_cast<std::size_t>(n) * m);
+  const std::size_t stride = static_cast<std::size_t>(options.search_sample_stride);
+  std::vector<View> grid(static_cast<std::size_t>(n) * m);
+  std::vector<ViewCoverage> estimates(grid.size());
   tbb::parallel_for(0, n * m, [&](int k) {
     throw_if_interrupted();
     const int j = k / m, e = k % m;
@@ -150,16 +157,21 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
       const double start = 1e-6 * sphere_distance;
       distance = start + fit_pullback(points, CameraPose{g.center + start * dir, g.center, g.up}, lens);
     }
-    views[k] = coverage.coverage(view_at(g.center + distance * dir));
+    grid[k] = view_at(g.center + distance * dir);
+    estimates[k] = coverage.coverage(grid[k], stride);
   });
+  // The same grid views on every sample, made only for the curves whose estimates lead.
+  std::vector<ViewCoverage> exact(grid.size());
+  std::vector<std::uint8_t> has_exact(grid.size(), 0);
 
+  auto grid_index = [&](const ElevationCurve& curve, int j) {
+    const double e = curve(static_cast<double>(j) / n) / kDegree;
+    const int row = std::clamp(static_cast<int>(std::lround((e - options.lowest_deg) / options.elevation_grid_deg)), 0, m - 1);
+    return static_cast<std::size_t>(j) * m + row;
+  };
   std::vector<const ViewCoverage*> chosen(static_cast<std::size_t>(n));
-  auto score = [&](const ElevationCurve& curve) {
-    for (int j = 0; j < n; ++j) {
-      const double e = curve(static_cast<double>(j) / n) / kDegree;
-      const int row = std::clamp(static_cast<int>(std::lround((e - options.lowest_deg) / options.elevation_grid_deg)), 0, m - 1);
-      chosen[j] = &views[static_cast<std::size_t>(j) * m + row];
-    }
+  auto score = [&](const ElevationCurve& curve, const std::vector<ViewCoverage>& views) {
+    for (int j = 0; j < n; ++j) chosen[j] = &views[grid_index(curve, j)];
     return coverage.scores(chosen);
   };
   auto feasible = [&](const ElevationCurve& curve) {
@@ -176,34 +188,52 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   // lowest mean elevation is always a candidate, so there is always a feasible curve. The
   // objective is the mean over the feature definitions (pathgen/coverage.h).
   FeatureOrbitResult result;
-  std::vector<std::pair<ElevationCurve, double>> scored;
+  std::vector<std::pair<ElevationCurve, double>> scored;  // every feasible curve, with its estimate
   auto consider = [&](const ElevationCurve& curve) {
     throw_if_interrupted();
     if (!feasible(curve)) return;
     ++result.candidates;
-    scored.emplace_back(curve, score(curve).objective);
+    scored.emplace_back(curve, score(curve, estimates).objective);
   };
-  // Among curves that score alike (within tie_tolerance of the best), the plainest wins: least
-  // swing and ripple, then the mean elevation nearest the turntable's 15 degrees. Otherwise a
-  // different tessellation of the same shape, which moves the scores by a little noise, could
-  // flip the choice between two equally good but very different curves.
-  auto plainest = [&] {
+  // The estimates rank the curves; the leaders are scored again on every sample, and among those
+  // that score alike (within tie_tolerance of the best) the plainest wins: least swing and
+  // ripple, then the mean elevation nearest the turntable's 15 degrees. Otherwise the subset's
+  // noise, or a different tessellation of the same shape (which moves the scores by a little
+  // noise too), could flip the choice between two equally good but very different curves.
+  auto settle = [&] {
+    std::vector<std::size_t> order(scored.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return scored[a].second > scored[b].second; });
+    order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(options.leaders)));
+    std::vector<std::size_t> missing;
+    for (std::size_t c : order)
+      for (int j = 0; j < n; ++j)
+        if (const std::size_t k = grid_index(scored[c].first, j); !has_exact[k]) {
+          has_exact[k] = 1;
+          missing.push_back(k);
+        }
+    tbb::parallel_for(std::size_t{0}, missing.size(), [&](std::size_t i) {
+      throw_if_interrupted();
+      exact[missing[i]] = coverage.coverage(grid[missing[i]]);
+    });
+    std::vector<std::pair<ElevationCurve, double>> leaders;
+    for (std::size_t c : order) leaders.emplace_back(scored[c].first, score(scored[c].first, exact).objective);
     double top = -1.0;
-    for (const auto& [curve, value] : scored) top = std::max(top, value);
-    const ElevationCurve* pick = nullptr;
+    for (const auto& [curve, value] : leaders) top = std::max(top, value);
     auto plainness = [](const ElevationCurve& c) {
       return std::make_pair(std::round(1e6 * (std::abs(c.swing) + std::abs(c.ripple))), std::abs(c.base - 15.0 * kDegree));
     };
-    for (const auto& [curve, value] : scored)
+    const ElevationCurve* pick = nullptr;
+    for (const auto& [curve, value] : leaders)
       if (value >= top - options.tie_tolerance && (!pick || plainness(curve) < plainness(*pick))) pick = &curve;
-    return pick;
+    return *pick;
   };
   for (double base = options.base_min_deg; base <= options.base_max_deg + 1e-9; base += options.base_step_deg)
     for (double swing = 0.0; swing <= options.swing_max_deg + 1e-9; swing += options.swing_step_deg)
       for (int p = 0; p < (swing > 0.0 ? options.phases : 1); ++p)
         consider(ElevationCurve{base * kDegree, swing * kDegree, static_cast<double>(p) / options.phases, 0.0, 0.0});
   if (scored.empty()) throw InputError("feature orbit: no elevation curve meets the smoothness limits; raise them");
-  const ElevationCurve swing_only = *plainest();
+  const ElevationCurve swing_only = settle();
   for (double ripple = options.ripple_step_deg; ripple <= options.ripple_max_deg + 1e-9; ripple += options.ripple_step_deg)
     for (int p = 0; p < options.phases; ++p) {
       ElevationCurve curve = swing_only;
@@ -211,10 +241,10 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
       curve.ripple_phase = 0.5 * p / options.phases;  // the ripple repeats every half loop
       consider(curve);
     }
-  const ElevationCurve best = *plainest();
+  const ElevationCurve best = settle();
 
   g.elevation = best;
-  result.scores = score(best);
+  result.scores = score(best, exact);
   result.feature_share_seen = result.scores.feature_share[0];
   result.surface_share_seen = result.scores.surface_share[0];
   if (options.dolly) plan_dolly(points, options, g);
@@ -229,7 +259,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     at.start = 0.0;  // pose(a) is azimuth fraction a
     return coverage.scores(coverage.coverage(view_at(FeatureOrbitPath(at).pose(a).eye))).objective;
   };
-  // `chosen` still holds the grid views along the best curve (score(best) filled it above).
+  // `chosen` still holds the grid views along the best curve (score(best, exact) filled it above).
   std::vector<std::pair<double, int>> coarse;
   for (int j = 0; j < n; ++j) coarse.emplace_back(-coverage.scores(*chosen[j]).objective, j);
   std::sort(coarse.begin(), coarse.end());  // best first; ties to the lower azimuth
@@ -261,23 +291,20 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   g.start = start - std::floor(start);
   result.start_score = start_score;
   if (options.frames > 0) {
-    auto frame_scores = [&] {
-      const FeatureOrbitPath path(g);
-      std::vector<double> scores(static_cast<std::size_t>(options.frames));
-      tbb::parallel_for(0, options.frames, [&](int k) {
-        throw_if_interrupted();
-        scores[k] = coverage.scores(coverage.coverage(view_at(frame_pose(path, k, options.frames).eye))).objective;
-      });
-      return scores;
-    };
-    result.frame_scores = frame_scores();
+    const FeatureOrbitPath path(g);
+    result.frame_scores.assign(static_cast<std::size_t>(options.frames), 0.0);
+    tbb::parallel_for(0, options.frames, [&](int k) {
+      throw_if_interrupted();
+      result.frame_scores[k] = coverage.scores(coverage.coverage(view_at(frame_pose(path, k, options.frames).eye))).objective;
+    });
     // The frames sample the loop more finely or differently than the refinement: if one of them
     // beats frame 0, the loop starts there instead (the same frames, turned).
     const auto top = std::max_element(result.frame_scores.begin(), result.frame_scores.end()) - result.frame_scores.begin();
     if (top > 0 && result.frame_scores[top] > result.frame_scores[0] + 1e-12) {
       g.start += static_cast<double>(top) / options.frames;
       g.start -= std::floor(g.start);
-      result.frame_scores = frame_scores();
+      // The turned loop has the same frames, `top` places earlier: their scores need no new views.
+      std::rotate(result.frame_scores.begin(), result.frame_scores.begin() + top, result.frame_scores.end());
     }
     result.start_score = result.frame_scores[0];
   }

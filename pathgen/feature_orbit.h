@@ -50,6 +50,12 @@ struct FeatureOrbitOptions {
   double max_angular_acceleration = 15.0;
   int azimuth_samples = 24;        ///< views per loop at which coverage is estimated
   double elevation_grid_deg = 7.5; ///< elevation spacing of the precomputed views
+  /// The grid's views test every this-many-th surface sample (a power of two up to 64): an even
+  /// subset, enough to rank curves at a quarter of the rays. The start and the frames' scores
+  /// use every sample.
+  int search_sample_stride = 4;
+  /// Curves with the best estimates that are scored again on every sample before one is chosen.
+  int leaders = 8;
   /// Curves (and first views) whose objective is within this of the best count as equally good;
   /// the plainest curve (and the start nearest the front) among them wins.
   double tie_tolerance = 0.01;

@@ -155,6 +155,30 @@ TEST(Coverage, SameShapeFinerTessellationSameFiguresUnderEveryAngle) {
   }
 }
 
+// The search's estimate: every stride-th sample is an even subset of the surface, so its shares
+// are close to those on every sample, it tests only that subset, and views on different subsets
+// are not mixed.
+TEST(Coverage, AStrideEstimatesTheSharesOnASubsetOfTheSamples) {
+  const TriangleMesh mesh = test_meshes::bumpy_sphere(3);
+  CoverageOptions options = fast_options();
+  options.face_features = features_above(mesh, 0.3);
+  const CoverageModel model(mesh, options);
+  for (const Eigen::Vector3d& eye : {Eigen::Vector3d(0, 0, 4), Eigen::Vector3d(3, 2, 1), Eigen::Vector3d(-1, -3, 2)}) {
+    const ViewCoverage all = model.coverage(view_from(eye)), quarter = model.coverage(view_from(eye), 4);
+    const CoverageScores sa = model.scores(all), sq = model.scores(quarter);
+    for (int d = 0; d < kFeatureDefinitions; ++d) EXPECT_NEAR(sq.feature_share[d], sa.feature_share[d], 0.02) << "definition " << d;
+    for (int angle = 0; angle < kSeenAngles; ++angle) {
+      EXPECT_NEAR(sq.surface_share[angle], sa.surface_share[angle], 0.02);
+      // The subset's bits are exactly the full set's bits at every 4th sample.
+      for (std::size_t w = 0; w < all.seen[angle].size(); ++w)
+        ASSERT_EQ(quarter.seen[angle][w], all.seen[angle][w] & 0x1111111111111111ull) << "word " << w;
+    }
+    const ViewCoverage* mixed[] = {&all, &quarter};
+    EXPECT_THROW(model.scores(mixed), InputError);
+  }
+  EXPECT_THROW(model.coverage(view_from({0, 0, 4}), 3), InputError);
+}
+
 TEST(Coverage, ResultsDoNotDependOnTheThreadCount) {
   const TriangleMesh mesh = test_meshes::bumpy_sphere(3);
   std::vector<std::uint64_t> one_bits;

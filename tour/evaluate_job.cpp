@@ -98,7 +98,10 @@ void run_evaluate(EvaluateJob& a) {
   const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
   for (const std::string& mode : modes) {
     if (mode != "path-file") scene.path_mode = mode;
-    const auto path = make_path(scene, mesh, hull, lens, true);
+    // With the frames' scores asked for, the feature orbit turns its loop so that its best frame
+    // comes first, as `tour` does: the cameras measured are the ones the tour renders.
+    std::vector<double> view_scores;
+    const auto path = make_path(scene, mesh, hull, lens, true, &view_scores);
     const double fov = choose_fov(scene, *path, mesh, hull, lens, true);
     std::vector<Camera> cameras;
     for (int k = 0; k < scene.frames; ++k) {

@@ -145,18 +145,19 @@ VisibilityScene::~VisibilityScene() = default;
 
 double VisibilityScene::diagonal() const { return impl_->diagonal; }
 
-VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& samples, double seen_angle_deg) const {
+VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& samples, double seen_angle_deg,
+                                        std::size_t stride) const {
   if (!(seen_angle_deg > 0.0 && seen_angle_deg <= 90.0)) throw InputError("the seen-well angle must be in (0, 90] degrees");
   if (!(view.aspect > 0.0)) throw InputError("the frame's aspect ratio must be positive");
+  if (stride < 1 || kBlock % stride != 0) throw InputError("the sample stride must divide 2048");
   const Impl& s = *impl_;
   const LookAtFrame frame = look_at(view.camera);
   const double tan_y = std::tan(view.camera.vertical_fov_deg * std::numbers::pi / 360.0), tan_x = tan_y * view.aspect;
   const double cos_limit = std::cos(seen_angle_deg * std::numbers::pi / 180.0);
   const Eigen::Vector3d eye = view.camera.eye;
-  const Eigen::Vector3f eye_local = (eye - s.origin).cast<float>();
-  // A ray stops this far short of its sample, so the sample's own face (or a neighbour meeting
-  // it at the sample, in float precision) does not hide it.
-  const double clearance = 1e-5 * s.diagonal;
+  // A ray leaves its sample this far out, so the sample's own face (or a neighbour meeting it at
+  // the sample, in float precision) does not hide it.
+  const float clearance = static_cast<float>(1e-5 * s.diagonal);
 
   const std::size_t n = samples.size(), blocks = (n + kBlock - 1) / kBlock;
   std::vector<VisibleSamples> parts(blocks);
@@ -169,52 +170,37 @@ VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& 
     VisibleSamples& out = parts[b];
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one eye, neighbouring samples
-    // The samples in frame and facing the eye, then their occlusion rays 16 at a time.
-    std::uint32_t candidate[kBlock];
-    float cosines[kBlock], lengths[kBlock];
-    Eigen::Vector3f directions[kBlock];
-    std::size_t count = 0;
+    // The rays start at the samples and run towards the eye, one at a time: on big scans that
+    // is about 1.6x quicker than 16-ray packets from the eye (whose rays fan out to samples
+    // spread over the model, so the packet splits at once), because a ray that is not blocked
+    // near its sample soon leaves the model's boxes.
     const std::size_t end = std::min(n, (b + 1) * kBlock);
-    for (std::size_t i = b * kBlock; i < end; ++i) {
+    for (std::size_t i = b * kBlock; i < end; i += stride) {
       const Eigen::Vector3d d = samples.points[i] - eye;
       const double z = d.dot(frame.forward);
       if (!(z > 0.0) || std::abs(d.dot(frame.right)) > tan_x * z || std::abs(d.dot(frame.up)) > tan_y * z) continue;
       const double distance = d.norm();
       const double cosine = std::abs(samples.normals[i].dot(d)) / distance;
       if (!(cosine > cos_limit) || !(distance > 2.0 * clearance)) continue;
-      candidate[count] = static_cast<std::uint32_t>(i);
-      cosines[count] = static_cast<float>(cosine);
-      lengths[count] = static_cast<float>(distance - clearance);
-      directions[count] = (d / distance).cast<float>();
-      ++count;
-    }
-    for (std::size_t first = 0; first < count; first += 16) {
-      const std::size_t lanes = std::min<std::size_t>(16, count - first);
-      alignas(64) int valid[16];
-      alignas(64) RTCRay16 rays;
-      for (std::size_t l = 0; l < 16; ++l) {
-        const std::size_t c = first + std::min(l, lanes - 1);
-        valid[l] = l < lanes ? -1 : 0;
-        rays.org_x[l] = eye_local.x();
-        rays.org_y[l] = eye_local.y();
-        rays.org_z[l] = eye_local.z();
-        rays.dir_x[l] = directions[c].x();
-        rays.dir_y[l] = directions[c].y();
-        rays.dir_z[l] = directions[c].z();
-        rays.tnear[l] = 0.0f;
-        rays.tfar[l] = lengths[c];
-        rays.time[l] = 0.0f;
-        rays.mask[l] = 0xFFFFFFFFu;
-        rays.id[l] = static_cast<unsigned>(l);
-        rays.flags[l] = 0;
-      }
-      rtcOccluded16(valid, s.scene.get(), &context, &rays);
-      for (std::size_t l = 0; l < lanes; ++l) {
-        if (rays.tfar[l] < 0.0f) continue;  // Embree sets tfar to -inf when something is in the way
-        out.samples.push_back(candidate[first + l]);
-        out.cosines.push_back(cosines[first + l]);
-      }
+      const Eigen::Vector3f from = (samples.points[i] - s.origin).cast<float>();
+      const Eigen::Vector3f towards_eye = (-d / distance).cast<float>();
+      RTCRay ray;
+      ray.org_x = from.x();
+      ray.org_y = from.y();
+      ray.org_z = from.z();
+      ray.dir_x = towards_eye.x();
+      ray.dir_y = towards_eye.y();
+      ray.dir_z = towards_eye.z();
+      ray.tnear = clearance;
+      ray.tfar = static_cast<float>(distance);
+      ray.time = 0.0f;
+      ray.mask = 0xFFFFFFFFu;
+      ray.id = 0;
+      ray.flags = 0;
+      rtcOccluded1(s.scene.get(), &context, &ray);
+      if (ray.tfar < 0.0f) continue;  // Embree sets tfar to -inf when something is in the way
+      out.samples.push_back(static_cast<std::uint32_t>(i));
+      out.cosines.push_back(static_cast<float>(cosine));
     }
   });
   if (stopped) throw_if_interrupted();
