@@ -50,6 +50,11 @@ std::vector<Option> make_registry() {
   add({.id = "up", .flag = "--up", .kind = Kind::choice, .choices = {"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"},
        .ignore_case = true, .default_text = "y", .help = "The model's up axis: x, y, z, -x, -y or -z (default y)",
        .scene_key = "up", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
+  add({.id = "missing-textures", .flag = "--missing-textures", .kind = Kind::choice, .choices = {"error", "grey"},
+       .default_text = "error",
+       .help = "A texture the model names that is missing or unreadable: error (default; the message names the file and\n"
+               "the material) or grey (its faces are rendered untextured, in the look's colour, with a warning)",
+       .scene_key = "missing_textures", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "path", .flag = "--path", .kind = Kind::choice, .choices = {"feature-orbit", "paper", "turntable"},
        .default_text = "feature-orbit",
        .help = "Camera path: feature-orbit (default; an orbit whose elevation and distance are chosen to show the most\n"
