@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "mesh/gltf.h"
 #include "mesh/obj_materials.h"
 #include "mesh/openmesh_log.h"
 #include "mesh/textures.h"
@@ -39,7 +40,7 @@ std::string lower_extension(const std::filesystem::path& file) {
 }
 
 bool is_supported(const std::string& ext) {
-  return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
+  return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl" || ext == ".gltf" || ext == ".glb";
 }
 
 // Counts polygon faces with more than three corners in OBJ/OFF/ASCII-PLY text, so the report can
@@ -177,7 +178,30 @@ namespace {
 
 }  // namespace
 
-std::string supported_mesh_formats() { return "obj, ply (ascii or binary), off, stl"; }
+namespace {
+
+// What every loader's result must have before any stage sees it: finite coordinates, an extent
+// and one triangle with an area.
+void check_geometry(const TriangleMesh& mesh, const std::string& name) {
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    if (!mesh.positions[i].allFinite())
+      throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+  if (mesh.bounds().diagonal() <= 0.0)
+    throw InputError(name + ": all vertices coincide; the mesh has no extent to render");
+  // Every later stage divides by areas and normals: a mesh without one proper triangle is refused
+  // here, naming the file, rather than deep in the path computation.
+  const bool has_area = std::any_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const auto& t) {
+    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    return n.squaredNorm() > 0.0;
+  });
+  if (!has_area)
+    throw InputError(name + ": all " + std::to_string(mesh.triangles.size()) +
+                     " faces are degenerate (zero area: their corners are collinear or coincide)");
+}
+
+}  // namespace
+
+std::string supported_mesh_formats() { return "obj, ply (ascii or binary), off, stl, gltf, glb"; }
 
 TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, const LoadOptions& load_options) {
   const std::string name = file.string();
@@ -196,6 +220,14 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
   }
 
   check_mesh_file(file);
+  if (ext == ".gltf" || ext == ".glb") {
+    std::vector<std::string> warnings;
+    TriangleMesh mesh = gltf_detail::load_gltf(file, warnings);
+    check_geometry(mesh, name);
+    check_material_textures(mesh, name, load_options, warnings);
+    if (report) report->warnings = warnings;
+    return mesh;
+  }
 
   LoaderMesh om;
   om.request_vertex_colors();
@@ -228,9 +260,6 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     const auto& p = om.point(vh);
     mesh.positions.emplace_back(p[0], p[1], p[2]);
   }
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-    if (!mesh.positions[i].allFinite())
-      throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
   if (options.check(OpenMesh::IO::Options::VertexColor)) {
     mesh.colors.reserve(om.n_vertices());
     for (auto vh : om.vertices()) {
@@ -248,17 +277,7 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     }
     mesh.triangles.push_back(tri);
   }
-  if (mesh.bounds().diagonal() <= 0.0)
-    throw InputError(name + ": all vertices coincide; the mesh has no extent to render");
-  // Every later stage divides by areas and normals: a mesh without one proper triangle is refused
-  // here, naming the file, rather than deep in the path computation.
-  const bool has_area = std::any_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const auto& t) {
-    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
-    return n.squaredNorm() > 0.0;
-  });
-  if (!has_area)
-    throw InputError(name + ": all " + std::to_string(mesh.triangles.size()) +
-                     " faces are degenerate (zero area: their corners are collinear or coincide)");
+  check_geometry(mesh, name);
   std::vector<std::string> material_warnings;
   if (obj) {
     obj_detail::ObjFaces faces = obj_detail::read_obj_faces(file);

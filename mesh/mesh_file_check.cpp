@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "mesh/gltf.h"
 #include "mesh/mesh.h"
 
 namespace meshtour {
@@ -500,7 +501,7 @@ MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file, ec)) throw IoError(name + ": no such file");
   if (std::filesystem::is_directory(file, ec)) throw IoError(name + ": is a directory, not a mesh file");
   const std::string ext = lower_extension(file);
-  if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
+  if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl" || ext == ".gltf" || ext == ".glb") {
     std::ifstream probe(file, std::ios::binary);
     if (!probe) throw IoError(name + ": cannot open for reading (check permissions)");
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
@@ -509,6 +510,7 @@ MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
   if (ext == ".off") return check_off(file, name);
   if (ext == ".ply") return check_ply(file, name);
   if (ext == ".stl") return check_stl(file, name);
+  if (ext == ".gltf" || ext == ".glb") return gltf_detail::gltf_summary(file);
   throw InputError(name + ": unknown mesh format '" + ext + "' (supported: " + supported_mesh_formats() + ")");
 }
 
