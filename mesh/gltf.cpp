@@ -12,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -433,6 +434,40 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
   return use;
 }
 
+// glTF splits a vertex wherever its texture coordinates or material change (every UV seam of a
+// scan's atlas); OBJ shares the position. The tracer's smooth normals come from shared vertices,
+// so vertices with bit-identical positions (and colours) are merged, and the model shades as
+// its OBJ form does. Texture coordinates are per triangle corner and stay as they are.
+void weld_identical_vertices(TriangleMesh& mesh) {
+  struct Key {
+    std::array<std::uint64_t, 3> position{};
+    std::array<std::uint32_t, 3> color{};
+    bool operator<(const Key& o) const { return std::tie(position, color) < std::tie(o.position, o.color); }
+  };
+  std::map<Key, std::uint32_t> first;
+  std::vector<std::uint32_t> remap(mesh.positions.size());
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector3f> colors;
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    Key key;
+    for (int k = 0; k < 3; ++k) {
+      const double p = mesh.positions[i][k] == 0.0 ? 0.0 : mesh.positions[i][k];  // -0 and +0 are one place
+      std::memcpy(&key.position[static_cast<std::size_t>(k)], &p, sizeof p);
+      if (!mesh.colors.empty()) std::memcpy(&key.color[static_cast<std::size_t>(k)], &mesh.colors[i][k], sizeof(float));
+    }
+    const auto [it, inserted] = first.emplace(key, static_cast<std::uint32_t>(positions.size()));
+    if (inserted) {
+      positions.push_back(mesh.positions[i]);
+      if (!mesh.colors.empty()) colors.push_back(mesh.colors[i]);
+    }
+    remap[i] = it->second;
+  }
+  for (auto& t : mesh.triangles)
+    for (auto& v : t) v = remap[v];
+  mesh.positions = std::move(positions);
+  mesh.colors = std::move(colors);
+}
+
 }  // namespace
 
 TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::string>& warnings) {
@@ -543,6 +578,7 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
   }
   if (any_colors) mesh.colors.resize(mesh.positions.size(), Eigen::Vector3f::Ones());
   else mesh.colors.clear();
+  weld_identical_vertices(mesh);
   if (!any_uvs) mesh.corner_uvs.clear();
   if (skipped) warnings.push_back(std::to_string(skipped) + " primitive(s) of points or lines skipped (only triangles are rendered)");
   if (mesh.triangles.empty()) throw InputError(name + ": the default scene has no triangles (no mesh, or only points and lines)");
