@@ -21,6 +21,7 @@
 #include "mesh/gltf.h"
 #include "mesh/obj_materials.h"
 #include "mesh/openmesh_log.h"
+#include "mesh/ply_texture.h"
 #include "mesh/textures.h"
 
 namespace meshtour {
@@ -157,8 +158,10 @@ namespace {
       for (int c = 0; c < 3; ++c) {
         Eigen::Vector2f uv = Eigen::Vector2f::Zero();
         if (match == faces.triangles.size()) {
-          const auto& t = om.texcoord2D(corners[c]);
-          uv = {t[0], t[1]};
+          if (om.has_halfedge_texcoords2D()) {
+            const auto& t = om.texcoord2D(corners[c]);
+            uv = {t[0], t[1]};
+          }
         } else {
           const auto& tri = faces.triangles[match];
           const int at = static_cast<int>(std::find(tri.vertex.begin(), tri.vertex.end(), vertex[c]) - tri.vertex.begin());
@@ -179,6 +182,36 @@ namespace {
 }  // namespace
 
 namespace {
+
+// A textured PLY, built from what its check collected: positions, colours, faces (fan-
+// triangulated) with their corners' texture coordinates, and one material: the image of its
+// TextureFile comment, relative to the PLY.
+TriangleMesh textured_ply(const std::filesystem::path& file, ply_detail::PlyTexture texture) {
+  TriangleMesh mesh;
+  MeshMaterial material;
+  material.name = "TextureFile";
+  std::string name = texture.texture_file;
+  std::replace(name.begin(), name.end(), '\\', '/');
+  const std::filesystem::path image(name);
+  material.texture_file = image.is_absolute() ? image : file.parent_path() / image;
+  material.wrap_s = material.wrap_t = TextureWrap::image_default;  // as OBJ
+  mesh.materials.push_back(material);
+  mesh.positions = std::move(texture.positions);
+  mesh.colors = std::move(texture.colors);
+  for (const auto& f : texture.faces) {
+    const bool corners = texture.per_corner && f.uvs.size() == f.vertices.size();
+    const auto uv = [&](std::size_t k) -> Eigen::Vector2f {
+      if (corners) return f.uvs[k];
+      return texture.per_vertex ? texture.vertex_uvs[f.vertices[k]] : Eigen::Vector2f::Zero();
+    };
+    for (std::size_t k = 1; k + 1 < f.vertices.size(); ++k) {
+      mesh.triangles.push_back({f.vertices[0], f.vertices[k], f.vertices[k + 1]});
+      for (const std::size_t c : {std::size_t{0}, k, k + 1}) mesh.corner_uvs.push_back(uv(c));
+    }
+  }
+  if (mesh.triangles.empty()) throw InputError(file.string() + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
+  return mesh;
+}
 
 // What every loader's result must have before any stage sees it: finite coordinates, an extent
 // and one triangle with an area.
@@ -219,7 +252,17 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
   }
 
-  check_mesh_file(file);
+  ply_detail::PlyTexture ply_texture;
+  if (ext == ".ply") ply_detail::check_ply_with_texture(file, ply_texture);
+  else check_mesh_file(file);
+  if (ply_texture.per_vertex || ply_texture.per_corner) {
+    std::vector<std::string> warnings;
+    TriangleMesh mesh = textured_ply(file, std::move(ply_texture));
+    check_geometry(mesh, name);
+    check_material_textures(mesh, name, load_options, warnings);
+    if (report) report->warnings = warnings;
+    return mesh;
+  }
   if (ext == ".gltf" || ext == ".glb") {
     std::vector<std::string> warnings;
     TriangleMesh mesh = gltf_detail::load_gltf(file, warnings);

@@ -1,9 +1,10 @@
-// A textured GLB renders like the same model as a textured OBJ (mean pixel difference at most
-// 3/255), and like its own golden image.
+// A textured GLB and a PLY with texture coordinates render like the same model as a textured
+// OBJ (mean pixel difference at most 3/255); the GLB also like its own golden image.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
 #include "gltf_writer.h"
 #include "golden.h"
@@ -60,6 +61,37 @@ TEST(GoldenGltf, TexturedGlbRendersLikeTheObj) {
   std::printf("mean pixel difference textured OBJ vs GLB: %.3f/255\n", mean);
   EXPECT_LE(mean, 3.0);
   test::compare_with_golden(b, "studio_textured_glb", 0.01);
+}
+
+// The same cube as an ASCII PLY with a face 'texcoord' list and 'comment TextureFile'.
+TEST(GoldenGltf, PlyWithCornerTexcoordsRendersLikeTheObj) {
+  const auto dir = test::scratch_dir();
+  const TriangleMesh obj = load_mesh(test::write_textured_cube(dir));
+  {
+    std::ofstream ply(dir / "cube.ply");
+    ply << "ply\nformat ascii 1.0\ncomment TextureFile checker.png\nelement vertex " << obj.positions.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << obj.triangles.size()
+        << "\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n";
+    for (const auto& p : obj.positions) ply << p.x() << " " << p.y() << " " << p.z() << "\n";
+    for (std::size_t t = 0; t < obj.triangles.size(); ++t) {
+      ply << "3 " << obj.triangles[t][0] << " " << obj.triangles[t][1] << " " << obj.triangles[t][2] << " 6";
+      for (int c = 0; c < 3; ++c) ply << " " << obj.corner_uvs[3 * t + c].x() << " " << obj.corner_uvs[3 * t + c].y();
+      ply << "\n";
+    }
+  }
+  const TriangleMesh ply = load_mesh(dir / "cube.ply");
+  ASSERT_TRUE(ply.has_texture());
+  RenderOptions o;
+  o.width = 160;
+  o.height = 120;
+  o.samples_per_pixel = 4;
+  o.shading = look_preset("studio");
+  const Camera camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0};
+  const auto pa = Renderer(obj, o).render(camera).to_srgb8(), pb = Renderer(ply, o).render(camera).to_srgb8();
+  double sum = 0;
+  for (std::size_t i = 0; i < pa.size(); ++i) sum += std::abs(static_cast<int>(pa[i]) - static_cast<int>(pb[i]));
+  std::printf("mean pixel difference textured OBJ vs PLY: %.3f/255\n", sum / static_cast<double>(pa.size()));
+  EXPECT_LE(sum / static_cast<double>(pa.size()), 3.0);
 }
 
 }  // namespace

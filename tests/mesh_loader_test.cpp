@@ -66,6 +66,38 @@ TEST(MeshLoader, ObjPolygonsKeepEveryCornersUv) {
     }
 }
 
+// MeshLab's per-vertex texture coordinates (texture_u/texture_v) and the image its header
+// comment names, in a binary PLY with a quad (fan-triangulated: every triangle keeps its UVs).
+TEST(MeshLoader, PlyVertexTexcoordsAndTextureFileComment) {
+  const auto dir = test::scratch_dir();
+  std::string ply = "ply\nformat binary_little_endian 1.0\ncomment TextureFile my texture.png\nelement vertex 4\n"
+                    "property float x\nproperty float y\nproperty float z\nproperty float texture_u\nproperty float texture_v\n"
+                    "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const float vertices[4][5] = {{0, 0, 0, 0, 0}, {1, 0, 0, 1, 0}, {1, 1, 0, 1, 1}, {0, 1, 0, 0, 1}};
+  ply.append(reinterpret_cast<const char*>(vertices), sizeof vertices);
+  const unsigned char count = 4;
+  const int indices[4] = {0, 1, 2, 3};
+  ply.append(reinterpret_cast<const char*>(&count), 1);
+  ply.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  const TriangleMesh mesh = load_mesh(write_text(dir / "quad.ply", ply), nullptr, LoadOptions{.check_textures = false});
+  ASSERT_EQ(mesh.triangles.size(), 2u);
+  ASSERT_EQ(mesh.materials.size(), 1u);
+  EXPECT_EQ(mesh.materials[0].texture_file, dir / "my texture.png");
+  ASSERT_TRUE(mesh.has_texture());
+  for (std::size_t f = 0; f < 2; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d& p = mesh.positions[mesh.triangles[f][c]];
+      EXPECT_NEAR((mesh.corner_uvs[3 * f + c] - p.head<2>().cast<float>()).norm(), 0.0f, 1e-6f);
+    }
+  // Without the texture file the load fails naming it.
+  try {
+    load_mesh(dir / "quad.ply");
+    FAIL() << "loaded without its texture";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("my texture.png"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MeshLoader, AsciiPlyKeepsVertexColours) {
   const auto dir = test::scratch_dir();
   const auto file = write_text(dir / "tri.ply",
