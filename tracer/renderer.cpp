@@ -144,6 +144,9 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
         s.textures.reset(OIIO::TextureSystem::create(/*shared=*/false));
         // Textures are usually sRGB-encoded 8-bit images; lookups must return linear values.
         s.textures->attribute("colorspace", "linear");
+        // Untiled images (JPEG, PNG atlases) are cached in 64x64 tiles rather than whole, so the
+        // cache's memory cap holds for 16k atlases too (the texels and the filtering are the same).
+        s.textures->attribute("autotile", 64);
       }
       const OIIO::ustring texture_name(m.texture_file.string());
       if (m.texture_bytes) {
