@@ -17,6 +17,7 @@ void add_batch_command(CLI::App& app);   // a manifest of meshes in, one video p
 void add_farm_command(CLI::App& app);
 void add_options_command(CLI::App& app);  // every option of every command (docs/OPTIONS.md)    // sbatch scripts for a Slurm job array + dependent encode
 
-void add_evaluate_command(CLI::App& app);  // what a tour shows: coverage and smoothness per path mode
+void add_evaluate_command(CLI::App& app);
+void add_info_command(CLI::App& app);  // what a mesh file holds, before anything is rendered  // what a tour shows: coverage and smoothness per path mode
 
 }  // namespace meshtour::cli

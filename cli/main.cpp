@@ -25,6 +25,7 @@ Examples:
   meshtour tour scenes/default.json --frames 48 --width 640 --height 360
   meshtour path bunny.ply -o bunny.path.json --plot bunny.png
   meshtour evaluate bunny.ply --compare          # coverage and smoothness of turntable, paper, feature-orbit
+  meshtour info scan.glb --json                  # what a file holds: counts, materials, textures, memory
 Run 'meshtour <command> --help' for the options of a command.)";
 
 }  // namespace
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
   meshtour::cli::add_farm_command(app);
   meshtour::cli::add_evaluate_command(app);
   meshtour::cli::add_options_command(app);
+  meshtour::cli::add_info_command(app);
 
   try {
     app.parse(argc, argv);

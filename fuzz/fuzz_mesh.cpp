@@ -2,8 +2,6 @@
 // loader chooses its reader by extension), the rest is written to a file that load_mesh() reads.
 // Any meshtour::Error is a correct answer to garbage; a crash, a hang, a leak or an allocation
 // beyond -rss_limit_mb/-malloc_limit_mb is a bug.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -11,23 +9,13 @@
 #include <string>
 
 #include "core/error.h"
+#include "fuzz_scratch.h"
 #include "mesh/mesh.h"
 
 namespace {
 
-// One folder per fuzzing process (libFuzzer's -jobs run several), removed at exit.
-struct ScratchDir {
-  std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("meshtour-fuzz-mesh-" + std::to_string(::getpid()));
-  ScratchDir() { std::filesystem::create_directories(dir); }
-  ~ScratchDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir, ignored);
-  }
-};
-
 const std::filesystem::path& scratch_dir() {
-  static const ScratchDir scratch;
+  static const meshtour::fuzz::ScratchDir scratch("fuzz-mesh");
   return scratch.dir;
 }
 

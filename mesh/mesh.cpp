@@ -1,3 +1,9 @@
+// GCC 12 reports OpenMesh's default-constructed colour properties (VectorT<unsigned char, 3>,
+// uninitialised by design and filled by the reader) as "may be used uninitialized" depending on
+// its inlining choices for this file; the warning is about OpenMesh's code, not this file's.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include "mesh/mesh.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -12,7 +18,11 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "mesh/gltf.h"
+#include "mesh/obj_materials.h"
 #include "mesh/openmesh_log.h"
+#include "mesh/ply_texture.h"
+#include "mesh/textures.h"
 
 namespace meshtour {
 namespace {
@@ -31,7 +41,7 @@ std::string lower_extension(const std::filesystem::path& file) {
 }
 
 bool is_supported(const std::string& ext) {
-  return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
+  return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl" || ext == ".gltf" || ext == ".glb";
 }
 
 // Counts polygon faces with more than three corners in OBJ/OFF/ASCII-PLY text, so the report can
@@ -53,6 +63,11 @@ std::size_t count_polygons_in_text(const std::filesystem::path& file, const std:
 }
 
 }  // namespace
+
+bool TriangleMesh::has_texture() const {
+  return corner_uvs.size() == 3 * triangles.size() && !triangles.empty() &&
+         std::any_of(materials.begin(), materials.end(), [](const MeshMaterial& m) { return m.has_texture(); });
+}
 
 Bounds TriangleMesh::bounds() const {
   Bounds b;
@@ -91,84 +106,137 @@ std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh) {
 
 namespace {
 
-// The triangles of an OBJ's faces after fan triangulation (v0 v1 v2, v0 v2 v3, ...), as OpenMesh
-// makes them, with each corner's vertex and texture coordinate index (0-based; -1 = none).
-struct ObjFan {
-  struct Triangle {
-    std::array<int, 3> vertex, texcoord;
-  };
-  std::vector<Triangle> triangles;
-  std::vector<Eigen::Vector2f> texcoords;
-};
-
-ObjFan obj_fan_triangles(const std::filesystem::path& file) {
-  ObjFan fan;
-  std::ifstream in(file, std::ios::binary);
-  long long vertices = 0;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream words(line);
-    std::string key;
-    if (!(words >> key)) continue;
-    if (key == "v") {
-      ++vertices;
-    } else if (key == "vt") {
-      float u = 0, v = 0;
-      words >> u >> v;
-      fan.texcoords.emplace_back(u, v);
-    } else if (key == "f") {
-      std::vector<std::pair<int, int>> corners;
-      for (std::string corner; words >> corner;) {
-        // check_mesh_file() has verified the indices; negative ones count back from the end.
-        const long long v = std::atoll(corner.c_str());
-        const auto slash = corner.find('/');
-        long long t = slash == std::string::npos ? 0 : std::atoll(corner.c_str() + slash + 1);
-        const long long uv_count = static_cast<long long>(fan.texcoords.size());
-        corners.emplace_back(static_cast<int>(v < 0 ? vertices + v : v - 1),
-                             static_cast<int>(t < 0 ? uv_count + t : t > 0 ? t - 1 : -1));
+// Gives the mesh the OBJ's materials, each triangle its material and (with `face_texcoords`) its
+// corners' texture coordinates. OpenMesh fan-triangulates polygons but gives texture
+// coordinates only to the first triangle of each, and keeps no material; both come from the
+// file's own faces here. Not inlined: GCC's view of OpenMesh's property code inside load_mesh
+// would otherwise change (and warn).
+[[gnu::noinline]] void assign_obj_materials(LoaderMesh& om, obj_detail::ObjFaces& faces, bool face_texcoords, TriangleMesh& mesh) {
+  if (faces.materials.empty()) return;
+  {
+    // Faces before any usemtl get a material of their own, untextured (the look's colour).
+    const bool unassigned = std::any_of(faces.triangles.begin(), faces.triangles.end(), [](const auto& t) { return t.material < 0; });
+    const std::uint32_t fallback = static_cast<std::uint32_t>(faces.materials.size());
+    if (unassigned) {
+      MeshMaterial none;
+      none.name = "(faces before any usemtl)";
+      faces.materials.push_back(none);
+      faces.uv_transforms.push_back({1, 1, 0, 0});
+    }
+    const bool uvs = face_texcoords && !faces.texcoords.empty();
+    mesh.triangle_materials.reserve(mesh.triangles.size());
+    if (uvs) mesh.corner_uvs.reserve(3 * mesh.triangles.size());
+    // OpenMesh fan-triangulates polygons but gives texture coordinates only to the first
+    // triangle of each, and keeps no material; both come from the file's own faces here.
+    std::size_t cursor = 0;
+    std::uint32_t material = unassigned ? fallback : 0;
+    for (auto fh : om.faces()) {
+      std::array<OpenMesh::HalfedgeHandle, 3> corners;
+      std::array<int, 3> vertex{};
+      int k = 0;
+      for (auto heh : om.fh_range(fh))  // same order as fv_range: each halfedge's target vertex
+        if (k < 3) {
+          corners[k] = heh;
+          vertex[k++] = om.to_vertex_handle(heh).idx();
+        }
+      // OpenMesh keeps the file's order and drops faces it cannot add, so the match is ahead.
+      std::size_t match = faces.triangles.size();
+      for (std::size_t j = cursor; j < faces.triangles.size() && j < cursor + 1024; ++j)
+        if (std::is_permutation(vertex.begin(), vertex.end(), faces.triangles[j].vertex.begin())) {
+          match = j;
+          break;
+        }
+      // A face OpenMesh changed (split vertices) keeps the material of the face before it.
+      if (match != faces.triangles.size())
+        material = faces.triangles[match].material < 0 ? fallback : static_cast<std::uint32_t>(faces.triangles[match].material);
+      mesh.triangle_materials.push_back(material);
+      if (!uvs) {
+        if (match != faces.triangles.size()) cursor = match + 1;
+        continue;
       }
-      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-        fan.triangles.push_back({{corners[0].first, corners[k].first, corners[k + 1].first},
-                                 {corners[0].second, corners[k].second, corners[k + 1].second}});
+      const auto& transform = faces.uv_transforms[material];
+      for (int c = 0; c < 3; ++c) {
+        Eigen::Vector2f uv = Eigen::Vector2f::Zero();
+        if (match == faces.triangles.size()) {
+          if (om.has_halfedge_texcoords2D()) {
+            const auto& t = om.texcoord2D(corners[c]);
+            uv = {t[0], t[1]};
+          }
+        } else {
+          const auto& tri = faces.triangles[match];
+          const int at = static_cast<int>(std::find(tri.vertex.begin(), tri.vertex.end(), vertex[c]) - tri.vertex.begin());
+          const int index = tri.texcoord[at];
+          if (index >= 0 && index < static_cast<int>(faces.texcoords.size())) uv = faces.texcoords[index];
+        }
+        // map_Kd -s and -o: the texture is scaled, then moved, in texture space.
+        if (transform != std::array<float, 4>{1, 1, 0, 0})
+          uv = {uv.x() * transform[0] + transform[2], uv.y() * transform[1] + transform[3]};
+        mesh.corner_uvs.push_back(uv);
+      }
+      if (match != faces.triangles.size()) cursor = match + 1;
     }
+    mesh.materials = std::move(faces.materials);
   }
-  return fan;
-}
-
-// The diffuse texture of an OBJ: the first `map_Kd` of the first `mtllib` it names, resolved
-// relative to the files. OpenMesh reads these too, but keeps them per face in properties that
-// vary between versions; meshtour uses one texture per model, so two small text scans suffice.
-std::filesystem::path obj_diffuse_texture(const std::filesystem::path& obj_file) {
-  auto first_argument = [](const std::filesystem::path& file, const std::string& keyword) -> std::string {
-    std::ifstream in(file);
-    std::string line;
-    while (std::getline(in, line)) {
-      std::istringstream words(line);
-      std::string key;
-      if (!(words >> key) || key != keyword) continue;
-      std::string rest;
-      std::getline(words >> std::ws, rest);
-      while (!rest.empty() && std::isspace(static_cast<unsigned char>(rest.back()))) rest.pop_back();
-      // Options such as "-bm 1" may precede the name: the name is the last word.
-      const auto space = rest.find_last_of(" \t");
-      return space == std::string::npos ? rest : rest.substr(space + 1);
-    }
-    return {};
-  };
-  const std::string mtl = first_argument(obj_file, "mtllib");
-  if (mtl.empty()) return {};
-  const auto mtl_file = obj_file.parent_path() / mtl;
-  const std::string map = first_argument(mtl_file, "map_Kd");
-  if (map.empty()) return {};
-  const std::filesystem::path texture(map);
-  return texture.is_absolute() ? texture : mtl_file.parent_path() / texture;
 }
 
 }  // namespace
 
-std::string supported_mesh_formats() { return "obj, ply (ascii or binary), off, stl"; }
+namespace {
 
-TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
+// A textured PLY, built from what its check collected: positions, colours, faces (fan-
+// triangulated) with their corners' texture coordinates, and one material: the image of its
+// TextureFile comment, relative to the PLY.
+TriangleMesh textured_ply(const std::filesystem::path& file, ply_detail::PlyTexture texture) {
+  TriangleMesh mesh;
+  MeshMaterial material;
+  material.name = "TextureFile";
+  std::string name = texture.texture_file;
+  std::replace(name.begin(), name.end(), '\\', '/');
+  const std::filesystem::path image(name);
+  material.texture_file = image.is_absolute() ? image : file.parent_path() / image;
+  material.wrap_s = material.wrap_t = TextureWrap::image_default;  // as OBJ
+  mesh.materials.push_back(material);
+  mesh.positions = std::move(texture.positions);
+  mesh.colors = std::move(texture.colors);
+  for (const auto& f : texture.faces) {
+    const bool corners = texture.per_corner && f.uvs.size() == f.vertices.size();
+    const auto uv = [&](std::size_t k) -> Eigen::Vector2f {
+      if (corners) return f.uvs[k];
+      return texture.per_vertex ? texture.vertex_uvs[f.vertices[k]] : Eigen::Vector2f::Zero();
+    };
+    for (std::size_t k = 1; k + 1 < f.vertices.size(); ++k) {
+      mesh.triangles.push_back({f.vertices[0], f.vertices[k], f.vertices[k + 1]});
+      for (const std::size_t c : {std::size_t{0}, k, k + 1}) mesh.corner_uvs.push_back(uv(c));
+    }
+  }
+  if (mesh.triangles.empty()) throw InputError(file.string() + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
+  return mesh;
+}
+
+// What every loader's result must have before any stage sees it: finite coordinates, an extent
+// and one triangle with an area.
+void check_geometry(const TriangleMesh& mesh, const std::string& name) {
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    if (!mesh.positions[i].allFinite())
+      throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+  if (mesh.bounds().diagonal() <= 0.0)
+    throw InputError(name + ": all vertices coincide; the mesh has no extent to render");
+  // Every later stage divides by areas and normals: a mesh without one proper triangle is refused
+  // here, naming the file, rather than deep in the path computation.
+  const bool has_area = std::any_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const auto& t) {
+    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    return n.squaredNorm() > 0.0;
+  });
+  if (!has_area)
+    throw InputError(name + ": all " + std::to_string(mesh.triangles.size()) +
+                     " faces are degenerate (zero area: their corners are collinear or coincide)");
+}
+
+}  // namespace
+
+std::string supported_mesh_formats() { return "obj, ply (ascii or binary), off, stl, gltf, glb"; }
+
+TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, const LoadOptions& load_options) {
   const std::string name = file.string();
   std::error_code ec;
   if (!std::filesystem::exists(file, ec))
@@ -184,7 +252,25 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
   }
 
-  check_mesh_file(file);
+  ply_detail::PlyTexture ply_texture;
+  if (ext == ".ply") ply_detail::check_ply_with_texture(file, ply_texture);
+  else check_mesh_file(file);
+  if (ply_texture.per_vertex || ply_texture.per_corner) {
+    std::vector<std::string> warnings;
+    TriangleMesh mesh = textured_ply(file, std::move(ply_texture));
+    check_geometry(mesh, name);
+    check_material_textures(mesh, name, load_options, warnings);
+    if (report) report->warnings = warnings;
+    return mesh;
+  }
+  if (ext == ".gltf" || ext == ".glb") {
+    std::vector<std::string> warnings;
+    TriangleMesh mesh = gltf_detail::load_gltf(file, warnings);
+    check_geometry(mesh, name);
+    check_material_textures(mesh, name, load_options, warnings);
+    if (report) report->warnings = warnings;
+    return mesh;
+  }
 
   LoaderMesh om;
   om.request_vertex_colors();
@@ -217,9 +303,6 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
     const auto& p = om.point(vh);
     mesh.positions.emplace_back(p[0], p[1], p[2]);
   }
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-    if (!mesh.positions[i].allFinite())
-      throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
   if (options.check(OpenMesh::IO::Options::VertexColor)) {
     mesh.colors.reserve(om.n_vertices());
     for (auto vh : om.vertices()) {
@@ -237,60 +320,19 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report) {
     }
     mesh.triangles.push_back(tri);
   }
-  if (mesh.bounds().diagonal() <= 0.0)
-    throw InputError(name + ": all vertices coincide; the mesh has no extent to render");
-  // Every later stage divides by areas and normals: a mesh without one proper triangle is refused
-  // here, naming the file, rather than deep in the path computation.
-  const bool has_area = std::any_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const auto& t) {
-    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
-    return n.squaredNorm() > 0.0;
-  });
-  if (!has_area)
-    throw InputError(name + ": all " + std::to_string(mesh.triangles.size()) +
-                     " faces are degenerate (zero area: their corners are collinear or coincide)");
-  if (obj && options.check(OpenMesh::IO::Options::FaceTexCoord)) {
-    mesh.texture_file = obj_diffuse_texture(file);
-    if (!mesh.texture_file.empty()) {
-      // OpenMesh fan-triangulates polygons but gives texture coordinates only to the first
-      // triangle of each; the others get them here from the file's own corners.
-      const ObjFan fan = obj_fan_triangles(file);
-      mesh.corner_uvs.reserve(3 * mesh.triangles.size());
-      std::size_t cursor = 0;
-      for (auto fh : om.faces()) {
-        std::array<OpenMesh::HalfedgeHandle, 3> corners;
-        std::array<int, 3> vertex{};
-        int k = 0;
-        for (auto heh : om.fh_range(fh))  // same order as fv_range: each halfedge's target vertex
-          if (k < 3) {
-            corners[k] = heh;
-            vertex[k++] = om.to_vertex_handle(heh).idx();
-          }
-        // OpenMesh keeps the file's order and drops faces it cannot add, so the match is ahead.
-        std::size_t match = fan.triangles.size();
-        for (std::size_t j = cursor; j < fan.triangles.size() && j < cursor + 1024; ++j)
-          if (std::is_permutation(vertex.begin(), vertex.end(), fan.triangles[j].vertex.begin())) {
-            match = j;
-            break;
-          }
-        for (int c = 0; c < 3; ++c) {
-          if (match == fan.triangles.size()) {  // a face OpenMesh changed (split vertices): its own
-            const auto& t = om.texcoord2D(corners[c]);
-            mesh.corner_uvs.emplace_back(t[0], t[1]);
-            continue;
-          }
-          const auto& tri = fan.triangles[match];
-          const int at = static_cast<int>(std::find(tri.vertex.begin(), tri.vertex.end(), vertex[c]) - tri.vertex.begin());
-          const int uv = tri.texcoord[at];
-          mesh.corner_uvs.push_back(uv >= 0 && uv < static_cast<int>(fan.texcoords.size()) ? fan.texcoords[uv] : Eigen::Vector2f::Zero());
-        }
-        if (match != fan.triangles.size()) cursor = match + 1;
-      }
-    }
+  check_geometry(mesh, name);
+  std::vector<std::string> material_warnings;
+  if (obj) {
+    obj_detail::ObjFaces faces = obj_detail::read_obj_faces(file);
+    material_warnings = std::move(faces.warnings);
+    assign_obj_materials(om, faces, options.check(OpenMesh::IO::Options::FaceTexCoord), mesh);
   }
+  check_material_textures(mesh, name, load_options, material_warnings);
 
   if (report) {
     report->polygons_triangulated = count_polygons_in_text(file, ext);
     report->warnings = messages;
+    report->warnings.insert(report->warnings.end(), material_warnings.begin(), material_warnings.end());
     // OpenMesh keeps faces it cannot add manifoldly by giving them copies of their vertices;
     // each such copy is a vertex the file did not have.
     std::size_t split = 0;

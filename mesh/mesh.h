@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +21,29 @@ struct Bounds {
   double diagonal() const { return (hi - lo).norm(); }
 };
 
+/// How a texture lookup outside [0,1] is resolved (glTF sampler wrapS/wrapT, OBJ `-clamp on`).
+/// image_default: the image file's own wrap metadata, black outside if it has none; what OBJ
+/// without -clamp has always used here (the golden images depend on it).
+enum class TextureWrap { repeat, clamp, mirror, image_default };
+
+/// A surface's colour as the file gives it: a factor and an optional texture. UV transforms (OBJ
+/// `-o`/`-s`, glTF KHR_texture_transform) are applied to the triangles' corner_uvs by the loader.
+struct MeshMaterial {
+  std::string name;  ///< as the file names it (OBJ newmtl, glTF material name or "material <i>")
+  /// Linear RGB multiplying the texture or the vertex colours; without a texture and vertex
+  /// colours it is the surface's colour. Nothing = the look's base colour (untextured) or 1.
+  std::optional<Eigen::Vector3f> base_color;
+  /// The diffuse colour texture, resolved relative to the file that names it, or empty. For
+  /// an embedded image (glTF data URI or buffer view) a name unique within the model.
+  std::filesystem::path texture_file;
+  /// The embedded image's encoded bytes (PNG, JPEG), or null: the texture is read from the file.
+  std::shared_ptr<const std::vector<unsigned char>> texture_bytes;
+  TextureWrap wrap_s = TextureWrap::repeat, wrap_t = TextureWrap::repeat;
+  /// Whether vertex colours multiply the texture (glTF COLOR_0); otherwise a texture replaces them.
+  bool texture_times_vertex_colors = false;
+  bool has_texture() const { return !texture_file.empty(); }
+};
+
 /// A triangle soup with shared vertices, as loaded from a file or made procedurally.
 struct TriangleMesh {
   std::vector<Eigen::Vector3d> positions;
@@ -31,14 +55,22 @@ struct TriangleMesh {
   /// `vt`, origin at the image's bottom left), or empty. Per corner because seams give one vertex
   /// several coordinates.
   std::vector<Eigen::Vector2f> corner_uvs;
-  /// The diffuse colour texture (OBJ: `map_Kd` of the MTL file), resolved relative to the mesh
-  /// file, or empty. Used only with `corner_uvs`.
-  std::filesystem::path texture_file;
+  /// The model's materials (OBJ `usemtl`/MTL, glTF materials), or empty.
+  std::vector<MeshMaterial> materials;
+  /// Index into `materials` per triangle; empty = every triangle uses material 0 (if any).
+  std::vector<std::uint32_t> triangle_materials;
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t face_count() const { return triangles.size(); }
   bool has_colors() const { return !colors.empty() && colors.size() == positions.size(); }
-  bool has_texture() const { return !texture_file.empty() && corner_uvs.size() == 3 * triangles.size(); }
+  /// Whether some material has a texture and every triangle corner has texture coordinates.
+  bool has_texture() const;
+  /// The material of triangle `t` (nullptr if the mesh has no materials).
+  const MeshMaterial* material_of(std::size_t t) const {
+    if (materials.empty()) return nullptr;
+    const std::size_t m = triangle_materials.empty() ? 0 : triangle_materials[t];
+    return m < materials.size() ? &materials[m] : nullptr;
+  }
   /// Bounds of the vertices that some triangle uses (unreferenced vertices do not count).
   Bounds bounds() const;
 };
@@ -53,6 +85,24 @@ struct LoadReport {
   std::size_t vertices_split = 0;         ///< vertices OpenMesh duplicated to keep non-manifold faces
   std::vector<std::string> warnings;      ///< messages from the reader, one per line
 };
+
+/// How the loader treats the files a model refers to.
+struct LoadOptions {
+  /// A texture that is missing or unreadable: false = an error naming the file and the material;
+  /// true (--missing-textures grey) = that material is drawn untextured and the report warns.
+  bool missing_textures_grey = false;
+  /// false: the materials' textures are not opened (commands that do not render, e.g. `path`).
+  bool check_textures = true;
+};
+
+/// The size of a material's texture as its file's header gives it.
+struct TextureSize {
+  int width = 0, height = 0, channels = 0;
+};
+
+/// Opens a material's texture (file or embedded bytes) and reads its header.
+/// 	hrow IoError naming the texture and the material if it is missing or not a readable image.
+TextureSize probe_texture(const MeshMaterial& material);
 
 /// What a mesh file announces, found by check_mesh_file() without building the mesh.
 struct MeshFileSummary {
@@ -78,7 +128,7 @@ std::string supported_mesh_formats();
 /// and per-vertex colours are kept when the file has them.
 /// \throw IoError if the file is missing or unreadable, InputError if it holds no usable triangle
 ///        or its extension is not a supported format.
-TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report = nullptr);
+TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report = nullptr, const LoadOptions& options = {});
 
 /// Writes a mesh (PLY with vertex colours when present, or any format OpenMesh writes, by
 /// extension). Used by tests and debug output. \throw IoError on failure.

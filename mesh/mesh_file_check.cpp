@@ -19,7 +19,9 @@
 #include <vector>
 
 #include "core/error.h"
+#include "mesh/gltf.h"
 #include "mesh/mesh.h"
+#include "mesh/ply_texture.h"
 
 namespace meshtour {
 namespace {
@@ -333,7 +335,10 @@ private:
   bool ascii_, big_endian_;
 };
 
-MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& name) {
+bool is_u_property(const std::string& n) { return n == "texture_u" || n == "s" || n == "u"; }
+bool is_v_property(const std::string& n) { return n == "texture_v" || n == "t" || n == "v"; }
+
+MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& name, ply_detail::PlyTexture* texture) {
   std::ifstream in(file, std::ios::binary);
   std::string line;
   if (!std::getline(in, line) || (strip_cr(line), line != "ply"))
@@ -351,6 +356,15 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
     // The strict grammar of the header: OpenMesh's own header parser loops forever on some
     // malformed lines (a 'format' line with extra words was found by fuzzing).
     const std::string& keyword = words[0];
+    if (keyword == "comment" && words.size() >= 3 && words[1] == "TextureFile" && texture && texture->texture_file.empty()) {
+      // The name is the rest of the line (it may hold spaces).
+      const std::string rest = line.substr(line.find("TextureFile") + 11);
+      const auto first = rest.find_first_not_of(" \t");
+      texture->texture_file = rest.substr(first);
+      while (!texture->texture_file.empty() && std::isspace(static_cast<unsigned char>(texture->texture_file.back())))
+        texture->texture_file.pop_back();
+      continue;
+    }
     if (keyword == "comment" || keyword == "obj_info") continue;
     if (keyword == "format") {
       double version = 0.0;
@@ -419,6 +433,23 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
   for (const auto& e : elements)
     if (e.name == "vertex") vertex_count = e.count;
   PlyBody reader(in, name, ascii, format == "binary_big_endian");
+  // Texture coordinates are collected only for a file that names its texture.
+  bool collect = false;
+  if (texture && !texture->texture_file.empty())
+    for (const auto& e : elements)
+      for (const auto& p : e.properties) {
+        if (e.name == "vertex" && is_u_property(p.name) && !p.count_size) texture->per_vertex = true;
+        if (e.name == "face" && p.name == "texcoord" && p.count_size) texture->per_corner = true;
+      }
+  if (texture && (texture->per_vertex || texture->per_corner)) {
+    collect = true;
+    if (texture->per_vertex) texture->vertex_uvs.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector2f::Zero());
+    texture->positions.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector3d::Zero());
+    for (const auto& e : elements)
+      for (const auto& p : e.properties)
+        if (e.name == "vertex" && is_colour_property(p.name) && texture->colors.empty())
+          texture->colors.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector3f::Ones());
+  }
   for (const auto& e : elements) {
     if (e.name == "vertex") s.vertices = e.count;
     if (e.name == "face") s.faces = e.count;
@@ -427,6 +458,18 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
         const std::string where = e.name + " " + std::to_string(i);
         if (!p.count_size) {
           const double v = reader.value(p.size, p.is_float, p.is_signed, where);
+          if (collect && e.name == "vertex") {
+            const auto at = static_cast<std::size_t>(i);
+            if (p.name == "x" || p.name == "y" || p.name == "z") texture->positions[at][p.name[0] - 'x'] = v;
+            const float colour = static_cast<float>(p.is_float ? v : v / 255.0);
+            if (p.name == "red" || p.name == "diffuse_red") texture->colors[at].x() = colour;
+            if (p.name == "green" || p.name == "diffuse_green") texture->colors[at].y() = colour;
+            if (p.name == "blue" || p.name == "diffuse_blue") texture->colors[at].z() = colour;
+          }
+          if (collect && texture->per_vertex && e.name == "vertex") {
+            if (is_u_property(p.name)) texture->vertex_uvs[static_cast<std::size_t>(i)].x() = static_cast<float>(v);
+            if (is_v_property(p.name)) texture->vertex_uvs[static_cast<std::size_t>(i)].y() = static_cast<float>(v);
+          }
           if (e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z") && !std::isfinite(v))
             throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate (" + p.name + ")");
           // Float colours become bytes in OpenMesh without a range check (undefined behaviour).
@@ -438,6 +481,8 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
         if (!(n >= 0) || n > static_cast<double>(body))
           throw InputError(name + ": " + where + ": the list '" + p.name + "' has an invalid length " + std::to_string(n));
         const bool indices = e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+        const bool corner_uvs = collect && e.name == "face" && p.name == "texcoord";
+        if (collect && e.name == "face" && (indices || corner_uvs) && texture->faces.size() <= i) texture->faces.resize(static_cast<std::size_t>(i) + 1);
         if (indices) {
           if (n < 3) throw InputError(name + ": face " + std::to_string(i) + " has " + std::to_string(static_cast<long long>(n)) + " corners; a face needs 3 or more");
           s.corners += static_cast<std::size_t>(n);
@@ -447,6 +492,12 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
           if (indices && !(v >= 0 && v < static_cast<double>(vertex_count)))
             throw InputError(name + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(static_cast<long long>(v)) +
                              " but the file has " + std::to_string(vertex_count) + " vertices");
+          if (collect && indices) texture->faces[static_cast<std::size_t>(i)].vertices.push_back(static_cast<std::uint32_t>(v));
+          if (corner_uvs) {
+            auto& uvs = texture->faces[static_cast<std::size_t>(i)].uvs;
+            if (static_cast<long long>(k) % 2 == 0) uvs.emplace_back(static_cast<float>(v), 0.0f);
+            else uvs.back().y() = static_cast<float>(v);
+          }
         }
       }
     }
@@ -500,16 +551,25 @@ MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file, ec)) throw IoError(name + ": no such file");
   if (std::filesystem::is_directory(file, ec)) throw IoError(name + ": is a directory, not a mesh file");
   const std::string ext = lower_extension(file);
-  if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
+  if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl" || ext == ".gltf" || ext == ".glb") {
     std::ifstream probe(file, std::ios::binary);
     if (!probe) throw IoError(name + ": cannot open for reading (check permissions)");
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
   }
   if (ext == ".obj") return check_obj(file, name);
   if (ext == ".off") return check_off(file, name);
-  if (ext == ".ply") return check_ply(file, name);
+  if (ext == ".ply") return check_ply(file, name, nullptr);
   if (ext == ".stl") return check_stl(file, name);
+  if (ext == ".gltf" || ext == ".glb") return gltf_detail::gltf_summary(file);
   throw InputError(name + ": unknown mesh format '" + ext + "' (supported: " + supported_mesh_formats() + ")");
 }
 
 }  // namespace meshtour
+
+namespace meshtour::ply_detail {
+
+MeshFileSummary check_ply_with_texture(const std::filesystem::path& file, PlyTexture& texture) {
+  return check_ply(file, file.string(), &texture);  // load_mesh() has checked that the file exists and is not empty
+}
+
+}  // namespace meshtour::ply_detail

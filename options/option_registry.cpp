@@ -50,6 +50,13 @@ std::vector<Option> make_registry() {
   add({.id = "up", .flag = "--up", .kind = Kind::choice, .choices = {"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"},
        .ignore_case = true, .default_text = "y", .help = "The model's up axis: x, y, z, -x, -y or -z (default y)",
        .scene_key = "up", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
+  add({.id = "missing-textures", .flag = "--missing-textures", .kind = Kind::choice, .choices = {"error", "grey"},
+       .default_text = "error",
+       .help = "A texture the model names that is missing or unreadable: error (default; the message names the file and\n"
+               "the material) or grey (its faces are rendered untextured, in the look's colour, with a warning)",
+       .scene_key = "missing_textures", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "json", .flag = "--json", .kind = Kind::flag,
+       .help = "Print the report as one JSON object on stdout instead of text", .commands = info});
   add({.id = "path", .flag = "--path", .kind = Kind::choice, .choices = {"feature-orbit", "paper", "turntable"},
        .default_text = "feature-orbit",
        .help = "Camera path: feature-orbit (default; an orbit whose elevation and distance are chosen to show the most\n"
@@ -436,6 +443,7 @@ std::string_view command_name(Command c) {
     case path: return "path";
     case evaluate: return "evaluate";
     case encode: return "encode";
+    case info: return "info";
   }
   return "?";
 }
@@ -477,7 +485,7 @@ std::string options_markdown() {
       "its command-line flag, range, help, scene-file key and batch-manifest column all come from that row.\n\n"
       "Columns: **commands** that take it; **scene key** in a scene file (`meshtour-scene/1`); **column**\n"
       "= also a batch-manifest column (named by the option's id); **farm** = what `farm slurm` passes it to.\n\n";
-  const Command all[] = {tour, render, batch, farm, path, evaluate, encode};
+  const Command all[] = {tour, render, batch, farm, path, evaluate, encode, info};
   for (const Option& o : registry()) {
     md += "## `" + std::string(o.flag) + "`";
     if (o.alt_flag_commands) md += " (`" + std::string(o.alt_flag) + "` in render)";

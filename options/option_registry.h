@@ -26,6 +26,7 @@ enum Command : unsigned {
   path = 1u << 4,
   evaluate = 1u << 5,
   encode = 1u << 6,
+  info = 1u << 7,
 };
 
 /// Where a farm must pass an option given to `farm slurm` (a bit set in Option::farm).

@@ -203,6 +203,8 @@ void apply_option(Scene& scene, const options::Option& o, const std::string& tex
     scene.frames = static_cast<int>(std::lround(frames));
   } else if (id == "up") {
     scene.up = Axis::parse(text);
+  } else if (id == "missing-textures") {
+    scene.missing_textures_grey = text == "grey";
   } else if (id == "path") {
     scene.path_mode = text;
   } else if (id == "path-file") {
@@ -258,7 +260,7 @@ Scene load_scene(const std::filesystem::path& file) {
 }
 
 TriangleMesh load_scene_model(const Scene& scene, LoadReport* report) {
-  if (scene.mesh_file) return load_mesh(*scene.mesh_file, report);
+  if (scene.mesh_file) return load_mesh(*scene.mesh_file, report, LoadOptions{.missing_textures_grey = scene.missing_textures_grey});
   return make_sculpture(scene.procedural_detail);
 }
 

@@ -20,6 +20,7 @@ struct Scene {
   std::string procedural = "sculpture";             ///< used when mesh_file is empty
   double procedural_detail = 1.0;
   Axis up{1, false};
+  bool missing_textures_grey = false;  ///< --missing-textures grey
 
   // Camera and timing.
   std::string path_mode = "feature-orbit";  ///< "feature-orbit" (pathgen/feature_orbit.h), "paper" (toroidal patches, ALGORITHM.md) or "turntable"

@@ -10,6 +10,7 @@ packages=(
   openimageio-tools                         # OpenImageIO's CMake config refers to its tools (iconvert, ...)
   libopenmesh-dev libeigen3-dev             # pathgen: mesh I/O and linear algebra
   libqhull-dev                              # mesh: convex hulls (reentrant libqhull_r) for fast framing
+  libtinygltf-dev libdraco-dev draco        # mesh: glTF/GLB input, Draco-compressed primitives (draco_encoder: tests)
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video encoder
   libavfilter-dev                           # video encoder: the GIF palette (palettegen, paletteuse)
   nlohmann-json3-dev libcli11-dev           # scene/path files, command line

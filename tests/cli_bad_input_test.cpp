@@ -329,4 +329,17 @@ TEST_F(BadInputCorpus, PathFiles) {
   for (const auto& c : cases) run(c);
 }
 
+// A render that fails before its first frame (here: the model cannot be loaded) leaves no
+// frames directory and no meshtour-frames.json behind.
+TEST(RenderCommand, FailingBeforeTheFirstFrameLeavesNoFile) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  const fs::path model = write(dir / "broken.glb", "glTF this is not");
+  std::string command = "render '";
+  command.append(model.string()).append("' --out-dir '").append((dir / "frames").string()).append("' --frame-count 2 --progress none");
+  const auto r = run_meshtour(command);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("broken.glb"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "frames")) << r.output;
+}
+
 }  // namespace

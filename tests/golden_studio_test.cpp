@@ -72,7 +72,8 @@ TEST(GoldenStudio, TexturedObj) {
   const auto file = write_textured_cube(test::scratch_dir());
   const TriangleMesh cube = load_mesh(file);
   ASSERT_TRUE(cube.has_texture()) << "the loader kept no UVs or no map_Kd";
-  EXPECT_EQ(cube.texture_file.filename(), "checker.png");
+  ASSERT_EQ(cube.materials.size(), 1u);
+  EXPECT_EQ(cube.materials[0].texture_file.filename(), "checker.png");
   EXPECT_EQ(cube.corner_uvs.size(), 3 * cube.triangles.size());
   golden(Renderer(cube, small_options("studio")).render(Camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0}),
                       "studio_textured_obj");
@@ -82,8 +83,21 @@ TEST(GoldenStudio, MissingTextureIsAnIoError) {
   const auto dir = test::scratch_dir();
   const auto file = write_textured_cube(dir);
   std::filesystem::remove(dir / "checker.png");
-  const TriangleMesh cube = load_mesh(file);
-  EXPECT_THROW(Renderer(cube, small_options("studio")), IoError);
+  try {
+    load_mesh(file);
+    FAIL() << "a missing texture loaded";
+  } catch (const IoError& e) {
+    // The message names the texture and its material, and the way out.
+    EXPECT_NE(std::string(e.what()).find("checker.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'checker'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--missing-textures grey"), std::string::npos) << e.what();
+  }
+  LoadReport report;
+  const TriangleMesh cube = load_mesh(file, &report, LoadOptions{.missing_textures_grey = true});
+  EXPECT_FALSE(cube.has_texture());
+  ASSERT_FALSE(report.warnings.empty());
+  EXPECT_NE(report.warnings.back().find("checker.png"), std::string::npos);
+  EXPECT_NO_THROW(Renderer(cube, small_options("studio")));
 }
 
 TEST(GoldenStudio, ExrWithExtraLayers) {

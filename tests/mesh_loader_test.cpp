@@ -54,7 +54,8 @@ TEST(MeshLoader, ObjPolygonsKeepEveryCornersUv) {
   for (int k = 0; k < sides; ++k) face += " " + std::to_string(k + 1) + "/" + std::to_string(sides - k);
   obj += "vt 0.5 0.5\nvt 0.75 0.5\nvt 0.5 0.75\nvt 0.75 0.75\n";
   obj += face + "\nf -4/-4 -3/-3 -1/-1 -2/-2\n";
-  const TriangleMesh mesh = load_mesh(write_text(dir / "polygon.obj", obj));
+  // tex.png is not written: the UVs are what this test checks.
+  const TriangleMesh mesh = load_mesh(write_text(dir / "polygon.obj", obj), nullptr, LoadOptions{.check_textures = false});
   ASSERT_EQ(mesh.face_count(), static_cast<std::size_t>(sides - 2 + 2));
   ASSERT_TRUE(mesh.has_texture());
   for (std::size_t f = 0; f < mesh.face_count(); ++f)
@@ -63,6 +64,38 @@ TEST(MeshLoader, ObjPolygonsKeepEveryCornersUv) {
       const Eigen::Vector2f expected(static_cast<float>(0.5 + 0.25 * p.x()), static_cast<float>(0.5 + 0.25 * p.y()));
       EXPECT_NEAR((mesh.corner_uvs[3 * f + c] - expected).norm(), 0.0f, 1e-5f) << "face " << f << " corner " << c;
     }
+}
+
+// MeshLab's per-vertex texture coordinates (texture_u/texture_v) and the image its header
+// comment names, in a binary PLY with a quad (fan-triangulated: every triangle keeps its UVs).
+TEST(MeshLoader, PlyVertexTexcoordsAndTextureFileComment) {
+  const auto dir = test::scratch_dir();
+  std::string ply = "ply\nformat binary_little_endian 1.0\ncomment TextureFile my texture.png\nelement vertex 4\n"
+                    "property float x\nproperty float y\nproperty float z\nproperty float texture_u\nproperty float texture_v\n"
+                    "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const float vertices[4][5] = {{0, 0, 0, 0, 0}, {1, 0, 0, 1, 0}, {1, 1, 0, 1, 1}, {0, 1, 0, 0, 1}};
+  ply.append(reinterpret_cast<const char*>(vertices), sizeof vertices);
+  const unsigned char count = 4;
+  const int indices[4] = {0, 1, 2, 3};
+  ply.append(reinterpret_cast<const char*>(&count), 1);
+  ply.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  const TriangleMesh mesh = load_mesh(write_text(dir / "quad.ply", ply), nullptr, LoadOptions{.check_textures = false});
+  ASSERT_EQ(mesh.triangles.size(), 2u);
+  ASSERT_EQ(mesh.materials.size(), 1u);
+  EXPECT_EQ(mesh.materials[0].texture_file, dir / "my texture.png");
+  ASSERT_TRUE(mesh.has_texture());
+  for (std::size_t f = 0; f < 2; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d& p = mesh.positions[mesh.triangles[f][c]];
+      EXPECT_NEAR((mesh.corner_uvs[3 * f + c] - p.head<2>().cast<float>()).norm(), 0.0f, 1e-6f);
+    }
+  // Without the texture file the load fails naming it.
+  try {
+    load_mesh(dir / "quad.ply");
+    FAIL() << "loaded without its texture";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("my texture.png"), std::string::npos) << e.what();
+  }
 }
 
 TEST(MeshLoader, AsciiPlyKeepsVertexColours) {

@@ -107,7 +107,7 @@ std::string scene_fingerprint(const Scene& s) {
                       {"elev", s.elevation_deg}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
                       {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"denoise", s.render.denoise},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},
-                      {"file", s.path_file ? s.path_file->string() : ""}};
+                      {"file", s.path_file ? s.path_file->string() : ""}, {"grey", s.missing_textures_grey}};
   for (const auto& [id, text] : s.path_search) j["search"][id] = text;
   return j.dump();
 }

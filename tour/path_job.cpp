@@ -103,7 +103,7 @@ void run_path(PathJob& a) {
 
   log.start("load");
   LoadReport load;
-  const TriangleMesh mesh = load_mesh(a.mesh, &load);
+  const TriangleMesh mesh = load_mesh(a.mesh, &load, LoadOptions{.check_textures = false});  // the path needs no textures
   throw_if_interrupted();
   const bool paper = a.mode == "paper";
   if (!paper && (!a.output.empty() || !a.plot.empty() || !a.debug_dir.empty()))

@@ -100,7 +100,8 @@ TriangleMesh overview_scene(const TriangleMesh& mesh, const CameraPath& path, co
   TriangleMesh scene = mesh;
   if (!scene.has_colors()) scene.colors.assign(scene.positions.size(), Eigen::Vector3f(0.78f, 0.78f, 0.76f));
   scene.corner_uvs.clear();
-  scene.texture_file.clear();
+  scene.materials.clear();
+  scene.triangle_materials.clear();
 
   std::vector<Eigen::Vector3d> eyes, targets;
   for (int k = 0; k < samples; ++k) {

@@ -18,6 +18,30 @@
 namespace meshtour {
 namespace {
 
+// A command that fails before its first output leaves no file: the frames directory and its
+// manifest, when this run made them, are removed again unless a frame was written.
+class NewFrameDirGuard {
+public:
+  explicit NewFrameDirGuard(const std::filesystem::path& dir) : dir_(dir), manifest_(dir / kFrameDirManifestName) {
+    std::error_code ec;
+    dir_existed_ = std::filesystem::exists(dir_, ec);
+    manifest_existed_ = std::filesystem::exists(manifest_, ec);
+  }
+  NewFrameDirGuard(const NewFrameDirGuard&) = delete;
+  NewFrameDirGuard& operator=(const NewFrameDirGuard&) = delete;
+  ~NewFrameDirGuard() {
+    if (kept_) return;
+    std::error_code ec;
+    if (!manifest_existed_) std::filesystem::remove(manifest_, ec);
+    if (!dir_existed_) std::filesystem::remove(dir_, ec);  // only if empty
+  }
+  void keep() { kept_ = true; }
+
+private:
+  std::filesystem::path dir_, manifest_;
+  bool dir_existed_ = false, manifest_existed_ = false, kept_ = false;
+};
+
 std::vector<std::string> formats_of(const std::string& format) {
   if (format == "png+exr") return {"png", "exr"};
   return {format};
@@ -34,6 +58,7 @@ void run_render(const RenderJob& args) {
   const std::vector<std::string> formats = formats_of(value_or(values, "format", "png"));
 
   const FrameDirInfo info = frame_dir_info(scene, formats);
+  NewFrameDirGuard guard(dir);
   prepare_frame_dir(dir, info);
 
   // A frame is done when every format of it exists: files appear under a frame name only when
@@ -50,6 +75,7 @@ void run_render(const RenderJob& args) {
                  selected.empty() ? "(none)" : format_frame_range(selected).c_str(), scene.frames, todo.size(), skipped);
   const ProgressMode mode = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
   if (todo.empty()) {  // nothing to do: not even the model is loaded
+    guard.keep();
     Progress("frame", 0, mode).finish(skipped);
     return;
   }
@@ -78,6 +104,7 @@ void run_render(const RenderJob& args) {
   int done = 0;
   render_frames(tour, todo, [&](int k, const Image& image, double seconds) {
     for (const auto& f : formats) write_image(image, frame_file(dir, k, f));
+    guard.keep();
     progress.step_done(k, seconds, ++done);
   });
   progress.finish(skipped);

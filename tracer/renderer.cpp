@@ -1,6 +1,7 @@
 // The renderer: Embree scene set-up, and per tile: camera rays in packets, shading, one batch
 // of shadow and occlusion rays, and the reconstruction filter.
 #include <Eigen/Geometry>
+#include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/texture.h>
 #include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -116,6 +117,70 @@ DenoiseSettings denoise_settings(const ReconstructionFilter& filter, bool transp
   return s;
 }
 
+OIIO::TextureOpt::Wrap wrap_mode(TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::clamp: return OIIO::TextureOpt::WrapClamp;
+    case TextureWrap::mirror: return OIIO::TextureOpt::WrapMirror;
+    case TextureWrap::image_default: return OIIO::TextureOpt::WrapDefault;
+    case TextureWrap::repeat: break;
+  }
+  return OIIO::TextureOpt::WrapPeriodic;
+}
+
+// One Surface per mesh material, with a texture handle per textured material (one texture system
+// for them all: its cache holds the tiles of every atlas within one memory budget).
+void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_texture) {
+  if (mesh.materials.empty()) return;
+  const bool textured = use_texture && mesh.has_texture();
+  for (const MeshMaterial& m : mesh.materials) {
+    Renderer::Impl::Surface surface;
+    surface.factor = m.base_color.value_or(Eigen::Vector3f::Ones());
+    surface.replaces_base_color = m.base_color.has_value();
+    surface.texture_times_vertex_colors = m.texture_times_vertex_colors;
+    surface.wrap_s = wrap_mode(m.wrap_s);
+    surface.wrap_t = wrap_mode(m.wrap_t);
+    if (textured && m.has_texture()) {
+      if (!s.textures) {
+        s.textures.reset(OIIO::TextureSystem::create(/*shared=*/false));
+        // Textures are usually sRGB-encoded 8-bit images; lookups must return linear values.
+        s.textures->attribute("colorspace", "linear");
+        // Untiled images (JPEG, PNG atlases) are cached in 64x64 tiles rather than whole, so the
+        // cache's memory cap holds for 16k atlases too (the texels and the filtering are the same).
+        s.textures->attribute("autotile", 64);
+      }
+      const OIIO::ustring texture_name(m.texture_file.string());
+      if (m.texture_bytes) {
+        s.embedded_bytes.push_back(m.texture_bytes);
+        s.embedded_images.push_back(std::make_unique<OIIO::Filesystem::IOMemReader>(m.texture_bytes->data(), m.texture_bytes->size()));
+        OIIO::ImageSpec config;
+        void* proxy = s.embedded_images.back().get();
+        config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+        s.textures->imagecache()->add_file(texture_name, nullptr, &config);
+      }
+      int readable = 0;  // "exists" is 1 only for a file OpenImageIO can open as an image
+      s.textures->get_texture_info(texture_name, 0, OIIO::ustring("exists"), OIIO::TypeInt, &readable);
+      surface.texture = readable ? s.textures->get_texture_handle(texture_name) : nullptr;
+      if (!surface.texture || !s.textures->good(surface.texture))
+        throw IoError(m.texture_file.string() + ": cannot read the texture of material '" + m.name + "' (" +
+                      s.textures->geterror() + "); check the file the model names it in, or pass --missing-textures grey");
+    }
+    s.surfaces.push_back(surface);
+  }
+  s.triangle_surface = mesh.triangle_materials;
+  for (const std::uint32_t m : s.triangle_surface)
+    if (m >= s.surfaces.size()) throw InputError("the mesh has a triangle whose material index is out of range");
+  if (!s.textures) return;
+  s.corner_uvs = mesh.corner_uvs;
+  s.uv_scale.resize(s.triangles.size());
+  for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+    const auto& t = s.triangles[i];
+    const float world = (s.positions[t[1]] - s.positions[t[0]]).cross(s.positions[t[2]] - s.positions[t[0]]).norm();
+    const Eigen::Vector2f a = s.corner_uvs[3 * i + 1] - s.corner_uvs[3 * i], b = s.corner_uvs[3 * i + 2] - s.corner_uvs[3 * i];
+    const float uv = std::abs(a.x() * b.y() - a.y() * b.x());
+    s.uv_scale[i] = world > 0.0f ? std::sqrt(uv / world) : 0.0f;
+  }
+}
+
 }  // namespace
 
 Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -149,27 +214,7 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
     s.colors.reserve(mesh.colors.size());
     for (const auto& c : mesh.colors) s.colors.push_back(srgb_to_linear(c));
   }
-  if (mesh.has_texture() && material.use_texture) {
-    s.textures.reset(OIIO::TextureSystem::create(/*shared=*/false));
-    // Textures are usually sRGB-encoded 8-bit images; lookups must return linear values.
-    s.textures->attribute("colorspace", "linear");
-    const OIIO::ustring texture_name(mesh.texture_file.string());
-    int readable = 0;  // "exists" is 1 only for a file OpenImageIO can open as an image
-    s.textures->get_texture_info(texture_name, 0, OIIO::ustring("exists"), OIIO::TypeInt, &readable);
-    s.texture = readable ? s.textures->get_texture_handle(texture_name) : nullptr;
-    if (!s.texture || !s.textures->good(s.texture))
-      throw IoError(mesh.texture_file.string() + ": cannot read the model's texture (" + s.textures->geterror() +
-                    "); check the map_Kd line of the model's MTL file");
-    s.corner_uvs = mesh.corner_uvs;
-    s.uv_scale.resize(s.triangles.size());
-    for (std::size_t i = 0; i < s.triangles.size(); ++i) {
-      const auto& t = s.triangles[i];
-      const float world = (s.positions[t[1]] - s.positions[t[0]]).cross(s.positions[t[2]] - s.positions[t[0]]).norm();
-      const Eigen::Vector2f a = s.corner_uvs[3 * i + 1] - s.corner_uvs[3 * i], b = s.corner_uvs[3 * i + 2] - s.corner_uvs[3 * i];
-      const float uv = std::abs(a.x() * b.y() - a.y() * b.x());
-      s.uv_scale[i] = world > 0.0f ? std::sqrt(uv / world) : 0.0f;
-    }
-  }
+  set_up_surfaces(s, mesh, material.use_texture);
 
   s.device.reset(rtcNewDevice(nullptr));
   if (!s.device) throw RuntimeFailure("cannot create the Embree device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");

@@ -2,6 +2,7 @@
 // The renderer's private parts, shared by renderer.cpp (scene set-up, frames) and
 // tile_kernel.cpp (the per-tile hot loop, compiled once per instruction set). Not public API.
 #include <Eigen/Core>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/texture.h>
 #include <embree3/rtcore.h>
 
@@ -116,11 +117,24 @@ struct Renderer::Impl {
   float ground_height = 0.0f;  // dot(point, up) of the ground plane
   std::vector<Eigen::Vector3f> ground_vertices;
   std::vector<std::array<std::uint32_t, 3>> ground_triangles;
-  // Texture (OBJ map_Kd): per-corner UVs, and the texture system's handle.
+  // The mesh's materials as the tiles use them: texture handle, colour factor and wrap modes.
+  struct Surface {
+    OIIO::TextureSystem::TextureHandle* texture = nullptr;  // none: untextured
+    Eigen::Vector3f factor{1.0f, 1.0f, 1.0f};
+    bool replaces_base_color = false;   // untextured with a colour of its own (not the look's)
+    bool texture_times_vertex_colors = false;
+    OIIO::TextureOpt::Wrap wrap_s = OIIO::TextureOpt::WrapPeriodic, wrap_t = OIIO::TextureOpt::WrapPeriodic;
+  };
+  std::vector<Surface> surfaces;              // empty: the look's material everywhere
+  std::vector<std::uint32_t> triangle_surface;  // per triangle; empty = surface 0
+  // Per-corner UVs, when some surface has a texture.
   std::vector<Eigen::Vector2f> corner_uvs;
   std::vector<float> uv_scale;  // per triangle: sqrt(uv area / world area), for the filter footprint
+  // Embedded images (glTF) read through these; declared before `textures`, which reads them until
+  // it is destroyed.
+  std::vector<std::unique_ptr<OIIO::Filesystem::IOMemReader>> embedded_images;
+  std::vector<std::shared_ptr<const std::vector<unsigned char>>> embedded_bytes;
   TextureSystemPtr textures;
-  OIIO::TextureSystem::TextureHandle* texture = nullptr;
   ReconstructionFilter filter;
   // The frames' tile buffers, kept between frames: a 1280x720 frame's are 29 MB, which would
   // otherwise be mapped and page-faulted afresh for every frame. One per concurrent render().

@@ -358,28 +358,35 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
           nx[l] = n.x();
           ny[l] = n.y();
           nz[l] = n.z();
-          if (!colors.empty()) {
-            const Eigen::Vector3f c = bw * colors[tri[0]] + bu * colors[tri[1]] + bv * colors[tri[2]];
-            ar[l] = c.x();
-            ag[l] = c.y();
-            ab[l] = c.z();
-          }
-          if (texture) {
-            const Eigen::Vector2f uv = bw * corner_uvs[3 * prim] + bu * corner_uvs[3 * prim + 1] + bv * corner_uvs[3 * prim + 2];
-            // Isotropic footprint of one sample in texture space: the pixel's width at this
-            // distance, stretched by the slant, divided by sqrt(spp) because the samples already
-            // average over the pixel.
-            const float slant = std::max(0.2f, std::abs(ng.x[l] * dir.x[l] + ng.y[l] * dir.y[l] + ng.z[l] * dir.z[l]));
-            const float width_uv = uv_scale[prim] * t[l] * f.pixel_angle / slant / std::sqrt(static_cast<float>(spp));
-            OIIO::TextureOpt opt;
-            float rgb[3] = {0, 0, 0};
-            // OBJ's v runs upwards; OpenImageIO's t runs down the image.
-            if (textures->texture(texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv, 3, rgb)) {
-              ar[l] = rgb[0];
-              ag[l] = rgb[1];
-              ab[l] = rgb[2];
+          Eigen::Vector3f c(ar[l], ag[l], ab[l]);
+          if (!colors.empty()) c = bw * colors[tri[0]] + bu * colors[tri[1]] + bv * colors[tri[2]];
+          if (!surfaces.empty()) {
+            const Surface& surface = surfaces[triangle_surface.empty() ? 0 : triangle_surface[prim]];
+            if (surface.texture) {
+              const Eigen::Vector2f uv = bw * corner_uvs[3 * prim] + bu * corner_uvs[3 * prim + 1] + bv * corner_uvs[3 * prim + 2];
+              // Isotropic footprint of one sample in texture space: the pixel's width at this
+              // distance, stretched by the slant, divided by sqrt(spp) because the samples already
+              // average over the pixel.
+              const float slant = std::max(0.2f, std::abs(ng.x[l] * dir.x[l] + ng.y[l] * dir.y[l] + ng.z[l] * dir.z[l]));
+              const float width_uv = uv_scale[prim] * t[l] * f.pixel_angle / slant / std::sqrt(static_cast<float>(spp));
+              OIIO::TextureOpt opt;
+              opt.swrap = surface.wrap_s;
+              opt.twrap = surface.wrap_t;
+              float rgb[3] = {0, 0, 0};
+              // OBJ's v runs upwards; OpenImageIO's t runs down the image.
+              if (textures->texture(surface.texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f,
+                                    width_uv, 3, rgb)) {
+                const Eigen::Vector3f texel(rgb[0], rgb[1], rgb[2]);
+                c = surface.texture_times_vertex_colors && !colors.empty() ? Eigen::Vector3f(texel.cwiseProduct(c)) : texel;
+              }
+              c = c.cwiseProduct(surface.factor);
+            } else if (surface.replaces_base_color) {
+              c = colors.empty() ? surface.factor : Eigen::Vector3f(c.cwiseProduct(surface.factor));
             }
           }
+          ar[l] = c.x();
+          ag[l] = c.y();
+          ab[l] = c.z();
         }
         V3 n{simd::load(nx), simd::load(ny), simd::load(nz)};
         const F16 n_len2 = dot(n, n);

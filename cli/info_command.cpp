@@ -1,0 +1,130 @@
+// meshtour info: what a mesh file holds, before anything is rendered (for catalogue pipelines
+// that vet files): counts, bounds, a units guess, materials and their textures, colours, UVs,
+// boundary edges and components, and the memory a tour of it would need.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cli/commands.h"
+#include "core/error.h"
+#include "mesh/mesh.h"
+#include "mesh/mesh_statistics.h"
+#include "options/cli_options.h"
+#include "tour/resources.h"
+
+namespace meshtour::cli {
+namespace {
+
+struct InfoArgs {
+  std::string mesh;
+  options::Values values;
+};
+
+nlohmann::json describe(const std::string& file) {
+  const MeshFileSummary counts = check_mesh_file(file);
+  LoadReport report;
+  // A missing texture is reported, not fatal: info is how one finds out.
+  const TriangleMesh mesh = load_mesh(file, &report, LoadOptions{.missing_textures_grey = true});
+  const Bounds b = mesh.bounds();
+  const MeshStatistics stats = mesh_statistics(mesh);
+  nlohmann::json j;
+  j["file"] = file;
+  j["vertices"] = mesh.vertex_count();
+  j["triangles"] = mesh.face_count();
+  j["faces_in_file"] = counts.faces;
+  j["bounds"] = {{"min", {b.lo.x(), b.lo.y(), b.lo.z()}}, {"max", {b.hi.x(), b.hi.y(), b.hi.z()}}};
+  j["units_guess"] = guess_units(b.diagonal());
+  j["surface_area"] = stats.surface_area;
+  j["vertex_colors"] = mesh.has_colors();
+  j["texture_coordinates"] = mesh.corner_uvs.size() == 3 * mesh.triangles.size() && !mesh.triangles.empty();
+  j["edges"] = stats.edges;
+  j["boundary_edges"] = stats.boundary_edges;
+  j["non_manifold_edges"] = stats.non_manifold_edges;
+  j["components"] = stats.components;
+  j["unreferenced_vertices"] = stats.unreferenced_vertices;
+  std::vector<std::size_t> per_material(mesh.materials.size(), 0);
+  for (std::size_t t = 0; t < mesh.triangles.size() && !mesh.materials.empty(); ++t)
+    ++per_material[mesh.triangle_materials.empty() ? 0 : mesh.triangle_materials[t]];
+  double texture_bytes = 0;
+  j["materials"] = nlohmann::json::array();
+  for (std::size_t m = 0; m < mesh.materials.size(); ++m) {
+    const MeshMaterial& material = mesh.materials[m];
+    nlohmann::json jm = {{"name", material.name}, {"triangles", per_material[m]}};
+    if (material.base_color) jm["base_color"] = {material.base_color->x(), material.base_color->y(), material.base_color->z()};
+    if (material.has_texture()) {
+      jm["texture"] = material.texture_bytes ? "(embedded) " + material.texture_file.filename().string() : material.texture_file.string();
+      const TextureSize size = probe_texture(material);
+      jm["texture_size"] = {size.width, size.height, size.channels};
+      // Decoded 8-bit texels plus a third for the MIP levels.
+      texture_bytes += 4.0 / 3.0 * size.width * size.height * size.channels;
+    }
+    j["materials"].push_back(jm);
+  }
+  j["warnings"] = report.warnings;
+  const double mesh_bytes = estimate_mesh_bytes(counts.triangles(), counts.vertices);
+  const double coverage = estimate_coverage_bytes(counts.triangles(), counts.vertices);
+  const double bvh = estimate_bvh_bytes(counts.triangles());
+  const double frames = estimate_frame_bytes(1280, 720, 0, true);
+  // The tracer reads textures through OpenImageIO's cache in 64x64 tiles; the cache keeps at
+  // most 1 GiB of them (its default), whatever the atlases' size (8 x 16k JPEG atlases measured
+  // 1.6 GB peak for a whole render).
+  const double texture_cache = std::min(texture_bytes, 1024.0 * 1024 * 1024);
+  j["memory_estimate_bytes"] = {{"mesh", mesh_bytes},
+                                {"camera_path", coverage},
+                                {"ray_tracing", bvh},
+                                {"frames_1280x720", frames},
+                                {"textures_decoded", texture_bytes},
+                                {"texture_cache", texture_cache},
+                                {"peak", 100e6 + mesh_bytes + std::max(coverage, bvh + frames) + texture_cache}};
+  j["up_axis"] = "not determined: --up auto is not implemented; the default is +y";
+  return j;
+}
+
+void print_text(const nlohmann::json& j) {
+  std::printf("%s\n", j["file"].get<std::string>().c_str());
+  std::printf("  %zu vertices, %zu triangles (%zu faces in the file)\n", j["vertices"].get<std::size_t>(),
+              j["triangles"].get<std::size_t>(), j["faces_in_file"].get<std::size_t>());
+  const auto& lo = j["bounds"]["min"];
+  const auto& hi = j["bounds"]["max"];
+  std::printf("  bounds (%.6g %.6g %.6g) - (%.6g %.6g %.6g); units: %s\n", lo[0].get<double>(), lo[1].get<double>(),
+              lo[2].get<double>(), hi[0].get<double>(), hi[1].get<double>(), hi[2].get<double>(),
+              j["units_guess"].get<std::string>().c_str());
+  std::printf("  vertex colours: %s; texture coordinates: %s\n", j["vertex_colors"].get<bool>() ? "yes" : "no",
+              j["texture_coordinates"].get<bool>() ? "yes" : "no");
+  std::printf("  %zu components, %zu boundary edges, %zu non-manifold edges, %zu unreferenced vertices\n",
+              j["components"].get<std::size_t>(), j["boundary_edges"].get<std::size_t>(),
+              j["non_manifold_edges"].get<std::size_t>(), j["unreferenced_vertices"].get<std::size_t>());
+  for (const auto& m : j["materials"]) {
+    std::printf("  material '%s': %zu triangles", m["name"].get<std::string>().c_str(), m["triangles"].get<std::size_t>());
+    if (m.contains("texture"))
+      std::printf(", texture %s (%dx%d, %d channels)", m["texture"].get<std::string>().c_str(), m["texture_size"][0].get<int>(),
+                  m["texture_size"][1].get<int>(), m["texture_size"][2].get<int>());
+    std::printf("\n");
+  }
+  for (const auto& w : j["warnings"]) std::printf("  warning: %s\n", w.get<std::string>().c_str());
+  const auto& mem = j["memory_estimate_bytes"];
+  std::printf("  a 1280x720 tour needs about %.0f MB at its peak (textures: %.0f MB decoded, of which the texture cache\n"
+              "  holds at most %.0f MB)\n",
+              mem["peak"].get<double>() / 1e6, mem["textures_decoded"].get<double>() / 1e6, mem["texture_cache"].get<double>() / 1e6);
+  std::printf("  up axis: %s\n", j["up_axis"].get<std::string>().c_str());
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app) {
+  auto args = std::make_shared<InfoArgs>();
+  CLI::App* cmd = app.add_subcommand("info", "Describe a mesh file without rendering it (counts, bounds, materials, textures, memory).");
+  cmd->add_option("mesh", args->mesh, "Mesh file (" + supported_mesh_formats() + ")")->required();
+  options::add_registered_options(*cmd, options::info, args->values);
+  cmd->callback([args] {
+    const nlohmann::json j = describe(args->mesh);
+    if (args->values.count("json")) std::cout << j.dump(1) << "\n";
+    else print_text(j);
+  });
+}
+
+}  // namespace meshtour::cli

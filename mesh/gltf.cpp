@@ -1,0 +1,615 @@
+#include "mesh/gltf.h"
+
+#include <draco/compression/decode.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <iterator>
+
+#include "core/error.h"
+#include "mesh/tinygltf_config.h"
+
+namespace meshtour::gltf_detail {
+namespace {
+
+using Matrix = Eigen::Matrix4d;
+
+// Extensions meshtour reads. Any other one a file lists in extensionsRequired changes geometry or
+// colour in a way meshtour would get wrong, so it is refused by name.
+const std::set<std::string> kSupported = {"KHR_draco_mesh_compression", "KHR_texture_transform", "KHR_mesh_quantization",
+                                          "KHR_materials_unlit"};
+
+// Images keep their encoded bytes (OpenImageIO decodes them when the tracer needs them).
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
+                        int size, void*) {
+  image->image.assign(bytes, bytes + std::max(size, 0));
+  image->as_is = true;
+  return true;
+}
+
+// tinygltf (2.7, built without Draco) refuses a Draco primitive's index accessor, which has no
+// buffer view by design. Such primitives' "indices" move into their extension object, where
+// gltf_summary() finds the count; the triangles come from the Draco data.
+std::string without_draco_indices(const std::string& json_text) {
+  if (json_text.find("KHR_draco_mesh_compression") == std::string::npos) return json_text;
+  nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return json_text;
+  for (auto& mesh : doc["meshes"]) {
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    for (auto& prim : mesh["primitives"]) {
+      if (!prim.is_object() || !prim.contains("indices") || !prim.contains("extensions") || !prim["extensions"].is_object()) continue;
+      auto& ext = prim["extensions"];
+      if (!ext.contains("KHR_draco_mesh_compression") || !ext["KHR_draco_mesh_compression"].is_object()) continue;
+      ext["KHR_draco_mesh_compression"]["indices"] = prim["indices"];
+      prim.erase("indices");
+    }
+  }
+  return doc.dump();
+}
+
+std::uint32_t read_u32(const std::vector<unsigned char>& bytes, std::size_t at) {
+  return static_cast<std::uint32_t>(bytes[at]) | static_cast<std::uint32_t>(bytes[at + 1]) << 8 |
+         static_cast<std::uint32_t>(bytes[at + 2]) << 16 | static_cast<std::uint32_t>(bytes[at + 3]) << 24;
+}
+
+// A GLB with its JSON chunk passed through without_draco_indices() (the container is checked
+// first; a malformed one is left to tinygltf to refuse).
+std::vector<unsigned char> glb_without_draco_indices(std::vector<unsigned char> bytes) {
+  if (bytes.size() < 20 || read_u32(bytes, 0) != 0x46546C67u || read_u32(bytes, 16) != 0x4E4F534Au) return bytes;
+  const std::size_t json_length = read_u32(bytes, 12);
+  if (json_length > bytes.size() - 20) return bytes;
+  const std::string json(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
+  std::string changed = without_draco_indices(json);
+  if (changed == json) return bytes;
+  while (changed.size() % 4) changed += ' ';
+  std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 12);
+  const auto put = [&out](std::size_t at, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) out[at + static_cast<std::size_t>(k)] = static_cast<unsigned char>(v >> (8 * k));
+  };
+  out.resize(20);
+  put(12, static_cast<std::uint32_t>(changed.size()));
+  put(16, 0x4E4F534Au);
+  out.insert(out.end(), changed.begin(), changed.end());
+  out.insert(out.end(), bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length), bytes.end());
+  put(8, static_cast<std::uint32_t>(out.size()));
+  return out;
+}
+
+tinygltf::Model read_model(const std::filesystem::path& file, const std::string& name) {
+  tinygltf::TinyGLTF reader;
+  reader.SetImageLoader(keep_encoded_image, nullptr);
+  tinygltf::Model model;
+  std::string error, warning;
+  bool ok = false;
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string base_dir = file.parent_path().string();
+  try {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
+    std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    if (ext == ".glb") {
+      bytes = glb_without_draco_indices(std::move(bytes));
+      ok = reader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
+    } else {
+      const std::string text = without_draco_indices(std::string(bytes.begin(), bytes.end()));
+      ok = reader.LoadASCIIFromString(&model, &error, &warning, text.c_str(), static_cast<unsigned>(text.size()), base_dir);
+    }
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw InputError(name + ": the glTF file announces more data than this machine's memory holds, or is corrupt");
+  } catch (const std::exception& e) {
+    throw InputError(name + ": cannot read glTF: " + e.what());
+  }
+  if (!ok) {
+    while (!error.empty() && std::isspace(static_cast<unsigned char>(error.back()))) error.pop_back();
+    std::replace(error.begin(), error.end(), '\n', ';');
+    throw InputError(name + ": cannot read glTF: " + (error.empty() ? std::string("not a valid glTF 2.0 file") : error));
+  }
+  std::vector<std::string> unsupported;
+  for (const auto& e : model.extensionsRequired)
+    if (!kSupported.count(e)) unsupported.push_back(e);
+  if (!unsupported.empty()) {
+    std::string list;
+    for (const auto& e : unsupported) list += (list.empty() ? "" : ", ") + e;
+    throw InputError(name + ": requires the glTF extension" + (unsupported.size() > 1 ? "s " : " ") + list +
+                     ", which meshtour does not read (it would change the model's geometry or colours); export the "
+                     "model without it (supported: KHR_draco_mesh_compression, KHR_mesh_quantization, "
+                     "KHR_texture_transform, KHR_materials_unlit)");
+  }
+  return model;
+}
+
+Matrix node_matrix(const tinygltf::Node& node) {
+  Matrix m = Matrix::Identity();
+  if (node.matrix.size() == 16) {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) m(r, c) = node.matrix[static_cast<std::size_t>(4 * c + r)];  // column-major
+    return m;
+  }
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  if (node.translation.size() == 3) t.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
+  if (node.rotation.size() == 4) {
+    Eigen::Quaterniond q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);  // glTF: x, y, z, w
+    if (q.norm() > 0) t.rotate(q.normalized());
+  }
+  if (node.scale.size() == 3) t.scale(Eigen::Vector3d(node.scale[0], node.scale[1], node.scale[2]));
+  return t.matrix();
+}
+
+// The mesh instances of the default scene: (mesh index, world matrix).
+std::vector<std::pair<int, Matrix>> instances(const tinygltf::Model& model, const std::string& name) {
+  std::vector<std::pair<int, Matrix>> out;
+  const auto nodes = static_cast<int>(model.nodes.size());
+  // Depth-first with the path's nodes on a stack: a node that is its own ancestor is refused.
+  std::vector<int> path;
+  const auto visit = [&](auto&& self, int index, const Matrix& parent) -> void {
+    if (index < 0 || index >= nodes) throw InputError(name + ": a scene or node names node " + std::to_string(index) + ", which does not exist");
+    if (std::find(path.begin(), path.end(), index) != path.end() || path.size() > 256)
+      throw InputError(name + ": node " + std::to_string(index) + " is its own ancestor (the node hierarchy has a cycle)");
+    const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(index)];
+    const Matrix world = parent * node_matrix(node);
+    if (node.mesh >= 0) {
+      if (node.mesh >= static_cast<int>(model.meshes.size()))
+        throw InputError(name + ": node " + std::to_string(index) + " names mesh " + std::to_string(node.mesh) + ", which does not exist");
+      out.emplace_back(node.mesh, world);
+    }
+    path.push_back(index);
+    for (const int child : node.children) self(self, child, world);
+    path.pop_back();
+  };
+  if (!model.scenes.empty()) {
+    const int scene = model.defaultScene >= 0 && model.defaultScene < static_cast<int>(model.scenes.size()) ? model.defaultScene : 0;
+    for (const int root : model.scenes[static_cast<std::size_t>(scene)].nodes) visit(visit, root, Matrix::Identity());
+  } else if (!model.nodes.empty()) {
+    std::vector<bool> child(model.nodes.size(), false);
+    for (const auto& n : model.nodes)
+      for (const int c : n.children)
+        if (c >= 0 && c < nodes) child[static_cast<std::size_t>(c)] = true;
+    for (int i = 0; i < nodes; ++i)
+      if (!child[static_cast<std::size_t>(i)]) visit(visit, i, Matrix::Identity());
+  } else {
+    for (int m = 0; m < static_cast<int>(model.meshes.size()); ++m) out.emplace_back(m, Matrix::Identity());
+  }
+  return out;
+}
+
+// Reads an accessor into up to 4 doubles per element, normalised integers scaled to [0,1] or
+// [-1,1], after checking that every byte it names lies inside its buffer.
+class AccessorReader {
+public:
+  AccessorReader(const tinygltf::Model& model, const std::string& name) : model_(model), name_(name) {}
+
+  const tinygltf::Accessor& accessor(int index, const std::string& what) const {
+    if (index < 0 || index >= static_cast<int>(model_.accessors.size()))
+      throw InputError(name_ + ": " + what + " names accessor " + std::to_string(index) + ", which does not exist");
+    return model_.accessors[static_cast<std::size_t>(index)];
+  }
+
+  std::vector<std::array<double, 4>> read(int index, const std::string& what) const {
+    const tinygltf::Accessor& a = accessor(index, what);
+    const std::string where = name_ + ": " + what + " (accessor " + std::to_string(index) + ")";
+    if (a.sparse.isSparse) throw InputError(where + " is sparse, which meshtour does not read");
+    const int components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type));
+    const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
+    if (components <= 0 || components > 4 || size <= 0) throw InputError(where + " has a type meshtour does not read");
+    std::vector<std::array<double, 4>> out;
+    if (a.bufferView < 0) {  // no data: all zeros (the specification's default)
+      if (a.count > 100'000'000) throw InputError(where + " announces " + std::to_string(a.count) + " elements");
+      out.assign(a.count, {0, 0, 0, 0});
+      return out;
+    }
+    if (a.bufferView >= static_cast<int>(model_.bufferViews.size())) throw InputError(where + " names a buffer view that does not exist");
+    const tinygltf::BufferView& view = model_.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    if (view.buffer < 0 || view.buffer >= static_cast<int>(model_.buffers.size())) throw InputError(where + " names a buffer that does not exist");
+    const std::vector<unsigned char>& buffer = model_.buffers[static_cast<std::size_t>(view.buffer)].data;
+    const std::size_t element = static_cast<std::size_t>(components) * static_cast<std::size_t>(size);
+    const std::size_t stride = view.byteStride ? view.byteStride : element;
+    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+      throw InputError(where + ": its buffer view reaches past the end of its buffer (a truncated file?)");
+    if (a.count > 0) {
+      const std::size_t span_elements = a.count - 1;
+      if (a.byteOffset > view.byteLength || stride < element ||
+          span_elements > (view.byteLength - a.byteOffset) / stride ||
+          span_elements * stride + element > view.byteLength - a.byteOffset)
+        throw InputError(where + ": its " + std::to_string(a.count) + " elements reach past the end of its buffer view");
+    }
+    const unsigned char* base = buffer.data() + view.byteOffset + a.byteOffset;
+    out.resize(a.count);
+    for (std::size_t i = 0; i < a.count; ++i) {
+      const unsigned char* p = base + i * stride;
+      std::array<double, 4> v{0, 0, 0, 0};
+      for (int c = 0; c < components; ++c) v[static_cast<std::size_t>(c)] = component(p + c * size, a.componentType, a.normalized);
+      out[i] = v;
+    }
+    return out;
+  }
+
+private:
+  static double component(const unsigned char* p, int type, bool normalized) {
+    const auto load = [p](auto value) {
+      std::memcpy(&value, p, sizeof value);
+      return value;
+    };
+    switch (type) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: return load(float{});
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load(std::uint8_t{}) / (normalized ? 255.0 : 1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return load(std::uint16_t{}) / (normalized ? 65535.0 : 1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load(std::uint32_t{}) / (normalized ? 4294967295.0 : 1.0);
+      case TINYGLTF_COMPONENT_TYPE_BYTE: return normalized ? std::max(load(std::int8_t{}) / 127.0, -1.0) : load(std::int8_t{});
+      case TINYGLTF_COMPONENT_TYPE_SHORT: return normalized ? std::max(load(std::int16_t{}) / 32767.0, -1.0) : load(std::int16_t{});
+      default: return 0.0;
+    }
+  }
+  const tinygltf::Model& model_;
+  const std::string& name_;
+};
+
+// One primitive's data before it joins the mesh.
+struct PrimitiveData {
+  std::vector<std::array<double, 4>> positions, colors, uvs;
+  std::vector<std::uint32_t> indices;  // as the primitive lists them (mode applies), or empty
+};
+
+// Decodes a KHR_draco_mesh_compression primitive. The buffer view is checked before libdraco
+// sees a byte of it; libdraco then decodes into its own structures, whose indices are checked.
+PrimitiveData decode_draco(const tinygltf::Model& model, const tinygltf::Value& ext, int uv_set, bool want_colors,
+                           const std::string& where) {
+  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber() || !ext.Has("attributes") ||
+      !ext.Get("attributes").IsObject())
+    throw InputError(where + ": its KHR_draco_mesh_compression has no bufferView or no attributes");
+  const int view_index = ext.Get("bufferView").GetNumberAsInt();
+  if (view_index < 0 || view_index >= static_cast<int>(model.bufferViews.size()))
+    throw InputError(where + ": its Draco data names buffer view " + std::to_string(view_index) + ", which does not exist");
+  const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(view_index)];
+  if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size()))
+    throw InputError(where + ": its Draco data names a buffer that does not exist");
+  const std::vector<unsigned char>& buffer = model.buffers[static_cast<std::size_t>(view.buffer)].data;
+  if (view.byteLength == 0 || view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+    throw InputError(where + ": its Draco data reaches past the end of its buffer (a truncated file?)");
+
+  draco::DecoderBuffer input;
+  input.Init(reinterpret_cast<const char*>(buffer.data() + view.byteOffset), view.byteLength);
+  draco::Decoder decoder;
+  auto decoded = decoder.DecodeMeshFromBuffer(&input);
+  if (!decoded.ok()) throw InputError(where + ": corrupt Draco data: " + decoded.status().error_msg_string());
+  const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+  if (!mesh) throw InputError(where + ": corrupt Draco data (no mesh decoded)");
+
+  const tinygltf::Value& attributes = ext.Get("attributes");
+  const auto attribute = [&](const std::string& key) -> const draco::PointAttribute* {
+    if (!attributes.Has(key) || !attributes.Get(key).IsNumber()) return nullptr;
+    const draco::PointAttribute* a = mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(attributes.Get(key).GetNumberAsInt()));
+    if (!a) throw InputError(where + ": its Draco data has no attribute " + key + " although the file says so");
+    return a;
+  };
+  const std::size_t points = mesh->num_points();
+  const auto read = [&](const draco::PointAttribute* a, std::vector<std::array<double, 4>>& out) {
+    if (!a) return;
+    const int n = std::min<int>(a->num_components(), 4);
+    out.resize(points);
+    for (std::size_t i = 0; i < points; ++i) {
+      const draco::AttributeValueIndex value = a->mapped_index(draco::PointIndex(static_cast<std::uint32_t>(i)));
+      if (value.value() >= a->size()) throw InputError(where + ": corrupt Draco data (an attribute index is out of range)");
+      float v[4] = {0, 0, 0, 1};
+      if (!a->ConvertValue<float>(value, static_cast<std::int8_t>(n), v))
+        throw InputError(where + ": corrupt Draco data (an attribute cannot be read)");
+      out[i] = {v[0], v[1], v[2], v[3]};
+    }
+  };
+  PrimitiveData data;
+  const draco::PointAttribute* position = attribute("POSITION");
+  if (!position) throw InputError(where + ": its Draco data has no POSITION attribute");
+  read(position, data.positions);
+  if (want_colors) read(attribute("COLOR_0"), data.colors);
+  if (uv_set >= 0) read(attribute("TEXCOORD_" + std::to_string(uv_set)), data.uvs);
+  data.indices.reserve(3 * static_cast<std::size_t>(mesh->num_faces()));
+  for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t p = mesh->face(f)[c].value();
+      if (p >= points) throw InputError(where + ": corrupt Draco data (a face names a missing point)");
+      data.indices.push_back(p);
+    }
+  return data;
+}
+
+// The triangles of a primitive's index list (or 0..n-1) in its mode: list, strip or fan.
+std::vector<std::array<std::uint32_t, 3>> triangles_of(const std::vector<std::uint32_t>& indices, std::size_t vertex_count, int mode) {
+  std::vector<std::uint32_t> list = indices;
+  if (list.empty()) {
+    list.resize(vertex_count);
+    for (std::size_t i = 0; i < vertex_count; ++i) list[i] = static_cast<std::uint32_t>(i);
+  }
+  std::vector<std::array<std::uint32_t, 3>> out;
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    for (std::size_t i = 0; i + 2 < list.size(); i += 3) out.push_back({list[i], list[i + 1], list[i + 2]});
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (std::size_t i = 0; i + 2 < list.size(); ++i)
+      out.push_back(i % 2 == 0 ? std::array<std::uint32_t, 3>{list[i], list[i + 1], list[i + 2]}
+                               : std::array<std::uint32_t, 3>{list[i + 1], list[i], list[i + 2]});
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+    for (std::size_t i = 1; i + 1 < list.size(); ++i) out.push_back({list[i], list[i + 1], list[0]});
+  }
+  return out;
+}
+
+float linear_to_srgb(double c) {
+  c = std::clamp(c, 0.0, 1.0);
+  return static_cast<float>(c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055);
+}
+
+TextureWrap wrap_of(int mode) {
+  if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::clamp;
+  if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::mirror;
+  return TextureWrap::repeat;
+}
+
+std::string percent_decoded(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+// A glTF material as meshtour uses it, with the texture coordinate set and UV transform its
+// base colour texture names.
+struct MaterialUse {
+  MeshMaterial material;
+  int uv_set = -1;  // -1: untextured
+  Eigen::Matrix<double, 2, 3> uv_transform = Eigen::Matrix<double, 2, 3>::Identity();
+};
+
+MaterialUse material_use(const tinygltf::Model& model, int index, const std::filesystem::path& file, const std::string& name) {
+  MaterialUse use;
+  use.material.texture_times_vertex_colors = true;
+  const tinygltf::Material& m = model.materials[static_cast<std::size_t>(index)];
+  use.material.name = m.name.empty() ? "material " + std::to_string(index) : m.name;
+  const auto& factor = m.pbrMetallicRoughness.baseColorFactor;
+  use.material.base_color = factor.size() >= 3 ? Eigen::Vector3f(static_cast<float>(factor[0]), static_cast<float>(factor[1]),
+                                                                 static_cast<float>(factor[2]))
+                                               : Eigen::Vector3f::Ones();
+  const tinygltf::TextureInfo& info = m.pbrMetallicRoughness.baseColorTexture;
+  if (info.index < 0) return use;
+  const std::string where = name + ": material '" + use.material.name + "'";
+  if (info.index >= static_cast<int>(model.textures.size()))
+    throw InputError(where + " names texture " + std::to_string(info.index) + ", which does not exist");
+  const tinygltf::Texture& texture = model.textures[static_cast<std::size_t>(info.index)];
+  if (texture.source < 0 || texture.source >= static_cast<int>(model.images.size()))
+    throw InputError(where + " has a texture whose image does not exist (texture " + std::to_string(info.index) + ")");
+  if (texture.sampler >= static_cast<int>(model.samplers.size()))
+    throw InputError(where + " has a texture whose sampler does not exist (texture " + std::to_string(info.index) + ")");
+  if (texture.sampler >= 0) {
+    const tinygltf::Sampler& sampler = model.samplers[static_cast<std::size_t>(texture.sampler)];
+    use.material.wrap_s = wrap_of(sampler.wrapS);
+    use.material.wrap_t = wrap_of(sampler.wrapT);
+  }
+  use.uv_set = std::max(0, info.texCoord);
+  if (const auto it = info.extensions.find("KHR_texture_transform"); it != info.extensions.end() && it->second.IsObject()) {
+    const tinygltf::Value& t = it->second;
+    const auto pair = [&](const char* key, double fallback) {
+      std::array<double, 2> v{fallback, fallback};
+      if (t.Has(key) && t.Get(key).IsArray() && t.Get(key).ArrayLen() >= 2)
+        for (int k = 0; k < 2; ++k)
+          if (t.Get(key).Get(k).IsNumber()) v[static_cast<std::size_t>(k)] = t.Get(key).Get(k).GetNumberAsDouble();
+      return v;
+    };
+    const auto offset = pair("offset", 0.0), scale = pair("scale", 1.0);
+    const double rotation = t.Has("rotation") && t.Get("rotation").IsNumber() ? t.Get("rotation").GetNumberAsDouble() : 0.0;
+    if (t.Has("texCoord") && t.Get("texCoord").IsNumber()) use.uv_set = std::max(0, t.Get("texCoord").GetNumberAsInt());
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    // The extension's matrix: translation * rotation * scale.
+    use.uv_transform << c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1];
+  }
+  const tinygltf::Image& image = model.images[static_cast<std::size_t>(texture.source)];
+  if (!image.uri.empty() && image.image.empty()) {  // an external file (data URIs arrive decoded)
+    const std::filesystem::path relative(percent_decoded(image.uri));
+    use.material.texture_file = relative.is_absolute() ? relative : file.parent_path() / relative;
+  } else {
+    if (image.image.empty()) throw InputError(where + ": its image " + std::to_string(texture.source) + " has no data");
+    const std::string ext = image.mimeType == "image/jpeg" ? ".jpg" : image.mimeType == "image/png" ? ".png" : "";
+    use.material.texture_file = file.string() + "#image" + std::to_string(texture.source) + ext;
+    use.material.texture_bytes = std::make_shared<const std::vector<unsigned char>>(image.image);
+  }
+  return use;
+}
+
+// glTF splits a vertex wherever its texture coordinates or material change (every UV seam of a
+// scan's atlas); OBJ shares the position. The tracer's smooth normals come from shared vertices,
+// so vertices with bit-identical positions (and colours) are merged, and the model shades as
+// its OBJ form does. Texture coordinates are per triangle corner and stay as they are.
+void weld_identical_vertices(TriangleMesh& mesh) {
+  struct Key {
+    std::array<std::uint64_t, 3> position{};
+    std::array<std::uint32_t, 3> color{};
+    bool operator<(const Key& o) const { return std::tie(position, color) < std::tie(o.position, o.color); }
+  };
+  std::map<Key, std::uint32_t> first;
+  std::vector<std::uint32_t> remap(mesh.positions.size());
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector3f> colors;
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    Key key;
+    for (int k = 0; k < 3; ++k) {
+      const double p = mesh.positions[i][k] == 0.0 ? 0.0 : mesh.positions[i][k];  // -0 and +0 are one place
+      std::memcpy(&key.position[static_cast<std::size_t>(k)], &p, sizeof p);
+      if (!mesh.colors.empty()) std::memcpy(&key.color[static_cast<std::size_t>(k)], &mesh.colors[i][k], sizeof(float));
+    }
+    const auto [it, inserted] = first.emplace(key, static_cast<std::uint32_t>(positions.size()));
+    if (inserted) {
+      positions.push_back(mesh.positions[i]);
+      if (!mesh.colors.empty()) colors.push_back(mesh.colors[i]);
+    }
+    remap[i] = it->second;
+  }
+  for (auto& t : mesh.triangles)
+    for (auto& v : t) v = remap[v];
+  mesh.positions = std::move(positions);
+  mesh.colors = std::move(colors);
+}
+
+}  // namespace
+
+TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::string>& warnings) {
+  const std::string name = file.string();
+  const tinygltf::Model model = read_model(file, name);
+  const AccessorReader reader(model, name);
+
+  TriangleMesh mesh;
+  std::vector<std::optional<MaterialUse>> uses(model.materials.size());
+  std::optional<std::uint32_t> default_material;  // for primitives without one: the look's colour
+  std::vector<std::uint32_t> material_index(model.materials.size(), std::numeric_limits<std::uint32_t>::max());
+  bool any_colors = false, any_uvs = false;
+  std::vector<bool> vertex_has_color;
+  std::size_t skipped = 0;
+
+  for (const auto& [mesh_index, world] : instances(model, name)) {
+    const tinygltf::Mesh& gm = model.meshes[static_cast<std::size_t>(mesh_index)];
+    const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
+    const bool mirrored = linear.determinant() < 0;
+    for (std::size_t p = 0; p < gm.primitives.size(); ++p) {
+      const tinygltf::Primitive& prim = gm.primitives[p];
+      const std::string where = name + ": mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
+      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP && prim.mode != TINYGLTF_MODE_TRIANGLE_FAN &&
+          prim.mode != -1) {
+        ++skipped;
+        continue;
+      }
+      const int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      // Material.
+      std::uint32_t material = 0;
+      int uv_set = -1;
+      Eigen::Matrix<double, 2, 3> uv_transform = Eigen::Matrix<double, 2, 3>::Identity();
+      if (prim.material >= static_cast<int>(model.materials.size()))
+        throw InputError(where + " names material " + std::to_string(prim.material) + ", but the file has " +
+                         std::to_string(model.materials.size()));
+      if (prim.material >= 0) {
+        auto& use = uses[static_cast<std::size_t>(prim.material)];
+        if (!use) {
+          use = material_use(model, prim.material, file, name);
+          material_index[static_cast<std::size_t>(prim.material)] = static_cast<std::uint32_t>(mesh.materials.size());
+          mesh.materials.push_back(use->material);
+        }
+        material = material_index[static_cast<std::size_t>(prim.material)];
+        uv_set = use->uv_set;
+        uv_transform = use->uv_transform;
+      } else {
+        if (!default_material) {
+          default_material = static_cast<std::uint32_t>(mesh.materials.size());
+          MeshMaterial none;
+          none.name = "(no material)";
+          mesh.materials.push_back(none);
+        }
+        material = *default_material;
+      }
+      // Geometry.
+      PrimitiveData data;
+      if (const auto draco = prim.extensions.find("KHR_draco_mesh_compression"); draco != prim.extensions.end()) {
+        data = decode_draco(model, draco->second, uv_set, true, where);
+      } else {
+        const auto attribute = [&](const std::string& key) { return prim.attributes.find(key); };
+        const auto position = attribute("POSITION");
+        if (position == prim.attributes.end()) throw InputError(where + " has no POSITION attribute");
+        data.positions = reader.read(position->second, "POSITION of " + where.substr(name.size() + 2));
+        if (const auto c = attribute("COLOR_0"); c != prim.attributes.end())
+          data.colors = reader.read(c->second, "COLOR_0 of " + where.substr(name.size() + 2));
+        if (uv_set >= 0)
+          if (const auto t = attribute("TEXCOORD_" + std::to_string(uv_set)); t != prim.attributes.end())
+            data.uvs = reader.read(t->second, "TEXCOORD_" + std::to_string(uv_set) + " of " + where.substr(name.size() + 2));
+        if (prim.indices >= 0) {
+          const auto raw = reader.read(prim.indices, "the indices of " + where.substr(name.size() + 2));
+          data.indices.reserve(raw.size());
+          for (const auto& v : raw) data.indices.push_back(static_cast<std::uint32_t>(v[0]));
+        }
+      }
+      const std::size_t count = data.positions.size();
+      if (!data.colors.empty() && data.colors.size() != count) throw InputError(where + ": COLOR_0 and POSITION differ in count");
+      if (!data.uvs.empty() && data.uvs.size() != count) throw InputError(where + ": TEXCOORD and POSITION differ in count");
+      for (const auto i : data.indices)
+        if (i >= count) throw InputError(where + ": an index (" + std::to_string(i) + ") names a vertex it does not have (" +
+                                         std::to_string(count) + ")");
+      const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+      if (mesh.positions.size() + count > std::numeric_limits<std::uint32_t>::max()) throw InputError(name + ": too many vertices");
+      for (const auto& v : data.positions) mesh.positions.push_back((world * Eigen::Vector4d(v[0], v[1], v[2], 1.0)).head<3>());
+      vertex_has_color.resize(mesh.positions.size(), false);
+      if (!data.colors.empty()) {
+        any_colors = true;
+        mesh.colors.resize(mesh.positions.size(), Eigen::Vector3f::Ones());
+        for (std::size_t i = 0; i < count; ++i) {
+          mesh.colors[base + i] = {linear_to_srgb(data.colors[i][0]), linear_to_srgb(data.colors[i][1]), linear_to_srgb(data.colors[i][2])};
+          vertex_has_color[base + i] = true;
+        }
+      }
+      for (auto t : triangles_of(data.indices, count, mode)) {
+        if (mirrored) std::swap(t[1], t[2]);
+        mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+        mesh.triangle_materials.push_back(material);
+        for (const auto corner : t) {
+          Eigen::Vector2f uv = Eigen::Vector2f::Zero();
+          if (!data.uvs.empty()) {
+            const Eigen::Vector2d st = uv_transform * Eigen::Vector3d(data.uvs[corner][0], data.uvs[corner][1], 1.0);
+            uv = {static_cast<float>(st.x()), static_cast<float>(1.0 - st.y())};  // glTF's v runs down the image
+            any_uvs = true;
+          }
+          mesh.corner_uvs.push_back(uv);
+        }
+      }
+    }
+  }
+  if (any_colors) mesh.colors.resize(mesh.positions.size(), Eigen::Vector3f::Ones());
+  else mesh.colors.clear();
+  weld_identical_vertices(mesh);
+  if (!any_uvs) mesh.corner_uvs.clear();
+  if (skipped) warnings.push_back(std::to_string(skipped) + " primitive(s) of points or lines skipped (only triangles are rendered)");
+  if (mesh.triangles.empty()) throw InputError(name + ": the default scene has no triangles (no mesh, or only points and lines)");
+  return mesh;
+}
+
+MeshFileSummary gltf_summary(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  const tinygltf::Model model = read_model(file, name);
+  const AccessorReader reader(model, name);
+  MeshFileSummary summary;
+  for (const auto& [mesh_index, world] : instances(model, name))
+    for (const tinygltf::Primitive& prim : model.meshes[static_cast<std::size_t>(mesh_index)].primitives) {
+      const auto position = prim.attributes.find("POSITION");
+      if (position == prim.attributes.end()) continue;
+      const std::size_t vertices = reader.accessor(position->second, "POSITION").count;
+      int index_accessor = prim.indices;
+      if (const auto draco = prim.extensions.find("KHR_draco_mesh_compression");
+          draco != prim.extensions.end() && draco->second.Has("indices") && draco->second.Get("indices").IsNumber())
+        index_accessor = draco->second.Get("indices").GetNumberAsInt();
+      const std::size_t indices = index_accessor >= 0 ? reader.accessor(index_accessor, "indices").count : vertices;
+      const int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      const std::size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? indices / 3
+                                    : (mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN) && indices >= 3
+                                        ? indices - 2
+                                        : 0;
+      summary.vertices += vertices;
+      summary.faces += triangles;
+      summary.corners += 3 * triangles;
+    }
+  return summary;
+}
+
+}  // namespace meshtour::gltf_detail

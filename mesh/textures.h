@@ -1,0 +1,18 @@
+#pragma once
+// Checks of the textures a model's materials name (private to mesh/; probe_texture is public in
+// mesh/mesh.h). Every loader calls check_material_textures() once its materials are known.
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace meshtour {
+
+/// Opens the texture of every material some triangle uses. A missing or unreadable one is an
+/// IoError naming the texture, the material and the model `name`, or, with
+/// options.missing_textures_grey, a warning appended to `warnings` and a material without texture.
+/// Also refuses triangle material indices outside the material list (InputError).
+void check_material_textures(TriangleMesh& mesh, const std::string& name, const LoadOptions& options,
+                             std::vector<std::string>& warnings);
+
+}  // namespace meshtour
