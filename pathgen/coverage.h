@@ -6,8 +6,9 @@
 //
 //  - Where: a fixed number of area-weighted samples of the surface (visibility/), so a shape and
 //    any finer tessellation of it are measured alike.
-//  - What counts as a feature: each sample takes its value from a proxy of the mesh at a fixed
-//    resolution (mesh/vertex_clustering.h), under two independent measures: the paper's patch
+//  - What counts as a feature: each sample takes its value from the proxy vertices within one
+//    cell of it (a proxy of the mesh at a fixed resolution, mesh/vertex_clustering.h; a smooth
+//    kernel of the distance, so not the face it lies on decides), under two independent measures: the paper's patch
 //    density w(f) (ALGORITHM.md §8) and mesh saliency (Lee, Varshney & Jacobs 2005,
 //    pathgen/saliency.h). The top `feature_quantile` of the samples by value are the features.
 //  - Seen well: in the frame, unoccluded, and facing the camera within an angle; two angles,
