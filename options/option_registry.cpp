@@ -157,6 +157,9 @@ std::vector<Option> make_registry() {
   add({.id = "web", .flag = "--web", .kind = Kind::flag,
        .help = "Web outputs: per item an H.264 MP4, a VP9 WebM and the poster, and index.html, a contact sheet of the batch",
        .commands = batch | farm, .farm = batch_tasks});
+  add({.id = "page-only", .flag = "--page-only", .kind = Kind::flag,
+       .help = "Write only the contact sheet (index.html) from the batch summaries already in --out-dir (the farm's last job)",
+       .commands = batch});
   // ---- The toroidal-patch path (ALGORITHM.md); the feature orbit uses the patch options too.
   const unsigned kPathCommands = kRendering | path | evaluate;
   add({.id = "tolerance", .flag = "--tolerance", .kind = Kind::positive, .default_text = "0.001",

@@ -295,7 +295,7 @@ void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
   }
 }
 
-void render_tour_video(const Scene& scene, const TourVideoJob& job) {
+TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   const std::filesystem::path& output = job.output;
   if (output.extension() != ".mp4") throw InputError(output.string() + ": the video is written as H.264 MP4; name it *.mp4");
   const bool keep_frames = !job.frames_dir.empty();
@@ -319,6 +319,16 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
   VideoEncoder encoder(output, video);
   // The caption is measured now: one that does not fit fails before the model is even loaded.
   CaptionedVideo captioned(encoder, video, job.caption);
+  // The web copy: VP9 at its own default quality (the crf given is H.264's).
+  std::optional<VideoEncoder> web_encoder;
+  std::optional<CaptionedVideo> web_captioned;
+  if (!job.webm.empty()) {
+    VideoOptions web = video;
+    web.codec = VideoCodec::vp9;
+    web.crf.reset();
+    web_encoder.emplace(job.webm, web);
+    web_captioned.emplace(*web_encoder, web, job.caption);
+  }
   check_poster_output(job.poster);
 
   const PreparedTour tour = prepare_tour(scene, job.quiet, &log);
@@ -347,6 +357,7 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
   if (captioned.needs_poster()) {
     poster = tour.render_frame(poster_k);
     captioned.start(poster->to_srgb8());
+    if (web_captioned) web_captioned->start(poster->to_srgb8());
   }
 
   Progress progress("frame", scene.frames, job.progress);
@@ -360,7 +371,9 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
     if (write_exr) write_image(image, frame_file(job.frames_dir, k, "exr"));
     if (k == poster_k && !job.poster.file.empty() && !poster) poster = image;
     const auto written = Clock::now();
-    captioned.add(image.to_srgb8());
+    const std::vector<std::uint8_t> rgb = image.to_srgb8();
+    captioned.add(rgb);
+    if (web_captioned) web_captioned->add(rgb);
     encode_seconds += std::chrono::duration<double>(Clock::now() - written).count();
     render_seconds += seconds + std::chrono::duration<double>(written - start).count();
     progress.step_done(k, seconds + std::chrono::duration<double>(Clock::now() - start).count(), k + 1);
@@ -369,6 +382,7 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
   log.report("render", render_seconds);
   const auto finish_start = Clock::now();
   captioned.finish();
+  if (web_captioned) web_captioned->finish();
   log.report("encode", encode_seconds + std::chrono::duration<double>(Clock::now() - finish_start).count());
   progress.finish();
   // After the video: a failed tour leaves no poster either.
@@ -378,6 +392,12 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
   }
   if (!job.quiet) std::fprintf(stderr, "wrote %s (%d frames, %dx%d, %d fps)\n", output.string().c_str(), scene.frames,
                                scene.render.width, scene.render.height, scene.fps);
+  TourVideoResult result;
+  result.faces = tour.mesh.face_count();
+  result.video_frames = encoder.frames_written();
+  result.fps = scene.fps;
+  result.poster_frame = poster_k;
+  return result;
 }
 
 }  // namespace meshtour

@@ -114,6 +114,7 @@ void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
 /// runs it once, `batch` for every item.
 struct TourVideoJob {
   std::filesystem::path output;      // .mp4
+  std::filesystem::path webm;        // also a VP9 WebM of the same frames ("" = no), at VP9's default crf
   std::filesystem::path frames_dir;  // also write the frames here ("" = no)
   std::string format = "png";        // png, exr or png+exr, for frames_dir
   std::filesystem::path gltf;           // also export the camera path as glTF 2.0 ("" = no)
@@ -125,7 +126,15 @@ struct TourVideoJob {
   CaptionArgs caption;      // --caption ..., --title-card: burned into the video only
   bool quiet = false;
 };
-void render_tour_video(const Scene& scene, const TourVideoJob& job);
+/// What a finished tour video holds, for summaries and contact sheets.
+struct TourVideoResult {
+  std::size_t faces = 0;
+  std::int64_t video_frames = 0;  ///< title card included
+  int fps = 0;
+  int poster_frame = 0;
+  double seconds() const { return fps > 0 ? static_cast<double>(video_frames) / fps : 0.0; }
+};
+TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job);
 
 inline Scene resolve_scene(const SceneArgs& args, std::string_view codec) { return resolve_scene(args.input, args.values, codec); }
 
