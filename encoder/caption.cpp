@@ -77,12 +77,6 @@ constexpr std::array<std::pair<std::string_view, CaptionPosition>, 6> kPositions
 int box_border(int size) { return std::max(2, size / 4); }
 int edge_margin(int size) { return size / 2 + box_border(size); }
 
-std::string hex_code_point(char32_t c) {
-  char text[16];
-  std::snprintf(text, sizeof text, "U+%04X", static_cast<unsigned>(c));
-  return text;
-}
-
 // The font the caption uses, and its pixel size: shared by the measurement and the filter.
 struct ResolvedFont {
   fs::path file;
@@ -262,38 +256,6 @@ CaptionPosition parse_caption_position(std::string_view name) {
 
 int default_caption_size(int height) { return std::max(10, height / 18); }
 
-std::vector<char32_t> decode_caption_text(std::string_view s) {
-  std::vector<char32_t> out;
-  const auto bad = [&](std::size_t at, const char* what) {
-    return InputError("caption text is not valid UTF-8: " + std::string(what) + " at byte " + std::to_string(at));
-  };
-  for (std::size_t i = 0; i < s.size();) {
-    const auto b0 = static_cast<unsigned char>(s[i]);
-    int extra = 0;
-    char32_t c = 0;
-    if (b0 < 0x80) c = b0;
-    else if ((b0 & 0xE0) == 0xC0) extra = 1, c = b0 & 0x1F;
-    else if ((b0 & 0xF0) == 0xE0) extra = 2, c = b0 & 0x0F;
-    else if ((b0 & 0xF8) == 0xF0) extra = 3, c = b0 & 0x07;
-    else throw bad(i, "a byte that starts no character");
-    if (i + static_cast<std::size_t>(extra) >= s.size() && extra > 0) throw bad(i, "a character cut short");
-    for (int k = 1; k <= extra; ++k) {
-      const auto b = static_cast<unsigned char>(s[i + static_cast<std::size_t>(k)]);
-      if ((b & 0xC0) != 0x80) throw bad(i, "a character cut short");
-      c = (c << 6) | (b & 0x3F);
-    }
-    static constexpr char32_t kMin[] = {0, 0x80, 0x800, 0x10000};
-    if (c < kMin[extra]) throw bad(i, "an overlong encoding");
-    if (c > 0x10FFFF || (c >= 0xD800 && c <= 0xDFFF)) throw bad(i, "a code point that is not a character");
-    if (c < 0x20 || c == 0x7F || (c >= 0x80 && c < 0xA0))
-      throw InputError("caption text has a control character (" + hex_code_point(c) + ") at byte " + std::to_string(i) +
-                       "; a caption is one line of printable text");
-    out.push_back(c);
-    i += 1 + static_cast<std::size_t>(extra);
-  }
-  return out;
-}
-
 fs::path default_caption_font() {
   static std::mutex mutex;  // fontconfig's configuration objects are not thread-safe
   const std::lock_guard lock(mutex);
@@ -333,7 +295,7 @@ int caption_text_width(const fs::path& font, int size, std::string_view text) {
   for (const char32_t c : chars) {
     const FT_UInt glyph = FT_Get_Char_Index(face.get(), c);
     if (glyph == 0)
-      throw InputError("caption: the font " + font.filename().string() + " has no glyph for " + hex_code_point(c) +
+      throw InputError("caption: the font " + font.filename().string() + " has no glyph for " + code_point_name(c) +
                        "; choose a font that has it with --font");
     if (previous && FT_HAS_KERNING(face.get())) {
       FT_Vector delta{};
@@ -341,7 +303,7 @@ int caption_text_width(const fs::path& font, int size, std::string_view text) {
       pen += delta.x >> 6;
     }
     if (FT_Load_Glyph(face.get(), glyph, FT_LOAD_DEFAULT) != 0)
-      throw InputError("caption: the font " + font.filename().string() + " cannot load the glyph of " + hex_code_point(c));
+      throw InputError("caption: the font " + font.filename().string() + " cannot load the glyph of " + code_point_name(c));
     const FT_GlyphSlot slot = face->glyph;
     right = std::max(right, pen + static_cast<long>((slot->metrics.horiBearingX + slot->metrics.width) >> 6));
     pen += slot->advance.x >> 6;

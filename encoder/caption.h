@@ -32,8 +32,11 @@ struct CaptionStyle {
 int default_caption_size(int height);
 
 /// Decodes UTF-8 into code points. \throw InputError naming the byte offset of invalid UTF-8 (a
-/// truncated or overlong sequence, a surrogate, a control character other than none).
+/// truncated or overlong sequence, a surrogate) or of a control character (a caption is one line).
 std::vector<char32_t> decode_caption_text(std::string_view utf8);
+
+/// "U+00C4": a code point as messages name it.
+std::string code_point_name(char32_t c);
 
 /// DejaVu Sans as fontconfig finds it. \throw InputError when it is not installed (naming the
 /// Debian package fonts-dejavu-core and --font).
