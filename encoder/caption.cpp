@@ -1,6 +1,7 @@
 #include "encoder/caption.h"
 
 #include "core/error.h"
+#include "encoder/libav_support.h"
 
 extern "C" {
 #include <libavfilter/avfilter.h>
@@ -27,20 +28,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string av_error_text(int code) {
-  std::array<char, AV_ERROR_MAX_STRING_SIZE> buf{};
-  if (av_strerror(code, buf.data(), buf.size()) < 0) return "libav error " + std::to_string(code);
-  return buf.data();
-}
 
 [[noreturn]] void fail_libav(const std::string& what, int code) {
-  throw RuntimeFailure("caption filter: " + what + " failed: " + av_error_text(code));
+  throw RuntimeFailure("caption filter: " + what + " failed: " + libav::error_text(code));
 }
 
-void quiet_libav_logging() {
-  static std::once_flag once;
-  std::call_once(once, [] { av_log_set_level(AV_LOG_ERROR); });
-}
 
 // ---- RAII around the C APIs
 struct FtLibraryDeleter {
@@ -55,18 +47,12 @@ struct FcConfigDeleter {
 struct FcPatternDeleter {
   void operator()(FcPattern* p) const { FcPatternDestroy(p); }
 };
-struct FilterGraphDeleter {
-  void operator()(AVFilterGraph* g) const { avfilter_graph_free(&g); }
-};
-struct FrameDeleter {
-  void operator()(AVFrame* f) const { av_frame_free(&f); }
-};
 using FtLibraryPtr = std::unique_ptr<std::remove_pointer_t<FT_Library>, FtLibraryDeleter>;
 using FtFacePtr = std::unique_ptr<std::remove_pointer_t<FT_Face>, FtFaceDeleter>;
 using FcConfigPtr = std::unique_ptr<FcConfig, FcConfigDeleter>;
 using FcPatternPtr = std::unique_ptr<FcPattern, FcPatternDeleter>;
-using FilterGraphPtr = std::unique_ptr<AVFilterGraph, FilterGraphDeleter>;
-using FramePtr = std::unique_ptr<AVFrame, FrameDeleter>;
+using libav::FilterGraphPtr;
+using libav::FramePtr;
 
 constexpr std::array<std::pair<std::string_view, CaptionPosition>, 6> kPositions = {{
     {"bottom-left", CaptionPosition::bottom_left}, {"bottom", CaptionPosition::bottom},
@@ -132,7 +118,7 @@ AVFilterContext* add_rgb_sink(AVFilterGraph* graph) {
 }
 
 FilterGraphPtr new_graph() {
-  quiet_libav_logging();
+  libav::quiet_logging();
   FilterGraphPtr graph(avfilter_graph_alloc());
   if (!graph) fail_libav("allocating the filter graph", AVERROR(ENOMEM));
   graph->nb_threads = 1;  // filters run in sequence: the same pixels on every machine
