@@ -445,5 +445,18 @@ TEST(FarmSlurm, ManifestWithWebAddsTheContactSheetJob) {
   EXPECT_NE(read_bytes(dir / "farm" / "submit.sh").find("--dependency=afterany:"), std::string::npos);
 }
 
+// The render tasks write clean frames; the encode job captions them and writes the poster (its
+// file named absolutely, as the job runs elsewhere).
+TEST(FarmSlurm, CaptionAndPosterGoToTheEncodeJobOnly) {
+  const auto dir = test::scratch_dir();
+  const auto r = run_meshtour("farm slurm --out-dir " + q(dir / "farm") + " --frames 6 --width 160 --height 90 --caption 'Ä — 1' --poster p.png");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string render = read_bytes(dir / "farm" / "render.sbatch"), encode = read_bytes(dir / "farm" / "encode.sbatch");
+  EXPECT_EQ(render.find("--caption"), std::string::npos) << render;
+  EXPECT_EQ(render.find("--poster"), std::string::npos) << render;
+  EXPECT_NE(encode.find("'--caption' 'Ä — 1'"), std::string::npos) << encode;
+  EXPECT_NE(encode.find("'--poster' '" + (test::source_dir() / "p.png").string() + "'"), std::string::npos) << encode;
+}
+
 }  // namespace
 }  // namespace meshtour

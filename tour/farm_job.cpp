@@ -198,9 +198,13 @@ void run_farm_slurm(const FarmJob& args) {
                                   : args.output;
     std::vector<std::string> encode = {exe.string(), "encode", frames_dir.string(), "-o", (out / video).string(), "--codec", codec};
     const auto forwarded_to_encode = options::forwarded_args(args.scene.values, options::encode_job, options::encode);
-    for (std::size_t i = 0; i < forwarded_to_encode.size(); i += 2)
-      if (forwarded_to_encode[i] != "--codec")  // given above, with its default
-        encode.insert(encode.end(), {forwarded_to_encode[i], forwarded_to_encode[i + 1]});
+    for (std::size_t i = 0; i < forwarded_to_encode.size(); i += 2) {
+      const std::string& flag = forwarded_to_encode[i];
+      if (flag == "--codec") continue;  // given above, with its default
+      // Files named here are found from the job's own directory too.
+      const bool file = flag == options::option("poster").flag || flag == options::option("font").flag;
+      encode.insert(encode.end(), {flag, file ? std::filesystem::absolute(forwarded_to_encode[i + 1]).string() : forwarded_to_encode[i + 1]});
+    }
     std::string enc = sbatch_header(args, "meshtour-encode", (out / "logs" / "encode_%j.log").string());
     enc += "# runs after every render task succeeded (submitted with --dependency=afterok:<render array job>)\n";
     enc += "set -euo pipefail\nexec" + join_quoted(encode) + "\n";
