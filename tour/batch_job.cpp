@@ -72,7 +72,11 @@ ItemResult run_item(const BatchJob& args, const BatchItem& item) {
     job.output = video;
     job.poster = poster_job(scene_args.values);
     job.poster.file = dir / r.poster;
-    job.caption = caption_args(scene_args.values);
+    // A batch-wide caption style applies to the items that have a caption and is no error for the others.
+    options::Values caption_values = scene_args.values;
+    if (!caption_values.contains("caption"))
+      for (const char* id : {"caption-position", "caption-size", "font"}) caption_values.erase(id);
+    job.caption = caption_args(caption_values);
     if (web) job.webm = dir / r.webm, job.gltf = dir / r.gltf;
     job.threads = int_value_or(args.defaults.values, "threads", 0);
     job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
