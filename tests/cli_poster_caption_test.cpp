@@ -196,5 +196,16 @@ TEST(CliCaption, TitleCardOpensOnThePosterAndFadesIntoTheTour) {
   EXPECT_FALSE(card.rgb_frames[0] == tour.rgb_frames[0]) << "the card shows no caption";
 }
 
+// tour with a title card: the same clip length as encode's, the poster still the clean best frame.
+TEST(CliCaption, TourTitleCardAndPosterTogether) {
+  const fs::path root = scratch_dir();
+  const auto r = run_meshtour("tour -q" + tour_size() + " --fps 10 --frames-dir " + q(root / "frames") + " -o " +
+                              q(root / "t.mp4") + " --caption '" + kCaption + "' --title-card 1 --poster " + q(root / "p.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(probe_video(root / "t.mp4").decoded_frames, 7 + kFrames);
+  const int best = best_view_frame(root / "frames");
+  EXPECT_TRUE(read_bytes(root / "p.png") == read_bytes(frame_png(root / "frames", best))) << "the poster has a caption";
+}
+
 }  // namespace
 }  // namespace meshtour
