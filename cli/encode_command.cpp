@@ -43,6 +43,8 @@ void run_encode(EncodeArgs args) {
     else if (id == "frame-selection") job.frames = text;
     else if (id == "exposure") job.exposure = std::stod(text);
   }
+  job.poster = poster_job(args.values);
+  job.caption = caption_args(args.values);
   encode_frames(job);
 }
 

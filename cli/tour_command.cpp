@@ -50,6 +50,8 @@ void run_tour(const TourArgs& args) {
   job.resources = args.resources;
   job.gltf = value_or(values, "gltf", "");
   job.camera_frames = value_or(values, "camera-frames", "");
+  job.poster = poster_job(values);
+  job.caption = caption_args(values);
   render_tour_video(scene, job);
 }
 

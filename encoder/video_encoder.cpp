@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "encoder/libav_support.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -82,25 +83,14 @@ constexpr std::array<std::string_view, 10> kPresets = {
     "ultrafast", "superfast", "veryfast", "faster", "fast",
     "medium",    "slow",      "slower",   "veryslow", "placebo"};
 
-std::string av_error_text(int code) {
-  std::array<char, AV_ERROR_MAX_STRING_SIZE> buf{};
-  if (av_strerror(code, buf.data(), buf.size()) < 0) return "libav error " + std::to_string(code);
-  return buf.data();
-}
+using libav::FilterGraphPtr;
+using libav::FramePtr;
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
-// libav logs warnings and x264 statistics to stderr by default; the CLI reports errors itself.
-void quiet_libav_logging() {
-  static std::once_flag once;
-  std::call_once(once, [] { av_log_set_level(AV_LOG_ERROR); });
-}
 
 struct CodecContextDeleter {
   void operator()(AVCodecContext* c) const { avcodec_free_context(&c); }
-};
-struct FrameDeleter {
-  void operator()(AVFrame* f) const { av_frame_free(&f); }
 };
 struct PacketDeleter {
   void operator()(AVPacket* p) const { av_packet_free(&p); }
@@ -127,14 +117,9 @@ struct Dictionary {
 };
 
 using CodecContextPtr = std::unique_ptr<AVCodecContext, CodecContextDeleter>;
-using FramePtr = std::unique_ptr<AVFrame, FrameDeleter>;
 using PacketPtr = std::unique_ptr<AVPacket, PacketDeleter>;
 using SwsPtr = std::unique_ptr<SwsContext, SwsDeleter>;
 using FormatContextPtr = std::unique_ptr<AVFormatContext, FormatContextDeleter>;
-struct FilterGraphDeleter {
-  void operator()(AVFilterGraph* g) const { avfilter_graph_free(&g); }
-};
-using FilterGraphPtr = std::unique_ptr<AVFilterGraph, FilterGraphDeleter>;
 struct FilterInOut {
   AVFilterInOut* list = nullptr;
   FilterInOut() = default;
@@ -320,14 +305,14 @@ struct VideoEncoder::Impl {
   Impl(const fs::path& out, const VideoOptions& opts)
       // The temporary's extension is the codec's, whatever the output is called.
       : output(out), options(opts), temp(out, std::string(video_codec_info(opts.codec).extension)) {
-    quiet_libav_logging();
+    libav::quiet_logging();
     open();
   }
 
 
   [[noreturn]] void fail_libav(const std::string& what, int code) {
     throw RuntimeFailure("video encoder for " + quoted(output) + ": " + what + " failed: " +
-                         av_error_text(code));
+                         libav::error_text(code));
   }
 
   void set_private(const char* key, const std::string& value) {
@@ -444,7 +429,7 @@ struct VideoEncoder::Impl {
     ret = avio_open(&format->pb, url.c_str(), AVIO_FLAG_WRITE);
     if (ret < 0)
       throw IoError("could not create temporary video file " + quoted(temp.temporary()) + ": " +
-                    av_error_text(ret));
+                    libav::error_text(ret));
 
     Dictionary muxer_opts;
     // faststart moves the index (moov) in front of the data when the trailer is written, so a
@@ -574,7 +559,7 @@ struct VideoEncoder::Impl {
       av_packet_unref(packet.get());  // already blank on success; frees the data on failure
       if (ret < 0)
         throw IoError("could not write video data to " + quoted(temp.temporary()) + ": " +
-                      av_error_text(ret));
+                      libav::error_text(ret));
     }
   }
 
@@ -672,10 +657,10 @@ struct VideoEncoder::Impl {
       encode(nullptr);
       int ret = av_write_trailer(format.get());
       if (ret < 0)
-        throw IoError("could not finish video file " + quoted(temp.temporary()) + ": " + av_error_text(ret));
+        throw IoError("could not finish video file " + quoted(temp.temporary()) + ": " + libav::error_text(ret));
       ret = avio_closep(&format->pb);  // reports write errors buffered until now (e.g. disk full)
       if (ret < 0)
-        throw IoError("could not close video file " + quoted(temp.temporary()) + ": " + av_error_text(ret));
+        throw IoError("could not close video file " + quoted(temp.temporary()) + ": " + libav::error_text(ret));
       temp.commit();
       state = State::Finished;
     } catch (...) {

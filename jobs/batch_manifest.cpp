@@ -101,6 +101,11 @@ void finish_items(std::vector<BatchItem>& items) {
       if (out.has_parent_path() || out.is_absolute()) item.error = "output '" + item.output + "' must be a plain file name (it goes into --out-dir)";
       else if (out.extension() != ".mp4") item.error = "output '" + item.output + "' must end in .mp4";
     }
+    if (const auto poster = item.values.find("poster"); item.error.empty() && poster != item.values.end()) {
+      const std::filesystem::path p(poster->second);
+      if (p.has_parent_path() || p.is_absolute()) item.error = "poster '" + poster->second + "' must be a plain file name (it goes into --out-dir)";
+      else if (p.extension() != ".png") item.error = "poster '" + poster->second + "' must end in .png";
+    }
     if (item.error.empty()) {
       const auto [it, inserted] = outputs.emplace(item.output, item.index);
       if (!inserted) item.error = "output '" + item.output + "' is already used by item " + std::to_string(it->second);

@@ -15,6 +15,7 @@ std::string type_name(const Option& o) {
     case Kind::text:
     case Kind::existing_file: return "FILE";
     case Kind::flag: return "";
+    case Kind::size: return "WxH";
   }
   return "";
 }

@@ -131,6 +131,42 @@ std::vector<Option> make_registry() {
        .commands = tour | path});
   add({.id = "camera-frames", .flag = "--camera-frames", .kind = Kind::text,
        .help = "Also write every frame's eye, target, up and field of view (.csv or .json)", .commands = tour | path});
+  // ---- Catalogue deliverables: poster still, caption and title card (burned into the video only; the
+  // frames `render` writes stay clean, so `encode` can caption one set of frames in several languages).
+  constexpr unsigned kVideoMakers = tour | batch | farm | encode;
+  add({.id = "poster", .flag = "--poster", .kind = Kind::text,
+       .help = "Also write the poster still (PNG): the tour's best-scored frame, bit-identical to that frame when the\n"
+               "sizes agree (batch: default <video name>.poster.png beside the video; encode: from the frames directory)",
+       .long_help = "The best frame is the one the path search scores highest (`best_view_frame` of the frames manifest); "
+                    "paths without view scores (turntable, paper, path files) use frame 0. In a batch manifest the column "
+                    "is a plain file name inside --out-dir.",
+       .manifest_column = true, .commands = tour | farm | encode, .farm = encode_job});
+  add({.id = "poster-size", .flag = "--poster-size", .kind = Kind::size, .lo = 16, .hi = 16384,
+       .help = "Poster size WIDTHxHEIGHT (default: the frames' size); the best frame is cropped to its aspect and resampled",
+       .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks});
+  add({.id = "caption", .flag = "--caption", .kind = Kind::text,
+       .help = "Text burned into the video (UTF-8, e.g. \"Nefertiti \u2014 ÄM 21300\"); the frames stay clean. Text wider\n"
+               "than the frame is an error naming the limit, never cut",
+       .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks});
+  add({.id = "caption-position", .flag = "--caption-position", .kind = Kind::choice,
+       .choices = {"bottom-left", "bottom", "bottom-right", "top-left", "top", "top-right"}, .ignore_case = true,
+       .default_text = "bottom-left", .help = "Where the caption goes: bottom-left (default), bottom, bottom-right, top-left, top, top-right",
+       .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks});
+  add({.id = "caption-size", .flag = "--caption-size", .kind = Kind::integer, .lo = 6, .hi = 1000,
+       .help = "Caption font size in pixels (default: 1/18 of the frame height, at least 10)",
+       .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks});
+  add({.id = "font", .flag = "--font", .kind = Kind::existing_file,
+       .help = "Caption font file (TrueType/OpenType; default: DejaVu Sans, found through fontconfig)",
+       .commands = kVideoMakers, .farm = encode_job | batch_tasks});
+  add({.id = "title-card", .flag = "--title-card", .kind = Kind::number, .lo = 0.5, .hi = 60,
+       .help = "Open the video on the poster frame with the caption large for SECONDS, then cross-fade into the tour",
+       .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks});
+  add({.id = "web", .flag = "--web", .kind = Kind::flag,
+       .help = "Web outputs: per item an H.264 MP4, a VP9 WebM and the poster, and index.html, a contact sheet of the batch",
+       .commands = batch | farm, .farm = batch_tasks});
+  add({.id = "page-only", .flag = "--page-only", .kind = Kind::flag,
+       .help = "Write only the contact sheet (index.html) from the batch summaries already in --out-dir (the farm's last job)",
+       .commands = batch});
   // ---- The toroidal-patch path (ALGORITHM.md); the feature orbit uses the patch options too.
   const unsigned kPathCommands = kRendering | path | evaluate;
   add({.id = "tolerance", .flag = "--tolerance", .kind = Kind::positive, .default_text = "0.001",
@@ -322,6 +358,17 @@ std::string number_text(double value) {
   return text;
 }
 
+bool parse_pixel_size(std::string_view text, int& width, int& height) {
+  const std::size_t x = text.find_first_of("xX");
+  if (x == std::string_view::npos) return false;
+  const auto whole = [](std::string_view part, int& out) {
+    if (part.empty() || part.size() > 9) return false;
+    const auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), out);
+    return ec == std::errc() && p == part.data() + part.size() && out >= 0;
+  };
+  return whole(text.substr(0, x), width) && whole(text.substr(x + 1), height);
+}
+
 std::string check_value(const Option& o, const std::string& text) {
   double v = 0;
   switch (o.kind) {
@@ -368,6 +415,13 @@ std::string check_value(const Option& o, const std::string& text) {
     case Kind::flag:
       if (text != "true" && text != "false") return "must be true or false, got '" + text + "'";
       return {};
+    case Kind::size: {
+      int w = 0, h = 0;
+      if (!parse_pixel_size(text, w, h)) return "must be WIDTHxHEIGHT in pixels, e.g. 640x360, got '" + text + "'";
+      if (w < o.lo || w > o.hi || h < o.lo || h > o.hi || w % 2 != 0 || h % 2 != 0)
+        return "must have even sides between " + range_text(o) + " pixels, got " + text;
+      return {};
+    }
   }
   return {};
 }
@@ -461,6 +515,7 @@ std::string kind_text(const Option& o) {
     case Kind::text: return "text";
     case Kind::existing_file: return "existing file";
     case Kind::flag: return "flag";
+    case Kind::size: return "WIDTHxHEIGHT, even sides " + number_text(o.lo) + "..." + number_text(o.hi);
   }
   return "";
 }

@@ -48,6 +48,7 @@ enum class Kind {
   text,              ///< free text (a file name)
   existing_file,     ///< a file that must exist
   flag,              ///< present or not ("true")
+  size,              ///< WIDTHxHEIGHT in pixels, each even and in [lo, hi] (e.g. --poster-size 640x360)
 };
 
 /// A range that depends on the codec (e.g. CRF: x264 0..51, libvpx-vp9 0..63).
@@ -113,6 +114,10 @@ Target target(const Option& o);
 
 
 
+
+/// Reads "WIDTHxHEIGHT" (e.g. "640x360"; 'x' or 'X', no blanks, no sign): true and the two numbers,
+/// or false when the text is not of that form. The range is the row's (check_value).
+bool parse_pixel_size(std::string_view text, int& width, int& height);
 
 /// The registry's text form of a number (shortest text that reads back to the same double).
 std::string number_text(double value);

@@ -12,7 +12,10 @@ packages=(
   libqhull-dev                              # mesh: convex hulls (reentrant libqhull_r) for fast framing
   libtinygltf-dev libdraco-dev draco        # mesh: glTF/GLB input, Draco-compressed primitives (draco_encoder: tests)
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video encoder
-  libavfilter-dev                           # video encoder: the GIF palette (palettegen, paletteuse)
+  libavfilter-dev                           # video encoder: the GIF palette (palettegen, paletteuse), captions (drawtext, xfade)
+  libfreetype-dev libfontconfig-dev         # captions: measuring the text, finding the font
+  fonts-dejavu-core                         # captions: the default font, DejaVu Sans
+  chromium                                  # tests: the contact sheet of batch --web in a real browser (tests/browser)
   nlohmann-json3-dev libcli11-dev           # scene/path files, command line
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   ffmpeg                                    # ffprobe, used by tests as an independent reader
@@ -44,8 +47,21 @@ install_gltf_validator() {
   fi
 }
 
+# puppeteer-core (drives Debian's Chromium; never downloads a browser), pinned by
+# tests/browser/package-lock.json, installed the same way.
+install_browser_driver() {
+  local dir tests_browser
+  dir="$(cd "$(dirname "$0")/.." && pwd)"
+  tests_browser="$dir/tests/browser"
+  if [ ! -f "$tests_browser/node_modules/.package-lock.json" ] || [ "$tests_browser/package-lock.json" -nt "$tests_browser/node_modules/.package-lock.json" ]; then
+    echo "install-deps: npm ci in tests/browser (puppeteer-core)"
+    (cd "$tests_browser" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  fi
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
   install_gltf_validator
+  install_browser_driver
   exit 0
 fi
 
@@ -70,4 +86,4 @@ $sudo apt-get -o DPkg::Lock::Timeout=600 update -qq &&
 [ "$added_policy" = 1 ] && $sudo rm -f /usr/sbin/policy-rc.d
 [ "$status" = 0 ] || exit "$status"
 install_gltf_validator
-
+install_browser_driver

@@ -401,5 +401,62 @@ TEST(FarmSlurm, ManifestGivesOneArrayTaskPerItem) {
   EXPECT_NE(script.find("'--frames' '6'"), std::string::npos) << script;
 }
 
+// --web: per item an MP4, a WebM, the poster and the glTF camera, and one contact sheet listing
+// every item, the failed one with its error; captions come from the manifest.
+TEST(BatchCommand, WebWritesBothVideosThePosterAndAContactSheet) {
+  const auto dir = test::scratch_dir();
+  write_obj(test_meshes::icosphere(2), dir / "ball.obj");
+  std::ofstream(dir / "broken.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0.5\n";
+  std::ofstream(dir / "m.csv") << "mesh,caption,path,poster\n"
+                                  "ball.obj,Ball — Kugel <1>,turntable,\n"
+                                  "broken.ply,Broken,turntable,\n"
+                                  "ball.obj,Second ball,turntable,second.png\n";
+  // (the third item would reuse ball.mp4: it fails with that reason, and the page shows it)
+  const auto r = run_meshtour("batch " + q(dir / "m.csv") + " --out-dir " + q(dir / "web") +
+                              " --web --frames 6 --width 160 --height 96 --spp 1 -q");
+  EXPECT_EQ(r.exit_code, 5) << r.output;
+  for (const char* f : {"ball.mp4", "ball.webm", "ball.poster.png", "ball.gltf", "index.html", "batch-summary.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "web" / f)) << f;
+  EXPECT_EQ(test::probe_video(dir / "web" / "ball.webm").codec, "vp9");
+  const auto summary = nlohmann::json::parse(read_bytes(dir / "web" / "batch-summary.json"));
+  EXPECT_EQ(summary["items"][0]["poster"], "ball.poster.png");
+  EXPECT_EQ(summary["items"][0]["webm"], "ball.webm");
+  EXPECT_EQ(summary["items"][0]["faces"], 320);
+  EXPECT_EQ(summary["items"][0]["caption"], "Ball — Kugel <1>");
+  const std::string page = read_bytes(dir / "web" / "index.html");
+  EXPECT_NE(page.find("Ball — Kugel &lt;1&gt;"), std::string::npos) << "caption missing or not escaped";
+  EXPECT_NE(page.find("<source src=\"ball.webm\" type=\"video/webm\"><source src=\"ball.mp4\" type=\"video/mp4\">"),
+            std::string::npos);
+  EXPECT_NE(page.find("poster=\"ball.poster.png\""), std::string::npos);
+  EXPECT_NE(page.find("preload=\"none\""), std::string::npos);
+  EXPECT_NE(page.find("broken.ply"), std::string::npos);
+  EXPECT_NE(page.find("already used by item 0"), std::string::npos) << "the failed item's error line";
+  EXPECT_EQ(page.find("http"), std::string::npos) << "the page must not reach the network";
+}
+
+TEST(FarmSlurm, ManifestWithWebAddsTheContactSheetJob) {
+  const auto dir = test::scratch_dir();
+  std::ofstream(dir / "m.csv") << "mesh,caption\na.obj,A\nb.obj,B\n";
+  const auto r = run_meshtour("farm slurm --manifest " + q(dir / "m.csv") + " --out-dir " + q(dir / "farm") + " --web");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(read_bytes(dir / "farm" / "batch.sbatch").find("'--web'"), std::string::npos);
+  const std::string page = read_bytes(dir / "farm" / "page.sbatch");
+  EXPECT_NE(page.find("'--web' '--page-only'"), std::string::npos) << page;
+  EXPECT_NE(read_bytes(dir / "farm" / "submit.sh").find("--dependency=afterany:"), std::string::npos);
+}
+
+// The render tasks write clean frames; the encode job captions them and writes the poster (its
+// file named absolutely, as the job runs elsewhere).
+TEST(FarmSlurm, CaptionAndPosterGoToTheEncodeJobOnly) {
+  const auto dir = test::scratch_dir();
+  const auto r = run_meshtour("farm slurm --out-dir " + q(dir / "farm") + " --frames 6 --width 160 --height 90 --caption 'Ä — 1' --poster p.png");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string render = read_bytes(dir / "farm" / "render.sbatch"), encode = read_bytes(dir / "farm" / "encode.sbatch");
+  EXPECT_EQ(render.find("--caption"), std::string::npos) << render;
+  EXPECT_EQ(render.find("--poster"), std::string::npos) << render;
+  EXPECT_NE(encode.find("'--caption' 'Ä — 1'"), std::string::npos) << encode;
+  EXPECT_NE(encode.find("'--poster' '" + (test::source_dir() / "p.png").string() + "'"), std::string::npos) << encode;
+}
+
 }  // namespace
 }  // namespace meshtour

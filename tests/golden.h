@@ -31,15 +31,13 @@ inline bool golden_update_requested() {
   return v && std::string(v) == "1";
 }
 
-/// Compares `image` with golden_images/<name>.png (or rewrites it under GOLDEN_UPDATE=1).
-inline void compare_with_golden(const Image& image, const std::string& name, double fail_fraction) {
+/// Compares the PNG `actual_file` with golden_images/<name>.png (or copies it there under
+/// GOLDEN_UPDATE=1); on failure writes a x16 difference image beside `actual_file`.
+inline void compare_png_with_golden(const std::filesystem::path& actual_file, const std::string& name, double fail_fraction) {
   constexpr float kPixelFail = 2.0f / 255.0f;
   constexpr float kHardFail = 0.25f;
   const auto golden = source_dir() / "golden_images" / (name + ".png");
-  const auto out_dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "golden-results";
-  std::filesystem::create_directories(out_dir);
-  const auto actual_file = out_dir / (name + ".actual.png");
-  write_image(image, actual_file);
+  const auto out_dir = actual_file.parent_path();
   if (golden_update_requested()) {
     std::filesystem::create_directories(golden.parent_path());
     std::filesystem::copy_file(actual_file, golden, std::filesystem::copy_options::overwrite_existing);
@@ -64,6 +62,15 @@ inline void compare_with_golden(const Image& image, const std::string& name, dou
                   << ", max error " << result.maxerror << " at (" << result.maxx << ", " << result.maxy << ")"
                   << ", mean error " << result.meanerror << "; see " << out_dir / (name + ".diff.png")
                   << " and " << actual_file;
+}
+
+/// Compares `image` with golden_images/<name>.png (or rewrites it under GOLDEN_UPDATE=1).
+inline void compare_with_golden(const Image& image, const std::string& name, double fail_fraction) {
+  const auto out_dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "golden-results";
+  std::filesystem::create_directories(out_dir);
+  const auto actual_file = out_dir / (name + ".actual.png");
+  write_image(image, actual_file);
+  compare_png_with_golden(actual_file, name, fail_fraction);
 }
 
 }  // namespace meshtour::test

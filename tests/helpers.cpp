@@ -1,6 +1,8 @@
 #include "helpers.h"
 
 #include <array>
+#include <fstream>
+#include <iterator>
 #include <cstdio>
 #include <cstdlib>
 #include <sys/wait.h>
@@ -71,6 +73,18 @@ int spawn_meshtour(const std::vector<std::string>& args, const std::filesystem::
     ::_exit(127);
   }
   return pid;
+}
+
+std::string shell_quoted(const std::filesystem::path& p) {
+  std::string quoted = "'";
+  quoted += p.string();
+  quoted += "'";
+  return quoted;
+}
+
+std::string file_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 }  // namespace meshtour::test

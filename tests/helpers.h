@@ -18,6 +18,11 @@ std::filesystem::path shared_meshes_dir();
 /// True when MESHTOUR_REQUIRE_SHARED=1: a missing ../shared is then a failure, not a skip (CI).
 bool shared_required();
 
+/// `p` in single quotes, for run_meshtour's shell command line.
+std::string shell_quoted(const std::filesystem::path& p);
+/// The whole file as bytes ("" when it cannot be read).
+std::string file_bytes(const std::filesystem::path& file);
+
 /// Result of running the meshtour executable.
 struct CommandResult {
   int exit_code = -1;

@@ -128,5 +128,15 @@ TEST(FrameDir, PrepareWritesTheManifestOnceAndRefusesAnotherTour) {
   EXPECT_TRUE(read_frame_dir_info(denoised_dir).denoise);
 }
 
+TEST(BatchManifest, PosterColumnIsAPlainPngName) {
+  const auto dir = test::scratch_dir();
+  const auto items = read_batch_manifest(write(dir / "m.csv", "mesh,poster\na.ply,a-still.png\nb.ply,sub/b.png\nc.ply,c.jpg\n"));
+  ASSERT_EQ(items.size(), 3u);
+  EXPECT_EQ(items[0].error, "");
+  EXPECT_EQ(items[0].values.at("poster"), "a-still.png");
+  EXPECT_NE(items[1].error.find("plain file name"), std::string::npos) << items[1].error;
+  EXPECT_NE(items[2].error.find(".png"), std::string::npos) << items[2].error;
+}
+
 }  // namespace
 }  // namespace meshtour

@@ -34,9 +34,10 @@ std::string sample_value(const Option& o) {
     case Kind::choice_list: return std::string(o.choices.front()) + "," + std::string(o.choices.back());
     case Kind::number_or_choice: return options::number_text(o.lo + 0.5 * (o.hi - o.lo));
     case Kind::frame_selection: return "0-3:2";
-    case Kind::text: return "out.json";
+    case Kind::text: return o.id == "poster" ? "out.png" : "out.json";  // a poster is a PNG
     case Kind::existing_file: return "/dev/null";
     case Kind::flag: return "true";
+    case Kind::size: return "64x48";
   }
   return "";
 }
@@ -52,6 +53,7 @@ std::string bad_value(const Option& o) {
     case Kind::number_or_choice: return options::number_text(o.hi + 1);
     case Kind::frame_selection: return "5-x";
     case Kind::flag: return "maybe";
+    case Kind::size: return "65x48";
     case Kind::text:
     case Kind::existing_file: return "";
   }

@@ -14,6 +14,7 @@
 #include "tour/mesh_warnings.h"
 #include "tour/path_overview.h"
 #include "tour/path_plot.h"
+#include "tour/contact_sheet.h"
 #include "tour/progress.h"
 
 namespace meshtour {
@@ -24,7 +25,13 @@ struct ItemResult {
   std::string status;  // "rendered", "skipped" (video already there) or "failed"
   double seconds = 0.0;
   std::string error;
+  // Beside the video in --out-dir ("" = not made): the poster, and with --web the WebM and glTF camera.
+  std::string poster, webm, gltf, caption;
+  long long faces = -1;
+  double duration = -1;
 };
+
+bool flag_given(const options::Values& values, std::string_view id) { return value_or(values, id, "false") == "true"; }
 
 // The batch's command-line values with the item's columns on top; a column replaces the option
 // it excludes too (an item's "seconds" wins over a --frames given for the whole batch).
@@ -43,22 +50,40 @@ ItemResult run_item(const BatchJob& args, const BatchItem& item) {
   ItemResult r;
   r.item = &item;
   const auto start = std::chrono::steady_clock::now();
-  const std::filesystem::path video = std::filesystem::path(args.out_dir) / item.output;
+  const std::filesystem::path dir(args.out_dir);
+  const std::filesystem::path video = dir / item.output;
+  const std::string stem = std::filesystem::path(item.output).stem().string();
+  const bool web = flag_given(args.defaults.values, "web");
+  r.poster = value_or(item.values, "poster", stem + ".poster.png");
+  r.caption = value_or(item.values, "caption", value_or(args.defaults.values, "caption", ""));
+  if (web) r.webm = stem + ".webm", r.gltf = stem + ".gltf";
   std::error_code ec;
-  if (item.error.empty() && std::filesystem::is_regular_file(video, ec)) {
+  const auto exists = [&](const std::string& name) { return name.empty() || std::filesystem::is_regular_file(dir / name, ec); };
+  if (item.error.empty() && exists(item.output) && exists(r.poster) && exists(r.webm) && exists(r.gltf)) {
     r.status = "skipped";
     return r;
   }
   try {
     if (!item.error.empty()) throw InputError(item.error);
     if (!args.quiet) std::fprintf(stderr, "== item %d: %s -> %s\n", item.index, item.mesh.string().c_str(), video.string().c_str());
-    const Scene scene = resolve_scene(item_scene_args(args.defaults, item));
+    const SceneArgs scene_args = item_scene_args(args.defaults, item);
+    const Scene scene = resolve_scene(scene_args);
     TourVideoJob job;
     job.output = video;
+    job.poster = poster_job(scene_args.values);
+    job.poster.file = dir / r.poster;
+    // A batch-wide caption style applies to the items that have a caption and is no error for the others.
+    options::Values caption_values = scene_args.values;
+    if (!caption_values.contains("caption"))
+      for (const char* id : {"caption-position", "caption-size", "font"}) caption_values.erase(id);
+    job.caption = caption_args(caption_values);
+    if (web) job.webm = dir / r.webm, job.gltf = dir / r.gltf;
     job.threads = int_value_or(args.defaults.values, "threads", 0);
     job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
     job.quiet = args.quiet;
-    render_tour_video(scene, job);
+    const TourVideoResult made = render_tour_video(scene, job);
+    r.faces = static_cast<long long>(made.faces);
+    r.duration = made.seconds();
     r.status = "rendered";
   } catch (const Interrupted&) {
     throw;  // Ctrl-C stops the whole batch
@@ -87,6 +112,14 @@ void write_summary(const BatchJob& args, const std::vector<ItemResult>& results,
     i["status"] = r.status;
     i["seconds"] = r.seconds;
     if (!r.error.empty()) i["error"] = r.error;
+    if (!r.caption.empty()) i["caption"] = r.caption;
+    if (r.status != "failed") {
+      i["poster"] = r.poster;
+      if (!r.webm.empty()) i["webm"] = r.webm;
+      if (!r.gltf.empty()) i["gltf"] = r.gltf;
+    }
+    if (r.faces >= 0) i["faces"] = r.faces;
+    if (r.duration >= 0) i["duration"] = r.duration;
     items.push_back(std::move(i));
     counts[r.status == "rendered" ? 0 : r.status == "skipped" ? 1 : 2]++;
   }
@@ -116,6 +149,13 @@ void print_table(const std::vector<ItemResult>& results) {
 
 void run_batch(const BatchJob& args) {
   install_interrupt_handlers();
+  const bool web = flag_given(args.defaults.values, "web");
+  if (flag_given(args.defaults.values, "page-only")) {
+    // The last job of a farm's batch: the page from the array tasks' summaries.
+    const std::filesystem::path page = write_contact_sheet(args.out_dir);
+    if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());
+    return;
+  }
   const std::vector<BatchItem> items = read_batch_manifest(args.manifest);
   if (args.item && (*args.item < 0 || *args.item >= static_cast<int>(items.size())))
     throw InputError("--item " + std::to_string(*args.item) + ": the manifest has items 0.." + std::to_string(items.size() - 1));
@@ -132,6 +172,11 @@ void run_batch(const BatchJob& args) {
   // One summary per farm task (--item), so that concurrent tasks never write the same file.
   const std::string name = args.item ? "batch-summary-" + std::to_string(*args.item) + ".json" : "batch-summary.json";
   write_summary(args, results, std::filesystem::path(args.out_dir) / name);
+  // One farm task (--item) knows only its own item: the farm's last job writes the page.
+  if (web && !args.item) {
+    const std::filesystem::path page = write_contact_sheet(args.out_dir);
+    if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());
+  }
   for (const auto& r : results)
     if (r.status == "failed") throw SomeItemsFailed();
 }

@@ -34,6 +34,7 @@ struct EncodePlan {
   std::string extension;  // "png" or "exr"
   int fps = 30;
   int width = 0, height = 0;  // 0: take it from the first frame (no manifest)
+  int poster = 0;             // the frame the poster and the title card show
 };
 
 std::string lowercase(std::string s) {
@@ -74,6 +75,7 @@ EncodePlan make_plan(const EncodeJob& a) {
     plan.fps = a.fps.value_or(info.fps);
     plan.width = info.width;
     plan.height = info.height;
+    plan.poster = poster_frame(info.best_view_frame);
     const auto has = [&](const std::string& f) {
       return std::find(info.image_formats.begin(), info.image_formats.end(), f) != info.image_formats.end();
     };
@@ -269,16 +271,30 @@ void encode_frames(const EncodeJob& args) {
 
   const fs::path output = args.output;
   VideoEncoder encoder(output, video);  // validates the options and the output before any work
+  CaptionedVideo captioned(encoder, video, args.caption);  // a caption that does not fit fails now
+  check_poster_output(args.poster);
+  const fs::path poster_file = frame_file(plan.dir, plan.poster, plan.extension);
+  if ((captioned.needs_poster() || !args.poster.file.empty()) && !fs::exists(poster_file))
+    throw InputError(plan.dir.string() + ": the poster frame " + poster_file.filename().string() +
+                     " is missing; render it (meshtour render --frames " + std::to_string(plan.poster) + ")");
+  if (captioned.needs_poster()) captioned.start(read_frame(poster_file, plan, display));
   const int total = static_cast<int>(plan.frames.size());
   Progress progress("encoded frame", total, args.quiet);
   for (int i = 0; i < total; ++i) {
     throw_if_interrupted();
-    encoder.add_frame(read_frame(frame_file(plan.dir, plan.frames[static_cast<std::size_t>(i)], plan.extension), plan, display));
+    captioned.add(read_frame(frame_file(plan.dir, plan.frames[static_cast<std::size_t>(i)], plan.extension), plan, display));
     progress.update(i + 1);
   }
   throw_if_interrupted();
-  encoder.finish();
+  captioned.finish();
   progress.finish();
+  if (!args.poster.file.empty()) {
+    // A PNG frame is the poster as it is (byte for byte the frame `tour` would write); EXR frames
+    // go through the same display transform as the video.
+    if (plan.extension == "png") write_poster_from_png(poster_file, args.poster);
+    else write_poster_pixels(read_frame(poster_file, plan, display), plan.width, plan.height, 3, args.poster);
+    if (!args.quiet) std::fprintf(stderr, "wrote %s (poster: frame %d)\n", args.poster.file.string().c_str(), plan.poster);
+  }
   if (!args.quiet) {
     std::error_code ec;
     const auto bytes = fs::file_size(output, ec);

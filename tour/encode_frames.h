@@ -4,6 +4,9 @@
 #include <optional>
 #include <string>
 
+#include "tour/captioned_video.h"
+#include "tour/poster.h"
+
 namespace meshtour {
 
 /// What to encode; unset values come from the frames manifest, the EXR headers or the codec.
@@ -13,6 +16,8 @@ struct EncodeJob {
   std::optional<int> fps, crf;
   std::optional<std::string> codec, frames, input_format, tone_mapping;  ///< frames: a selection (jobs/frame_range.h)
   std::optional<double> exposure;
+  PosterJob poster;    ///< the best frame (the manifest's best_view_frame, else 0) as a PNG
+  CaptionArgs caption;  ///< burned into the video; the frames stay as they are
   bool quiet = false;
 };
 

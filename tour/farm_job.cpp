@@ -134,6 +134,17 @@ void run_farm_slurm(const FarmJob& args) {
     write_text(out / "batch.sbatch", script, true);
     first_sbatch = " " + shell_quote((out / "batch.sbatch").string());
     submit_script += "batch=$(sbatch --parsable" + first_sbatch + ")\necho \"batch_job=${batch%%;*}\"\n";
+    if (value_or(args.scene.values, "web", "false") == "true") {
+      // The contact sheet once every task ended, failed ones included (they are on the page).
+      std::string page = sbatch_header(args, "meshtour-page", (out / "logs" / "page_%j.log").string());
+      page += "# runs after every batch task ended (submitted with --dependency=afterany:<batch array job>)\n";
+      page += "set -euo pipefail\nexec" +
+              join_quoted({exe.string(), "batch", manifest.string(), "--out-dir", out.string(), "--web", "--page-only"}) + "\n";
+      write_text(out / "page.sbatch", page, true);
+      second_sbatch = " " + shell_quote((out / "page.sbatch").string());
+      submit_script += "page=$(sbatch --parsable --dependency=afterany:${batch%%;*}" + second_sbatch +
+                       ")\necho \"page_job=${page%%;*}\"\n";
+    }
   } else {
     const Scene scene = resolve_scene(args.scene, codec);
     const std::filesystem::path frames_dir = out / "frames";
@@ -187,9 +198,13 @@ void run_farm_slurm(const FarmJob& args) {
                                   : args.output;
     std::vector<std::string> encode = {exe.string(), "encode", frames_dir.string(), "-o", (out / video).string(), "--codec", codec};
     const auto forwarded_to_encode = options::forwarded_args(args.scene.values, options::encode_job, options::encode);
-    for (std::size_t i = 0; i < forwarded_to_encode.size(); i += 2)
-      if (forwarded_to_encode[i] != "--codec")  // given above, with its default
-        encode.insert(encode.end(), {forwarded_to_encode[i], forwarded_to_encode[i + 1]});
+    for (std::size_t i = 0; i < forwarded_to_encode.size(); i += 2) {
+      const std::string& flag = forwarded_to_encode[i];
+      if (flag == "--codec") continue;  // given above, with its default
+      // Files named here are found from the job's own directory too.
+      const bool file = flag == options::option("poster").flag || flag == options::option("font").flag;
+      encode.insert(encode.end(), {flag, file ? std::filesystem::absolute(forwarded_to_encode[i + 1]).string() : forwarded_to_encode[i + 1]});
+    }
     std::string enc = sbatch_header(args, "meshtour-encode", (out / "logs" / "encode_%j.log").string());
     enc += "# runs after every render task succeeded (submitted with --dependency=afterok:<render array job>)\n";
     enc += "set -euo pipefail\nexec" + join_quoted(encode) + "\n";
@@ -213,6 +228,8 @@ void run_farm_slurm(const FarmJob& args) {
   if (!args.manifest.empty()) {
     const std::string id = submit(first_sbatch, "submitting the batch array");
     std::printf("batch_job=%s\n", id.c_str());
+    if (!second_sbatch.empty())
+      std::printf("page_job=%s\n", submit(" --dependency=afterany:" + id + second_sbatch, "submitting the contact-sheet job").c_str());
     if (!args.quiet) std::fprintf(stderr, "submitted batch array job %s (%d tasks, one per item)\n", id.c_str(), tasks);
   } else {
     const std::string render_id = submit(first_sbatch, "submitting the render array");

@@ -274,10 +274,15 @@ FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& 
   if (scene.path_file) info.path_file = std::filesystem::absolute(*scene.path_file).string();
   if (static_cast<int>(view_scores.size()) == scene.frames && !view_scores.empty()) {
     info.view_scores = view_scores;
-    // The first of equal maxima, as the path search picks its start.
-    info.best_view_frame = static_cast<int>(std::max_element(view_scores.begin(), view_scores.end()) - view_scores.begin());
+    info.best_view_frame = best_view_frame(view_scores);
   }
   return info;
+}
+
+int best_view_frame(const std::vector<double>& view_scores) {
+  if (view_scores.empty()) return -1;
+  // The first of equal maxima, as the path search picks its start.
+  return static_cast<int>(std::max_element(view_scores.begin(), view_scores.end()) - view_scores.begin());
 }
 
 void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
@@ -290,7 +295,7 @@ void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
   }
 }
 
-void render_tour_video(const Scene& scene, const TourVideoJob& job) {
+TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   const std::filesystem::path& output = job.output;
   if (output.extension() != ".mp4") throw InputError(output.string() + ": the video is written as H.264 MP4; name it *.mp4");
   const bool keep_frames = !job.frames_dir.empty();
@@ -312,6 +317,19 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
   video.fps = scene.fps;
   video.crf = scene.crf;
   VideoEncoder encoder(output, video);
+  // The caption is measured now: one that does not fit fails before the model is even loaded.
+  CaptionedVideo captioned(encoder, video, job.caption);
+  // The web copy: VP9 at its own default quality (the crf given is H.264's).
+  std::optional<VideoEncoder> web_encoder;
+  std::optional<CaptionedVideo> web_captioned;
+  if (!job.webm.empty()) {
+    VideoOptions web = video;
+    web.codec = VideoCodec::vp9;
+    web.crf.reset();
+    web_encoder.emplace(job.webm, web);
+    web_captioned.emplace(*web_encoder, web, job.caption);
+  }
+  check_poster_output(job.poster);
 
   const PreparedTour tour = prepare_tour(scene, job.quiet, &log);
   // The frames directory and its manifest only once the tour could be prepared: a bad model or
@@ -332,6 +350,16 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
     if (!job.camera_frames.empty()) write_camera_frames(cameras, job.camera_frames);
   }
 
+  // The poster: the best-scored frame (frame 0 when the path has no view scores). The title card
+  // opens on it, so then it is rendered before the tour; else it is kept as the loop passes it.
+  const int poster_k = std::min(poster_frame(best_view_frame(tour.view_scores)), scene.frames - 1);
+  std::optional<Image> poster;
+  if (captioned.needs_poster()) {
+    poster = tour.render_frame(poster_k);
+    captioned.start(poster->to_srgb8());
+    if (web_captioned) web_captioned->start(poster->to_srgb8());
+  }
+
   Progress progress("frame", scene.frames, job.progress);
   using Clock = std::chrono::steady_clock;
   double render_seconds = 0.0, encode_seconds = 0.0;
@@ -341,8 +369,11 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
     const auto start = Clock::now();
     if (write_png) write_image(image, frame_file(job.frames_dir, k, "png"));
     if (write_exr) write_image(image, frame_file(job.frames_dir, k, "exr"));
+    if (k == poster_k && !job.poster.file.empty() && !poster) poster = image;
     const auto written = Clock::now();
-    encoder.add_frame(image.to_srgb8());
+    const std::vector<std::uint8_t> rgb = image.to_srgb8();
+    captioned.add(rgb);
+    if (web_captioned) web_captioned->add(rgb);
     encode_seconds += std::chrono::duration<double>(Clock::now() - written).count();
     render_seconds += seconds + std::chrono::duration<double>(written - start).count();
     progress.step_done(k, seconds + std::chrono::duration<double>(Clock::now() - start).count(), k + 1);
@@ -350,11 +381,23 @@ void render_tour_video(const Scene& scene, const TourVideoJob& job) {
   throw_if_interrupted();
   log.report("render", render_seconds);
   const auto finish_start = Clock::now();
-  encoder.finish();
+  captioned.finish();
+  if (web_captioned) web_captioned->finish();
   log.report("encode", encode_seconds + std::chrono::duration<double>(Clock::now() - finish_start).count());
   progress.finish();
+  // After the video: a failed tour leaves no poster either.
+  if (poster && !job.poster.file.empty()) {
+    write_poster(*poster, job.poster);
+    if (!job.quiet) std::fprintf(stderr, "wrote %s (poster: frame %d, the best-scored view)\n", job.poster.file.string().c_str(), poster_k);
+  }
   if (!job.quiet) std::fprintf(stderr, "wrote %s (%d frames, %dx%d, %d fps)\n", output.string().c_str(), scene.frames,
                                scene.render.width, scene.render.height, scene.fps);
+  TourVideoResult result;
+  result.faces = tour.mesh.face_count();
+  result.video_frames = encoder.frames_written();
+  result.fps = scene.fps;
+  result.poster_frame = poster_k;
+  return result;
 }
 
 }  // namespace meshtour

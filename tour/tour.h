@@ -16,6 +16,8 @@
 #include <vector>
 
 #include "jobs/frame_dir.h"
+#include "tour/captioned_video.h"
+#include "tour/poster.h"
 #include "options/option_registry.h"
 #include "tour/progress.h"
 #include "tour/resources.h"
@@ -99,6 +101,10 @@ int thread_count(int requested, bool quiet);
 FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& formats,
                             const std::vector<double>& view_scores = {});
 
+/// The best-scored frame of `view_scores` (the first of equal maxima, as the path search picks its
+/// start), or -1 when there are none: the frames manifest's best_view_frame and the poster.
+int best_view_frame(const std::vector<double>& view_scores);
+
 /// The one frame loop: renders `frames` of the tour in order, checking for an interrupt before
 /// each, and hands each image to `done` with its render time in seconds.
 void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
@@ -108,6 +114,7 @@ void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
 /// runs it once, `batch` for every item.
 struct TourVideoJob {
   std::filesystem::path output;      // .mp4
+  std::filesystem::path webm;        // also a VP9 WebM of the same frames ("" = no), at VP9's default crf
   std::filesystem::path frames_dir;  // also write the frames here ("" = no)
   std::string format = "png";        // png, exr or png+exr, for frames_dir
   std::filesystem::path gltf;           // also export the camera path as glTF 2.0 ("" = no)
@@ -115,9 +122,19 @@ struct TourVideoJob {
   int threads = 0;                   // 0 = render_threads' default
   ProgressMode progress = ProgressMode::automatic;
   ResourceArgs resources;  // --max-memory, --verbose
+  PosterJob poster;         // --poster, --poster-size: the best frame as a PNG (written after the video)
+  CaptionArgs caption;      // --caption ..., --title-card: burned into the video only
   bool quiet = false;
 };
-void render_tour_video(const Scene& scene, const TourVideoJob& job);
+/// What a finished tour video holds, for summaries and contact sheets.
+struct TourVideoResult {
+  std::size_t faces = 0;
+  std::int64_t video_frames = 0;  ///< title card included
+  int fps = 0;
+  int poster_frame = 0;
+  double seconds() const { return fps > 0 ? static_cast<double>(video_frames) / fps : 0.0; }
+};
+TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job);
 
 inline Scene resolve_scene(const SceneArgs& args, std::string_view codec) { return resolve_scene(args.input, args.values, codec); }
 

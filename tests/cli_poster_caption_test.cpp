@@ -1,0 +1,213 @@
+// Posters, captions and title cards (tour, render + encode): the poster is the best-scored frame
+// byte for byte, captions exist only in the video, land where asked, render UTF-8, and a caption
+// that does not fit is refused with the limit named.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "golden.h"
+#include "helpers.h"
+#include "video_probe.h"
+
+namespace meshtour {
+namespace {
+
+namespace fs = std::filesystem;
+using test::probe_video;
+using test::run_meshtour;
+using test::scratch_dir;
+
+constexpr int kWidth = 192, kHeight = 108, kFrames = 6;
+const std::string kCaption = "Nefertiti — ÄM 21300";  // an em dash and an umlaut
+
+std::string q(const fs::path& p) { return test::shell_quoted(p); }
+std::string read_bytes(const fs::path& file) { return test::file_bytes(file); }
+
+std::string tour_size() {
+  return " --frames " + std::to_string(kFrames) + " --width " + std::to_string(kWidth) + " --height " +
+         std::to_string(kHeight) + " --spp 1";
+}
+
+int best_view_frame(const fs::path& frames_dir) {
+  std::ifstream in(frames_dir / "meshtour-frames.json");
+  const auto j = nlohmann::json::parse(in);
+  return j.value("best_view_frame", -1);
+}
+
+fs::path frame_png(const fs::path& dir, int k) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06d.png", k);
+  return dir / name;
+}
+
+// The rendered frames of the default scene, once per test (render writes what tour would). The
+// caption tests take the turntable: no path search, so they stay quick under the sanitizers.
+fs::path render_frames(const fs::path& root, const std::string& path = "turntable") {
+  const auto r = run_meshtour("render -q --frame-count " + std::to_string(kFrames) + " --width " + std::to_string(kWidth) +
+                              " --height " + std::to_string(kHeight) + " --spp 1 --path " + path + " --out-dir " + q(root / "frames"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return root / "frames";
+}
+
+TEST(CliPoster, IsTheBestFrameByteForByteFromTourAndFromEncode) {
+  const fs::path root = scratch_dir();
+  const auto tour = run_meshtour("tour -q" + tour_size() + " --frames-dir " + q(root / "tour-frames") + " -o " +
+                                 q(root / "tour.mp4") + " --poster " + q(root / "tour-poster.png"));
+  ASSERT_EQ(tour.exit_code, 0) << tour.output;
+  const int best = best_view_frame(root / "tour-frames");
+  ASSERT_GE(best, 0) << "the feature orbit scores every frame";
+  const std::string poster = read_bytes(root / "tour-poster.png");
+  ASSERT_FALSE(poster.empty());
+  EXPECT_TRUE(poster == read_bytes(frame_png(root / "tour-frames", best))) << "tour's poster is not frame " << best;
+
+  // A farm: render writes the frames, encode writes the poster.
+  const fs::path frames = render_frames(root, "feature-orbit");
+  const auto enc = run_meshtour("encode -q " + q(frames) + " -o " + q(root / "farm.mp4") + " --poster " +
+                                q(root / "farm-poster.png"));
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  EXPECT_TRUE(read_bytes(root / "farm-poster.png") == poster) << "encode's poster differs from tour's";
+
+  // Another size: cropped and resampled, the same from both.
+  const auto sized = run_meshtour("encode -q " + q(frames) + " -o " + q(root / "farm2.mp4") + " --poster " +
+                                  q(root / "square.png") + " --poster-size 64x64");
+  ASSERT_EQ(sized.exit_code, 0) << sized.output;
+  OIIO::ImageBuf square((root / "square.png").string());
+  ASSERT_TRUE(square.read());
+  EXPECT_EQ(square.spec().width, 64);
+  EXPECT_EQ(square.spec().height, 64);
+}
+
+TEST(CliPoster, BadSizeAndNameAreRefused) {
+  const fs::path root = scratch_dir();
+  auto r = run_meshtour("tour -q" + tour_size() + " -o " + q(root / "t.mp4") + " --poster " + q(root / "p.png") +
+                        " --poster-size 65x64");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("even"), std::string::npos) << r.output;
+  r = run_meshtour("tour -q" + tour_size() + " -o " + q(root / "t.mp4") + " --poster " + q(root / "p.jpg"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("*.png"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(root / "t.mp4"));
+}
+
+// FFV1 is lossless: the decoded frames are exactly what the caption filter drew.
+std::vector<std::uint8_t> first_frame(const fs::path& video) {
+  const auto p = probe_video(video, {0});
+  return p.rgb_frames.at(0);
+}
+
+// Pixels of `rgb` that differ from `clean`, counted inside and outside the box [x0, x1) x [y0, y1).
+std::pair<int, int> changed(const std::vector<std::uint8_t>& rgb, const std::vector<std::uint8_t>& clean, int x0, int y0,
+                            int x1, int y1) {
+  int inside = 0, outside = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const std::size_t i = (static_cast<std::size_t>(y) * kWidth + x) * 3;
+      const bool differs = rgb[i] != clean[i] || rgb[i + 1] != clean[i + 1] || rgb[i + 2] != clean[i + 2];
+      const bool in = x >= x0 && x < x1 && y >= y0 && y < y1;
+      (in ? inside : outside) += differs;
+    }
+  return {inside, outside};
+}
+
+TEST(CliCaption, IsBurnedWhereAskedIntoTheVideoOnlyAndMatchesTheGolden) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = render_frames(root);
+  const std::string before = read_bytes(frame_png(frames, 0));
+  auto r = run_meshtour("encode -q " + q(frames) + " -o " + q(root / "clean.mkv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("encode -q " + q(frames) + " -o " + q(root / "bottom-left.mkv") + " --caption '" + kCaption + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("encode -q " + q(frames) + " -o " + q(root / "top-right.mkv") + " --caption '" + kCaption +
+                   "' --caption-position top-right");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(read_bytes(frame_png(frames, 0)) == before) << "encode changed a frame file";
+
+  const auto clean = first_frame(root / "clean.mkv");
+  const auto bottom_left = first_frame(root / "bottom-left.mkv");
+  const auto top_right = first_frame(root / "top-right.mkv");
+  // The lower-left quarter-height band holds the caption; nothing else changes.
+  const auto [bl_in, bl_out] = changed(bottom_left, clean, 0, kHeight * 3 / 4, kWidth * 7 / 8, kHeight);
+  EXPECT_GT(bl_in, 300) << "the bottom-left caption is missing";
+  EXPECT_EQ(bl_out, 0) << "the bottom-left caption spills outside its corner";
+  const auto [tr_in, tr_out] = changed(top_right, clean, kWidth / 8, 0, kWidth, kHeight / 4);
+  EXPECT_GT(tr_in, 300) << "the top-right caption is missing";
+  EXPECT_EQ(tr_out, 0) << "the top-right caption spills outside its corner";
+
+  // The caption's band against the golden crop (text raster by FreeType: stable across CPUs; the
+  // tolerance absorbs a renderer pixel flipping behind the half-transparent box).
+  const fs::path out_dir = fs::path(MESHTOUR_BINARY_DIR) / "golden-results";
+  fs::create_directories(out_dir);
+  const int band = kHeight / 4;
+  OIIO::ImageBuf crop(OIIO::ImageSpec(kWidth, band, 3, OIIO::TypeDesc::UINT8));
+  crop.set_pixels(crop.roi(), OIIO::TypeDesc::UINT8, bottom_left.data() + static_cast<std::size_t>(kHeight - band) * kWidth * 3);
+  const fs::path actual = out_dir / "caption_bottom_left.actual.png";
+  ASSERT_TRUE(crop.write(actual.string()));
+  test::compare_png_with_golden(actual, "caption_bottom_left", 0.02);
+}
+
+TEST(CliCaption, TooLongIsAnErrorNamingTheLimit) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = render_frames(root);
+  const auto r = run_meshtour("encode -q " + q(frames) + " -o " + q(root / "long.mp4") +
+                              " --caption 'The Bust of Nefertiti, painted limestone, Amarna, about 1345 BC — ÄM 21300'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("holds at most"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--caption-size"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(root / "long.mp4"));
+  // tour refuses it before rendering anything.
+  const auto t = run_meshtour("tour -q" + tour_size() + " -o " + q(root / "t.mp4") +
+                              " --caption 'The Bust of Nefertiti, painted limestone, Amarna, about 1345 BC'");
+  EXPECT_EQ(t.exit_code, 2) << t.output;
+  EXPECT_NE(t.output.find("holds at most"), std::string::npos) << t.output;
+  EXPECT_FALSE(fs::exists(root / "t.mp4"));
+}
+
+TEST(CliCaption, InvalidUtf8AndStrayOptionsAreRefused) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = render_frames(root);
+  auto r = run_meshtour("encode -q " + q(frames) + " -o " + q(root / "a.mp4") + " --caption \"$(printf 'bad \\377 byte')\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("UTF-8"), std::string::npos) << r.output;
+  r = run_meshtour("encode -q " + q(frames) + " -o " + q(root / "a.mp4") + " --caption-size 20");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("without --caption"), std::string::npos) << r.output;
+}
+
+TEST(CliCaption, TitleCardOpensOnThePosterAndFadesIntoTheTour) {
+  const fs::path root = scratch_dir();
+  const fs::path frames = render_frames(root);
+  // 1 s at 10 fps: 7 card frames, then the fade (3 frames) into the 6 tour frames.
+  const auto r = run_meshtour("encode -q " + q(frames) + " --fps 10 -o " + q(root / "card.mkv") + " --caption '" + kCaption +
+                              "' --title-card 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto clean = run_meshtour("encode -q " + q(frames) + " --fps 10 -o " + q(root / "clean.mkv"));
+  ASSERT_EQ(clean.exit_code, 0) << clean.output;
+  const auto card = probe_video(root / "card.mkv", {0, 6});
+  EXPECT_EQ(card.decoded_frames, 7 + kFrames);
+  EXPECT_TRUE(card.rgb_frames[0] == card.rgb_frames[1]) << "the card holds still until the fade";
+  const auto tour = probe_video(root / "clean.mkv", {0});
+  EXPECT_FALSE(card.rgb_frames[0] == tour.rgb_frames[0]) << "the card shows no caption";
+}
+
+// tour with a title card: the same clip length as encode's, the poster still the clean best frame.
+TEST(CliCaption, TourTitleCardAndPosterTogether) {
+  const fs::path root = scratch_dir();
+  const auto r = run_meshtour("tour -q" + tour_size() + " --path turntable --fps 10 --frames-dir " + q(root / "frames") + " -o " +
+                              q(root / "t.mp4") + " --caption '" + kCaption + "' --title-card 1 --poster " + q(root / "p.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(probe_video(root / "t.mp4").decoded_frames, 7 + kFrames);
+  const int best = std::max(0, best_view_frame(root / "frames"));  // no view scores on a turntable: frame 0
+  EXPECT_TRUE(read_bytes(root / "p.png") == read_bytes(frame_png(root / "frames", best))) << "the poster has a caption";
+}
+
+}  // namespace
+}  // namespace meshtour

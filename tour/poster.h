@@ -1,0 +1,47 @@
+#pragma once
+// The poster still of a tour: its best-scored frame (the one the path search rates highest; its
+// index is the frames manifest's best_view_frame), written as a PNG. At the frames' size it is the
+// frame's own PNG, byte for byte, whether `tour` writes it from the rendered image or `encode`
+// from a frames directory; at another --poster-size the frame is cropped to that aspect (centred)
+// and resampled (Lanczos, one thread: the same bytes everywhere). Written atomically.
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "options/option_registry.h"
+#include "tracer/tracer.h"
+
+namespace meshtour {
+
+struct PosterSize {
+  int width = 0, height = 0;
+};
+
+/// What a tour's poster needs: the file and the size (unset = the frames' size).
+struct PosterJob {
+  std::filesystem::path file;  ///< "" = no poster
+  std::optional<PosterSize> size;
+};
+
+/// --poster and --poster-size from registry values (checked text).
+PosterJob poster_job(const options::Values& values);
+
+/// Refuses (before any work) a poster whose folder does not exist or is not writable.
+void check_poster_output(const PosterJob& job);
+
+/// The frame the poster shows: `best_view_frame` when the path search scored the views, else 0.
+int poster_frame(int best_view_frame);
+
+/// Writes the rendered frame `image` as the poster (write_image at the frames' size).
+void write_poster(const Image& image, const PosterJob& job);
+
+/// Writes the frame PNG `frame_png` (a frames directory's) as the poster: a copy of the file at
+/// its own size. \throw InputError / IoError naming the file when it cannot be read or written.
+void write_poster_from_png(const std::filesystem::path& frame_png, const PosterJob& job);
+
+/// Writes a display image (8-bit sRGB, `channels` 3 or 4, rows top to bottom) as the poster.
+void write_poster_pixels(std::span<const std::uint8_t> pixels, int width, int height, int channels, const PosterJob& job);
+
+}  // namespace meshtour
