@@ -24,12 +24,12 @@ struct UpRest {
 /// The chosen up axis, why, and all six rests (in the order +x, -x, +y, -y, +z, -z).
 struct UpChoice {
   Axis up;
-  std::string reason;  ///< one line for the user, e.g. "rests on its -y side: support 41% of the footprint, ..."
-  bool confident = false;  ///< the winner's score is clearly (see up_axis.cpp) ahead of the runner-up
+    std::string reason;  ///< one line for the user, e.g. "rests on its -y side: support 47% of the footprint, ..."
+  bool confident = false;  ///< some side rests firmly and clearly (see up_axis.cpp) ahead of the others; else up is +y
   std::array<UpRest, 6> rests;
 };
 
-/// The up axis by shape (+y when no side rests stably). Deterministic; a few ms beyond the convex hull's cost.
+/// The up axis by shape (+y when no side rests firmly and clearly ahead of the others). Deterministic; a few ms beyond the convex hull's cost.
 /// \throw InputError if the mesh has no area (nothing to rest on).
 UpChoice choose_up_axis(const TriangleMesh& mesh);
 
