@@ -10,6 +10,7 @@
 #include "mesh/up_axis.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -141,6 +142,12 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
                   best.up.name().c_str(), best.score, second.up.name().c_str(), second.score, kFirmScore, kConfidentRatio);
   choice.reason = text;
   return choice;
+}
+
+bool is_auto_up(std::string_view text) {
+  return text.size() == 4 && std::equal(text.begin(), text.end(), "auto", [](char a, char b) {
+           return std::tolower(static_cast<unsigned char>(a)) == b;
+         });
 }
 
 }  // namespace meshtour

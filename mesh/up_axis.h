@@ -1,11 +1,13 @@
 #pragma once
 // `--up auto`: which coordinate axis (±x, ±y, ±z) is the model's up, judged by its shape. The model
 // is put down on each of the six sides in turn and the rest it would settle in most firmly wins.
-// Not yet behind --up (issue 15): it finds the up of the shared horse, kitten, bunny and armadillo
-// but not of the bear (upright on its hind legs: no side rests stably) nor of the Venus bust (no
-// flat base); tests/mesh_up_axis_test.cpp prints every side's score.
+// Behind `--up auto`, not the default (issue 15): it finds the up of the shared horse, kitten,
+// bunny and armadillo; the bear (upright on its hind legs) and the Venus bust (no flat base) rest
+// firmly on no side, so it keeps +y, wrong for Venus (+z). tests/mesh_up_axis_test.cpp prints
+// every side's score.
 #include <array>
 #include <string>
+#include <string_view>
 
 #include "core/axis.h"
 #include "mesh/mesh.h"
@@ -32,5 +34,8 @@ struct UpChoice {
 /// The up axis by shape (+y when no side rests firmly and clearly ahead of the others). Deterministic; a few ms beyond the convex hull's cost.
 /// \throw InputError if the mesh has no area (nothing to rest on).
 UpChoice choose_up_axis(const TriangleMesh& mesh);
+
+/// Whether an --up value asks for this rule ("auto", any case).
+bool is_auto_up(std::string_view text);
 
 }  // namespace meshtour
