@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_statistics.h"
+#include "mesh/up_axis.h"
 #include "options/cli_options.h"
 #include "tour/resources.h"
 
@@ -80,7 +81,9 @@ nlohmann::json describe(const std::string& file) {
                                 {"textures_decoded", texture_bytes},
                                 {"texture_cache", texture_cache},
                                 {"peak", 100e6 + mesh_bytes + std::max(coverage, bvh + frames) + texture_cache}};
-  j["up_axis"] = "not determined: --up auto is not implemented; the default is +y";
+  // What --up auto would choose (mesh/up_axis.h), with why; the default stays +y.
+  const UpChoice up = choose_up_axis(mesh);
+  j["up_axis"] = {{"auto", up.up.name()}, {"confident", up.confident}, {"reason", up.reason}};
   return j;
 }
 
@@ -110,7 +113,8 @@ void print_text(const nlohmann::json& j) {
   std::printf("  a 1280x720 tour needs about %.0f MB at its peak (textures: %.0f MB decoded, of which the texture cache\n"
               "  holds at most %.0f MB)\n",
               mem["peak"].get<double>() / 1e6, mem["textures_decoded"].get<double>() / 1e6, mem["texture_cache"].get<double>() / 1e6);
-  std::printf("  up axis: %s\n", j["up_axis"].get<std::string>().c_str());
+  std::printf("  up axis (--up auto): %s, %s\n", j["up_axis"]["auto"].get<std::string>().c_str(),
+              j["up_axis"]["reason"].get<std::string>().c_str());
 }
 
 }  // namespace

@@ -524,4 +524,47 @@ std::vector<Eigen::Vector3d> convex_hull_vertices(const TriangleMesh& mesh) {
   return convex_hull_vertices(points);
 }
 
+std::vector<HullTriangle> convex_hull_triangles(std::span<const Eigen::Vector3d> hull_vertices) {
+  if (hull_vertices.size() < 4) return {};
+  std::vector<double> coords;
+  coords.reserve(3 * hull_vertices.size());
+  for (const Eigen::Vector3d& p : hull_vertices) coords.insert(coords.end(), p.data(), p.data() + 3);
+  Eigen::Vector3d lo = hull_vertices[0], hi = lo;
+  for (const Eigen::Vector3d& p : hull_vertices) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double scale = std::max({(hi - lo).norm(), lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()});
+  const QhullOutcome hull = run_qhull(3, coords, kOnFacetShare * scale, true);
+  if (hull.exit_code == qh_ERRmem) throw std::bad_alloc();
+  // Qhull refuses sets without volume (qh_ERRsingular / qh_ERRprec on a flat set): no facets.
+  if (hull.exit_code == qh_ERRsingular) return {};
+  if (hull.exit_code != qh_ERRnone) throw RuntimeFailure("convex hull: Qhull failed: " + hull.message);
+  std::vector<HullTriangle> out;
+  out.reserve(hull.facets.size());
+  for (const QhullFacet& f : hull.facets)
+    out.push_back({f.normal, {hull_vertices[f.corner[0]], hull_vertices[f.corner[1]], hull_vertices[f.corner[2]]}});
+  return out;
+}
+
+std::vector<Eigen::Vector2d> convex_polygon(std::vector<Eigen::Vector2d> points) {
+  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.y() != b.y() ? a.y() < b.y() : a.x() < b.x();
+  });
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.size() < 3) return points;
+  const auto turn = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d> hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // right chain, bottom to top
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // left chain, top to bottom
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);  // the last point is the first
+  return hull;
+}
+
 }  // namespace meshtour

@@ -5,6 +5,8 @@
 // a lens, whether every vertex is in frame). The largest value over the points is attained at a
 // hull vertex, so asking the few thousand hull vertices gives the answer of the millions of points.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -35,5 +37,23 @@ std::vector<Eigen::Vector3d> convex_hull_vertices(std::span<const Eigen::Vector3
 /// The hull vertices of the mesh's vertices that some triangle uses (unreferenced vertices do not
 /// count, as in TriangleMesh::bounds()), in vertex order.
 std::vector<Eigen::Vector3d> convex_hull_vertices(const TriangleMesh& mesh);
+
+/// One triangle of a convex hull's boundary.
+struct HullTriangle {
+  Eigen::Vector3d normal;                ///< outward unit normal
+  std::array<Eigen::Vector3d, 3> corner;  ///< its corners (hull vertices)
+  double area() const { return 0.5 * (corner[1] - corner[0]).cross(corner[2] - corner[0]).norm(); }
+};
+
+/// The boundary of the convex hull of `hull_vertices` (the output of convex_hull_vertices(), so a
+/// few thousand points), triangulated: what "on which face does the model rest" questions need
+/// (mesh/up_axis.h). Empty when the points have no volume (flat, on a line, one point).
+/// \throw RuntimeFailure if Qhull fails on a set with volume.
+std::vector<HullTriangle> convex_hull_triangles(std::span<const Eigen::Vector3d> hull_vertices);
+
+/// The convex hull of points in a plane, counter-clockwise from the lowest-then-leftmost point,
+/// without collinear points (Andrew's monotone chain: exact orientation tests are not needed for
+/// the areas and distances its users measure). Fewer than 3 points when they are collinear.
+std::vector<Eigen::Vector2d> convex_polygon(std::vector<Eigen::Vector2d> points);
 
 }  // namespace meshtour

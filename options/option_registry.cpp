@@ -47,8 +47,10 @@ std::vector<Option> make_registry() {
   add({.id = "seconds", .flag = "--seconds", .kind = Kind::number, .lo = 0.001, .hi = 100000,
        .help = "Length of the video in seconds (sets the frame count = seconds x fps)", .manifest_column = true,
        .commands = kRendering, .farm = kToTasks, .excludes = "frame-count"});
-  add({.id = "up", .flag = "--up", .kind = Kind::choice, .choices = {"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"},
-       .ignore_case = true, .default_text = "y", .help = "The model's up axis: x, y, z, -x, -y or -z (default y)",
+  add({.id = "up", .flag = "--up", .kind = Kind::choice, .choices = {"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z", "auto"},
+       .ignore_case = true, .default_text = "y",
+       .help = "The model's up axis: x, y, z, -x, -y, -z or auto (the side the model rests on most firmly, y when\n"
+               "no side clearly does; said on stderr) (default y)",
        .scene_key = "up", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
   add({.id = "missing-textures", .flag = "--missing-textures", .kind = Kind::choice, .choices = {"error", "grey"},
        .default_text = "error",

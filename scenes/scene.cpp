@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <fstream>
 #include <set>
@@ -11,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/json_reader.h"
+#include "mesh/up_axis.h"
 #include "default_scene.h"
 
 namespace meshtour {
@@ -202,7 +204,8 @@ void apply_option(Scene& scene, const options::Option& o, const std::string& tex
     if (!(frames >= 1.0 && frames <= 1e6)) throw InputError("--seconds gives " + std::to_string(frames) + " frames; it must give 1 to 1000000");
     scene.frames = static_cast<int>(std::lround(frames));
   } else if (id == "up") {
-    scene.up = Axis::parse(text);
+    scene.up_auto = is_auto_up(text);
+    scene.up = scene.up_auto ? Axis{1, false} : Axis::parse(text);
   } else if (id == "missing-textures") {
     scene.missing_textures_grey = text == "grey";
   } else if (id == "path") {
@@ -257,6 +260,15 @@ Scene default_scene() {
 
 Scene load_scene(const std::filesystem::path& file) {
   return parse_scene(read_json_file_text(file, "scene file"), file.string(), file.parent_path());
+}
+
+void resolve_auto_up(Scene& scene, const TriangleMesh& mesh, bool quiet) {
+  if (!scene.up_auto) return;
+  const UpChoice choice = choose_up_axis(mesh);
+  scene.up = choice.up;
+  scene.up_auto = false;  // decided: a second call (or a copy of the scene) keeps it
+  scene.render.world_up = scene.up.vector();
+  if (!quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", scene.up.name().c_str(), choice.reason.c_str());
 }
 
 TriangleMesh load_scene_model(const Scene& scene, LoadReport* report) {

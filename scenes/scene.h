@@ -20,6 +20,9 @@ struct Scene {
   std::string procedural = "sculpture";             ///< used when mesh_file is empty
   double procedural_detail = 1.0;
   Axis up{1, false};
+  /// --up auto: `up` is decided by the model's shape once it is loaded (resolve_auto_up()); until
+  /// then it is +y.
+  bool up_auto = false;
   bool missing_textures_grey = false;  ///< --missing-textures grey
 
   // Camera and timing.
@@ -69,5 +72,9 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
 
 /// The scene's model: loads mesh_file, or builds the procedural model.
 TriangleMesh load_scene_model(const Scene& scene, LoadReport* report = nullptr);
+
+/// With --up auto, sets the scene's up axis (and the ground under it) to the one the model's shape
+/// gives (mesh/up_axis.h) and, unless quiet, says which and why on stderr. Otherwise does nothing.
+void resolve_auto_up(Scene& scene, const TriangleMesh& mesh, bool quiet);
 
 }  // namespace meshtour

@@ -25,6 +25,11 @@ TEST(InfoCommand, JsonReportsCountsTopologyMaterialsAndMemory) {
   ASSERT_EQ(j["materials"].size(), 1u);
   EXPECT_EQ(j["materials"][0]["texture_size"][0], 64);
   EXPECT_GT(j["memory_estimate_bytes"]["peak"].get<double>(), 1e8);
+  // The up-axis rule (mesh/up_axis.h): the triangle off the cube's +x side makes the hull a wedge
+  // whose only whole, low-centred rest is the cube's -x face, so +x is up.
+  EXPECT_EQ(j["up_axis"]["auto"], "+x") << j["up_axis"];
+  EXPECT_EQ(j["up_axis"]["confident"], true);
+  EXPECT_NE(j["up_axis"]["reason"].get<std::string>().find("rests on its -x side"), std::string::npos) << j["up_axis"];
 }
 
 TEST(InfoCommand, MissingTextureIsAWarningAndAMissingFileAnError) {

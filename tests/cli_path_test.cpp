@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <array>
 #include <cstdio>
 #include <fstream>
 #include <optional>
@@ -195,6 +196,26 @@ TEST(CliPath, VenusWithZUp) {
   // A standing statue is taller than twice its radius: the camera circles at 6r.
   EXPECT_EQ(j["metrics"]["radius_factor"].get<double>(),
             j["metrics"]["height_over_radius"].get<double>() > 2.0 ? 6.0 : 4.0);
+}
+
+// --up auto (mesh/up_axis.h) on a tower standing on a wide plinth with +z up: the path says the
+// choice and why, and circles +z.
+TEST(CliPath, UpAutoFindsThePlinth) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  std::ofstream obj(dir / "plinth.obj");
+  const auto box = [&](int base, double x, double y, double z0, double z1) {
+    for (int i = 0; i < 8; ++i) obj << "v " << (i & 1 ? x : -x) << ' ' << (i & 2 ? y : -y) << ' ' << (i & 4 ? z1 : z0) << "\n";
+    for (const auto& q : {std::array{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}})
+      obj << "f " << base + q[0] << ' ' << base + q[1] << ' ' << base + q[2] << ' ' << base + q[3] << "\n";
+  };
+  box(1, 1.0, 1.0, 0.0, 0.3);
+  box(9, 0.4, 0.4, 0.3, 2.0);
+  obj.close();
+  const auto result = run_meshtour("path '" + (dir / "plinth.obj").string() + "' --up auto --path turntable --camera-frames '" +
+                                   (dir / "cameras.json").string() + "'");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("--up auto: +z (rests on its -z side"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("up +z)"), std::string::npos) << result.output;
 }
 
 TEST(CliPath, MissingMeshIsOneLineErrorAndNoOutput) {

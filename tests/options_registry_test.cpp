@@ -105,7 +105,7 @@ nlohmann::json scene_with(const Option& o, const std::string& text) {
 // The parts of a Scene the registry's rows set, as text, for comparisons.
 std::string scene_fingerprint(const Scene& s) {
   nlohmann::json j = {{"w", s.render.width}, {"h", s.render.height}, {"fps", s.fps}, {"frames", s.frames},
-                      {"up", s.up.name()}, {"path", s.path_mode}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
+                      {"up", s.up_auto ? std::string("auto") : s.up.name()}, {"path", s.path_mode}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
                       {"elev", s.elevation_deg}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
                       {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"denoise", s.render.denoise},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},

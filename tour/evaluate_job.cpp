@@ -78,6 +78,7 @@ void run_evaluate(EvaluateJob& a) {
   paper.validate();
 
   const TriangleMesh mesh = load_scene_model(scene);
+  resolve_auto_up(scene, mesh, a.quiet);
   throw_if_interrupted();
   // Features once per mesh, whatever the path mode: w(f) of §8 at the paper's settings and mesh
   // saliency, both on the coverage module's fixed-resolution proxy.

@@ -161,7 +161,9 @@ void run_farm_slurm(const FarmJob& args) {
       // Only the paper path has a path file; the turntable and the feature orbit are cheap and
       // deterministic (thread-count invariant), so every task computes the same one itself.
       const TriangleMesh mesh = load_scene_model(scene);
-      const PaperPathResult path = compute_scene_paper_path(scene, mesh);
+      Scene decided = scene;  // --up auto: each task decides the same axis from the same mesh
+      resolve_auto_up(decided, mesh, args.quiet);
+      const PaperPathResult path = compute_scene_paper_path(decided, mesh);
       path_file = out / "path.json";
       write_path_file(path, path_file, scene.source);
       if (!args.quiet) std::fprintf(stderr, "camera path computed once: %s\n", path_file.string().c_str());

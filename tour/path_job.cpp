@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "mesh/convex_hull.h"
 #include "mesh/mesh.h"
+#include "mesh/up_axis.h"
 #include "scenes/scene.h"
 #include "pathgen/camera_export.h"
 #include "pathgen/debug_output.h"
@@ -76,7 +77,9 @@ void print_summary(const PaperPathResult& r, const PathJob& a, const LoadReport&
 void run_path(PathJob& a) {
   install_interrupt_handlers();
   a.options = path_search_options(a.values, a.options);
-  a.options.up = UpDirection::parse(a.up);
+  // --up auto needs the model: decided once it is loaded, below.
+  const bool up_auto = is_auto_up(a.up);
+  if (!up_auto) a.options.up = UpDirection::parse(a.up);
   a.threads = int_value_or(a.values, "threads", 0);
   a.gltf = value_or(a.values, "gltf", "");
   a.camera_frames = value_or(a.values, "camera-frames", "");
@@ -105,6 +108,12 @@ void run_path(PathJob& a) {
   LoadReport load;
   const TriangleMesh mesh = load_mesh(a.mesh, &load, LoadOptions{.check_textures = false});  // the path needs no textures
   throw_if_interrupted();
+  if (up_auto) {
+    const UpChoice choice = choose_up_axis(mesh);
+    a.up = choice.up.name();
+    a.options.up = UpDirection::parse(a.up);
+    if (!a.quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", a.up.c_str(), choice.reason.c_str());
+  }
   const bool paper = a.mode == "paper";
   if (!paper && (!a.output.empty() || !a.plot.empty() || !a.debug_dir.empty()))
     throw InputError("-o, --plot and --debug-dir describe the paper path; with --path " + a.mode +

@@ -210,15 +210,18 @@ void check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
   check_memory(e, memory_budget(resources), "this tour");
 }
 
-PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log) {
+PreparedTour prepare_tour(const Scene& requested, bool quiet, StageLog* log) {
   const auto stage = [&](const char* name) {
     if (log) log->start(name);
   };
   stage("load");
   PreparedTour tour;
-  tour.scene = scene;
+  tour.scene = requested;
   LoadReport report;
-  tour.mesh = load_scene_model(scene, &report);
+  tour.mesh = load_scene_model(requested, &report);
+  // --up auto needs the model; from here on everything reads the decided axis.
+  resolve_auto_up(tour.scene, tour.mesh, quiet);
+  const Scene& scene = tour.scene;
   const TriangleMesh& mesh = tour.mesh;
   const Bounds bounds = mesh.bounds();
   if (!quiet) {

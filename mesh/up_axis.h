@@ -1,0 +1,41 @@
+#pragma once
+// `--up auto`: which coordinate axis (±x, ±y, ±z) is the model's up, judged by its shape. The model
+// is put down on each of the six sides in turn and the rest it would settle in most firmly wins.
+// Behind `--up auto`, not the default (issue 15): it finds the up of the shared horse, kitten,
+// bunny and armadillo; the bear (upright on its hind legs) and the Venus bust (no flat base) rest
+// firmly on no side, so it keeps +y, wrong for Venus (+z). tests/mesh_up_axis_test.cpp prints
+// every side's score.
+#include <array>
+#include <string>
+#include <string_view>
+
+#include "core/axis.h"
+#include "mesh/mesh.h"
+
+namespace meshtour {
+
+/// How the model rests when `up` points up (gravity along -up), measured on its convex hull.
+struct UpRest {
+  Axis up;
+  double support_area = 0.0;  ///< area of the support polygon / area of the model's footprint
+  double margin = 0.0;        ///< distance of the centroid's projection inside the support polygon's edge / footprint radius (< 0: it tips over)
+  double centroid_height = 0.0;  ///< height of the surface centroid above the rest plane / the model's height along up
+  double score = 0.0;         ///< 0 when the rest is not stable; larger is firmer (see up_axis.cpp)
+};
+
+/// The chosen up axis, why, and all six rests (in the order +x, -x, +y, -y, +z, -z).
+struct UpChoice {
+  Axis up;
+    std::string reason;  ///< one line for the user, e.g. "rests on its -y side: support 47% of the footprint, ..."
+  bool confident = false;  ///< some side rests firmly and clearly (see up_axis.cpp) ahead of the others; else up is +y
+  std::array<UpRest, 6> rests;
+};
+
+/// The up axis by shape (+y when no side rests firmly and clearly ahead of the others). Deterministic; a few ms beyond the convex hull's cost.
+/// \throw InputError if the mesh has no area (nothing to rest on).
+UpChoice choose_up_axis(const TriangleMesh& mesh);
+
+/// Whether an --up value asks for this rule ("auto", any case).
+bool is_auto_up(std::string_view text);
+
+}  // namespace meshtour
