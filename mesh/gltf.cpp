@@ -32,10 +32,12 @@ using Matrix = Eigen::Matrix4d;
 const std::set<std::string> kSupported = {"KHR_draco_mesh_compression", "KHR_texture_transform", "KHR_mesh_quantization",
                                           "KHR_materials_unlit"};
 
-// Images keep their encoded bytes (OpenImageIO decodes them when the tracer needs them).
+// Images keep their encoded bytes (OpenImageIO decodes them when the tracer needs them). An image
+// in a buffer view is left for encoded_image_bytes(): tinygltf 2.7 hands over the view's range
+// without checking that it lies inside its buffer.
 bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
                         int size, void*) {
-  image->image.assign(bytes, bytes + std::max(size, 0));
+  if (image->bufferView < 0) image->image.assign(bytes, bytes + std::max(size, 0));
   image->as_is = true;
   return true;
 }
@@ -426,10 +428,23 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
     const std::filesystem::path relative(percent_decoded(image.uri));
     use.material.texture_file = relative.is_absolute() ? relative : file.parent_path() / relative;
   } else {
-    if (image.image.empty()) throw InputError(where + ": its image " + std::to_string(texture.source) + " has no data");
+    std::vector<unsigned char> bytes = image.image;
+    if (image.bufferView >= 0) {  // checked here, not by tinygltf (keep_encoded_image)
+      if (static_cast<std::size_t>(image.bufferView) >= model.bufferViews.size())
+        throw InputError(where + ": its image " + std::to_string(texture.source) + " names a buffer view that does not exist");
+      const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(image.bufferView)];
+      if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
+        throw InputError(where + ": its image " + std::to_string(texture.source) + " names a buffer that does not exist");
+      const std::vector<unsigned char>& buffer = model.buffers[static_cast<std::size_t>(view.buffer)].data;
+      if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+        throw InputError(where + ": its image " + std::to_string(texture.source) + " lies outside its buffer (truncated file?)");
+      bytes.assign(buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
+                   buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength));
+    }
+    if (bytes.empty()) throw InputError(where + ": its image " + std::to_string(texture.source) + " has no data");
     const std::string ext = image.mimeType == "image/jpeg" ? ".jpg" : image.mimeType == "image/png" ? ".png" : "";
     use.material.texture_file = file.string() + "#image" + std::to_string(texture.source) + ext;
-    use.material.texture_bytes = std::make_shared<const std::vector<unsigned char>>(image.image);
+    use.material.texture_bytes = std::make_shared<const std::vector<unsigned char>>(std::move(bytes));
   }
   return use;
 }
