@@ -43,6 +43,17 @@ std::filesystem::path portable_path(std::string name) {
 }
 
 // Reads one MTL file's materials into `faces` (names already there are kept: the first wins).
+// A new material named `name` (no texture, the identity UV transform); returns its index.
+int add_material(ObjFaces& faces, std::map<std::string, int>& by_name, const std::string& name) {
+  const int index = static_cast<int>(faces.materials.size());
+  by_name[name] = index;
+  MeshMaterial m;
+  m.name = name;
+  faces.materials.push_back(m);
+  faces.uv_transforms.push_back({1, 1, 0, 0});
+  return index;
+}
+
 void read_mtl(const std::filesystem::path& mtl_file, ObjFaces& faces, std::map<std::string, int>& by_name) {
   std::ifstream in(mtl_file, std::ios::binary);
   if (!in) throw IoError(mtl_file.string() + ": cannot read the material library the OBJ names in its mtllib line");
@@ -54,12 +65,7 @@ void read_mtl(const std::filesystem::path& mtl_file, ObjFaces& faces, std::map<s
         current = -1;  // a second definition of a name: ignored
         continue;
       }
-      current = static_cast<int>(faces.materials.size());
-      by_name[rest] = current;
-      MeshMaterial m;
-      m.name = rest;
-      faces.materials.push_back(m);
-      faces.uv_transforms.push_back({1, 1, 0, 0});
+      current = add_material(faces, by_name, rest);
     } else if (key == "map_Kd" && current >= 0 && !rest.empty()) {
       const MapStatement map = parse_map_statement(rest);
       if (map.file.empty()) continue;
@@ -167,12 +173,7 @@ ObjFaces read_obj_faces(const std::filesystem::path& file) {
       } else {
         // A name no MTL defines: its faces get the look's colour, as before any usemtl.
         faces.warnings.push_back("material '" + rest + "' (usemtl) is not defined in any material library; its faces are untextured");
-        current = static_cast<int>(faces.materials.size());
-        by_name[rest] = current;
-        MeshMaterial m;
-        m.name = rest;
-        faces.materials.push_back(m);
-        faces.uv_transforms.push_back({1, 1, 0, 0});
+        current = add_material(faces, by_name, rest);
       }
     }
   }

@@ -35,33 +35,25 @@ if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
   missing+=(nodejs npm)
 fi
 
-# The validator itself, pinned by tests/gltf/package-lock.json; `npm ci` only when it is missing
-# or the lock file changed since the last install.
-install_gltf_validator() {
-  local dir tests_gltf
-  dir="$(cd "$(dirname "$0")/.." && pwd)"
-  tests_gltf="$dir/tests/gltf"
-  if [ ! -f "$tests_gltf/node_modules/.package-lock.json" ] || [ "$tests_gltf/package-lock.json" -nt "$tests_gltf/node_modules/.package-lock.json" ]; then
-    echo "install-deps: npm ci in tests/gltf (Khronos glTF validator)"
-    (cd "$tests_gltf" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+# npm packages the tests call through Node.js, each pinned by its folder's package-lock.json;
+# `npm ci` only when node_modules is missing or the lock file changed since the last install:
+# tests/gltf holds the Khronos glTF validator, tests/browser puppeteer-core (it drives Debian's
+# Chromium and never downloads a browser).
+npm_ci_if_stale() {
+  local folder="$1" what="$2" dir
+  dir="$(cd "$(dirname "$0")/.." && pwd)/$folder"
+  if [ ! -f "$dir/node_modules/.package-lock.json" ] || [ "$dir/package-lock.json" -nt "$dir/node_modules/.package-lock.json" ]; then
+    echo "install-deps: npm ci in $folder ($what)"
+    (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
   fi
 }
-
-# puppeteer-core (drives Debian's Chromium; never downloads a browser), pinned by
-# tests/browser/package-lock.json, installed the same way.
-install_browser_driver() {
-  local dir tests_browser
-  dir="$(cd "$(dirname "$0")/.." && pwd)"
-  tests_browser="$dir/tests/browser"
-  if [ ! -f "$tests_browser/node_modules/.package-lock.json" ] || [ "$tests_browser/package-lock.json" -nt "$tests_browser/node_modules/.package-lock.json" ]; then
-    echo "install-deps: npm ci in tests/browser (puppeteer-core)"
-    (cd "$tests_browser" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
-  fi
+install_npm_packages() {
+  npm_ci_if_stale tests/gltf "Khronos glTF validator"
+  npm_ci_if_stale tests/browser "puppeteer-core"
 }
 
 if [ ${#missing[@]} -eq 0 ]; then
-  install_gltf_validator
-  install_browser_driver
+  install_npm_packages
   exit 0
 fi
 
@@ -85,5 +77,4 @@ $sudo apt-get -o DPkg::Lock::Timeout=600 update -qq &&
   $sudo apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${missing[@]}" >/dev/null || status=$?
 [ "$added_policy" = 1 ] && $sudo rm -f /usr/sbin/policy-rc.d
 [ "$status" = 0 ] || exit "$status"
-install_gltf_validator
-install_browser_driver
+install_npm_packages

@@ -17,6 +17,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -65,6 +66,16 @@ inline void compare_png_with_golden(const std::filesystem::path& actual_file, co
 }
 
 /// Compares `image` with golden_images/<name>.png (or rewrites it under GOLDEN_UPDATE=1).
+/// Mean absolute difference of two renders' display values (sRGB 8-bit, all channels), in 0..255.
+inline double mean_pixel_difference(const Image& a, const Image& b) {
+  const auto pa = a.to_srgb8(), pb = b.to_srgb8();
+  EXPECT_EQ(pa.size(), pb.size());
+  const std::size_t n = std::min(pa.size(), pb.size());
+  double sum = 0;
+  for (std::size_t i = 0; i < n; ++i) sum += std::abs(static_cast<int>(pa[i]) - static_cast<int>(pb[i]));
+  return n ? sum / static_cast<double>(n) : 0.0;
+}
+
 inline void compare_with_golden(const Image& image, const std::string& name, double fail_fraction) {
   const auto out_dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "golden-results";
   std::filesystem::create_directories(out_dir);

@@ -41,23 +41,24 @@ std::filesystem::path write_cube_glb(const std::filesystem::path& dir, const Tri
   return dir / "cube.glb";
 }
 
-TEST(GoldenGltf, TexturedGlbRendersLikeTheObj) {
-  const auto dir = test::scratch_dir();
-  const TriangleMesh obj = load_mesh(test::write_textured_cube(dir));
-  const TriangleMesh glb = load_mesh(write_cube_glb(dir, obj));
-  ASSERT_TRUE(glb.has_texture());
+// The textured cube's frame: small, studio look, every face of the cube in view.
+RenderOptions cube_options() {
   RenderOptions o;
   o.width = 160;
   o.height = 120;
   o.samples_per_pixel = 4;
   o.shading = look_preset("studio");
-  const Camera camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0};
-  const Image a = Renderer(obj, o).render(camera), b = Renderer(glb, o).render(camera);
-  const auto pa = a.to_srgb8(), pb = b.to_srgb8();
-  ASSERT_EQ(pa.size(), pb.size());
-  double sum = 0;
-  for (std::size_t i = 0; i < pa.size(); ++i) sum += std::abs(static_cast<int>(pa[i]) - static_cast<int>(pb[i]));
-  const double mean = sum / static_cast<double>(pa.size());
+  return o;
+}
+const Camera kCubeCamera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0};
+
+TEST(GoldenGltf, TexturedGlbRendersLikeTheObj) {
+  const auto dir = test::scratch_dir();
+  const TriangleMesh obj = load_mesh(test::write_textured_cube(dir));
+  const TriangleMesh glb = load_mesh(write_cube_glb(dir, obj));
+  ASSERT_TRUE(glb.has_texture());
+  const Image a = Renderer(obj, cube_options()).render(kCubeCamera), b = Renderer(glb, cube_options()).render(kCubeCamera);
+  const double mean = test::mean_pixel_difference(a, b);
   std::printf("mean pixel difference textured OBJ vs GLB: %.3f/255\n", mean);
   EXPECT_LE(mean, 3.0);
   test::compare_with_golden(b, "studio_textured_glb", 0.01);
@@ -81,17 +82,10 @@ TEST(GoldenGltf, PlyWithCornerTexcoordsRendersLikeTheObj) {
   }
   const TriangleMesh ply = load_mesh(dir / "cube.ply");
   ASSERT_TRUE(ply.has_texture());
-  RenderOptions o;
-  o.width = 160;
-  o.height = 120;
-  o.samples_per_pixel = 4;
-  o.shading = look_preset("studio");
-  const Camera camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0};
-  const auto pa = Renderer(obj, o).render(camera).to_srgb8(), pb = Renderer(ply, o).render(camera).to_srgb8();
-  double sum = 0;
-  for (std::size_t i = 0; i < pa.size(); ++i) sum += std::abs(static_cast<int>(pa[i]) - static_cast<int>(pb[i]));
-  std::printf("mean pixel difference textured OBJ vs PLY: %.3f/255\n", sum / static_cast<double>(pa.size()));
-  EXPECT_LE(sum / static_cast<double>(pa.size()), 3.0);
+  const double mean = test::mean_pixel_difference(Renderer(obj, cube_options()).render(kCubeCamera),
+                                                  Renderer(ply, cube_options()).render(kCubeCamera));
+  std::printf("mean pixel difference textured OBJ vs PLY: %.3f/255\n", mean);
+  EXPECT_LE(mean, 3.0);
 }
 
 }  // namespace

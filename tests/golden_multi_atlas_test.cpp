@@ -108,11 +108,7 @@ TEST(GoldenMultiAtlas, TwoAtlasesRenderLikeOne) {
 
   const Image a = Renderer(one, small_options()).render(kCamera);
   const Image b = Renderer(two, small_options()).render(kCamera);
-  const auto pa = a.to_srgb8(), pb = b.to_srgb8();
-  ASSERT_EQ(pa.size(), pb.size());
-  double sum = 0;
-  for (std::size_t i = 0; i < pa.size(); ++i) sum += std::abs(static_cast<int>(pa[i]) - static_cast<int>(pb[i]));
-  const double mean = sum / static_cast<double>(pa.size());
+  const double mean = test::mean_pixel_difference(a, b);
   std::printf("mean pixel difference one atlas vs two atlases: %.3f/255\n", mean);
   EXPECT_LE(mean, 3.0);
   test::compare_with_golden(b, "plain_two_atlas_obj", 0.01);
@@ -125,10 +121,7 @@ TEST(GoldenMultiAtlas, WrongAtlasWouldShow) {
   const Image right = Renderer(two, small_options()).render(kCamera);
   std::fill(two.triangle_materials.begin(), two.triangle_materials.end(), 0u);
   const Image wrong = Renderer(two, small_options()).render(kCamera);
-  const auto pa = right.to_srgb8(), pb = wrong.to_srgb8();
-  double sum = 0;
-  for (std::size_t i = 0; i < pa.size(); ++i) sum += std::abs(static_cast<int>(pa[i]) - static_cast<int>(pb[i]));
-  EXPECT_GT(sum / static_cast<double>(pa.size()), 4.0);  // the tolerance above is 3
+  EXPECT_GT(test::mean_pixel_difference(right, wrong), 4.0);  // the tolerance above is 3
 }
 
 }  // namespace
