@@ -4,6 +4,7 @@
 //   build/bench/denoise_quality                       # every case; references cached in build/denoise-references
 //   build/bench/denoise_quality --case bunny          # one case (bunny, default, textured, vertex-colours, transparent)
 //   build/bench/denoise_quality --compare-exr bunny=old/frame_000030.exr   # another renderer's raw frame vs the reference
+//   build/bench/denoise_quality --case bunny --dump /tmp/dq  # also write every frame (linear RGBA EXR) to look at
 //
 // Per case (640x360; the 4096-spp references at 1280x720 would take an hour on 2 cores): raw 4,
 // 16, 64, 256 spp and denoised 4, 16, 64 spp, each with its relative RMSE (linear RGB:
@@ -238,19 +239,30 @@ Image read_exr(const fs::path& file, const Image& like) {
   return image;
 }
 
+// A linear RGBA frame as a float EXR (for --dump).
+void write_rgba(const fs::path& file, int width, int height, const std::vector<float>& rgba) {
+  auto out = OIIO::ImageOutput::create(file.string());
+  if (!out || !out->open(file.string(), OIIO::ImageSpec(width, height, 4, OIIO::TypeDesc::FLOAT)) ||
+      !out->write_image(OIIO::TypeDesc::FLOAT, rgba.data()))
+    std::fprintf(stderr, "cannot write %s\n", file.string().c_str());
+  if (out) out->close();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string only;
   std::map<std::string, fs::path> compare_exr;
+  fs::path dump;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--case" && i + 1 < argc) only = argv[++i];
+    else if (a == "--dump" && i + 1 < argc) dump = argv[++i];
     else if (a == "--compare-exr" && i + 1 < argc) {
       const std::string v = argv[++i];
       compare_exr[v.substr(0, v.find('='))] = v.substr(v.find('=') + 1);
     } else {
-      std::fprintf(stderr, "usage: denoise_quality [--case NAME] [--compare-exr CASE=FILE.exr]\n");
+      std::fprintf(stderr, "usage: denoise_quality [--case NAME] [--compare-exr CASE=FILE.exr] [--dump DIR]\n");
       return 2;
     }
   }
@@ -281,6 +293,10 @@ int main(int argc, char** argv) {
     const Case c = makers[n]();
     const Image ref = reference(c, cache);
     const std::vector<bool> band = albedo_edge_band(ref);
+    if (!dump.empty()) {
+      fs::create_directories(dump);
+      write_rgba(dump / (c.name + "-reference.exr"), ref.width, ref.height, ref.rgba);
+    }
     const auto run = [&](int spp, bool denoise, std::uint32_t seed, double* seconds) {
       RenderOptions o = c.options;
       o.samples_per_pixel = spp;
@@ -297,6 +313,9 @@ int main(int argc, char** argv) {
                                                                          {4, true}, {16, true}, {64, true}}) {
       double seconds = 0;
       const Image img = run(spp, denoise, 0, &seconds);
+      if (!dump.empty())
+        write_rgba(dump / (c.name + (denoise ? "-denoised-" : "-raw-") + std::to_string(spp) + ".exr"), img.width, img.height,
+                   img.display_rgba());
       const Metrics m = compare(img, img.display_rgba(), ref);
       const Metrics b = compare(img, img.display_rgba(), ref, &band);
       std::printf("| %s | %s %d spp | %.2f %% | %.2f | %.4f | %.2f |\n", c.name.c_str(), denoise ? "denoised" : "raw", spp,

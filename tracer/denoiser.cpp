@@ -39,6 +39,15 @@ AtrousPass pass_for(DenoiseSettings::InstructionSet set) {
     default: return &atrous_pass_baseline;
   }
 }
+FitPass fit_for(DenoiseSettings::InstructionSet set) {
+  switch (set) {
+#if defined(MESHTOUR_TILE_KERNELS_X86_64)
+    case DenoiseSettings::InstructionSet::x86_64_v3: return &fit_pass_x86_64_v3;
+    case DenoiseSettings::InstructionSet::x86_64_v4: return &fit_pass_x86_64_v4;
+#endif
+    default: return &fit_pass_baseline;
+  }
+}
 }  // namespace
 
 std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& g, const DenoiseSettings& settings,
@@ -59,6 +68,8 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   const int reach = settings.reach;
   // One axis of the separable filter: (dx, dy) is the step between taps; at the frame's edges
   // only the taps inside count, renormalised.
+  float full_sum = 0;  // the taps' sum, added in the same order as the loop below adds them
+  for (int i = -reach; i <= reach; ++i) full_sum += settings.taps[static_cast<std::size_t>(i + reach)];
   const auto filter_axis = [&](const std::vector<float>& in, std::vector<float>& out, int dx, int dy) {
     const std::ptrdiff_t step = (static_cast<std::ptrdiff_t>(dy) * width + dx) * 3;
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
@@ -66,6 +77,18 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
         for (int x = 0; x < width; ++x) {
           const std::size_t p = (static_cast<std::size_t>(y) * width + x) * 3;
           const int lo = std::max(-reach, dx ? -x : -y), hi = std::min(reach, dx ? width - 1 - x : height - 1 - y);
+          if (lo == -reach && hi == reach) {  // all taps inside (most pixels): no bounds, a fixed sum
+            float acc[3] = {0, 0, 0};
+            const float* q = in.data() + static_cast<std::ptrdiff_t>(p) - reach * step;
+            for (int i = 0; i <= 2 * reach; ++i, q += step) {
+              const float t = settings.taps[static_cast<std::size_t>(i)];
+              acc[0] += t * q[0];
+              acc[1] += t * q[1];
+              acc[2] += t * q[2];
+            }
+            for (int c = 0; c < 3; ++c) out[p + static_cast<std::size_t>(c)] = acc[c] / full_sum;
+            continue;
+          }
           float acc[3] = {0, 0, 0}, sum = 0;
           for (int i = lo; i <= hi; ++i) {
             const float t = settings.taps[static_cast<std::size_t>(i + reach)];
@@ -110,6 +133,12 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
         const float z = *guides.at(kDepth, x, y);
+        if (x > 0 && y > 0 && x + 1 < width && y + 1 < height) {  // inside: no bounds checks
+          const float* d = guides.at(kDepth, x, y);
+          const float gx = std::min(std::abs(d[-1] - z), std::abs(d[1] - z)), gy = std::min(std::abs(d[-guides.stride] - z), std::abs(d[guides.stride] - z));
+          *guides.at(kDepthGradient, x, y) = gx + gy;
+          continue;
+        }
         const auto one_sided = [&](int dx, int dy) {
           const int qx = x + dx, qy = y + dy;
           if (qx < 0 || qy < 0 || qx >= width || qy >= height) return std::numeric_limits<float>::infinity();
@@ -125,6 +154,13 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
     constexpr float k[3] = {0.25f, 0.5f, 0.25f};
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
+        if (x > 0 && y > 0 && x + 1 < width && y + 1 < height) {  // inside: the weights sum to 1
+          float acc = 0;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) acc += k[dx + 1] * k[dy + 1] * *a.at(kVar, x + dx, y + dy);
+          *b.at(kVar, x, y) = acc;
+          continue;
+        }
         float acc = 0, w = 0;
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
@@ -137,11 +173,20 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   });
   std::memcpy(a.plane(kVar), b.plane(kVar), sizeof(float) * static_cast<std::size_t>(a.stride) * a.rows);
 
+  // The unfiltered visibility, for the fit.
+  const int fit_radius = std::clamp(settings.fit_radius, 0, 8);
+  Planes raw(width, height, fit_radius > 0 ? kPlanesPerImage : 0, scratch.raw);
+  if (fit_radius > 0) std::memcpy(raw.data, a.data, sizeof(float) * static_cast<std::size_t>(a.stride) * a.rows * kPlanesPerImage);
+
   Planes* in = &a;
   Planes* out = &b;
   const int passes = std::clamp(settings.passes, 1, 5);
   for (int pass = 0; pass < passes; ++pass) {
     pass_for(settings.instruction_set)(*in, *out, guides, 1 << pass, transparent);
+    std::swap(in, out);
+  }
+  if (fit_radius > 0) {
+    fit_for(settings.instruction_set)(raw, *in, *out, guides, fit_radius, transparent);
     std::swap(in, out);
   }
 

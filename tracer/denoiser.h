@@ -48,7 +48,11 @@ struct DenoiseSettings {
   std::array<float, 5> taps{0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
   int reach = 0;
   bool transparent = false;  ///< RGB premultiplied; the shadows on the ground are in alpha
-  int passes = 4;            ///< a-trous passes (steps 1, 2, 4, ...: 3x3 taps each), 1..5
+  int passes = 2;            ///< a-trous passes (steps 1, 2, 4, ...: 3x3 taps each), 1..5: the fit's guide
+  /// The fit's window: a plane through the unfiltered visibility of the (2 fit_radius + 1)^2
+  /// pixels around each pixel, weighted by the guides and the a-trous passes' output; 0: no fit
+  /// (the passes' output is the result). 0..8.
+  int fit_radius = 4;
   /// Which copy of the a-trous pass runs (the same bits; the renderer picks its tile kernel's).
   enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
 };
@@ -57,7 +61,7 @@ struct DenoiseSettings {
 /// mapping and page-faulting it afresh for every frame cost more than the filter itself.
 struct DenoiseWorkspace {
   DenoiseGuides frame_guides;  ///< for the renderer: the guides of the frame being rendered
-  std::vector<float> guides, ping, pong, unshadowed_h, unshadowed_f;
+  std::vector<float> guides, ping, pong, raw, unshadowed_h, unshadowed_f;
 };
 
 /// The denoised frame (RGBA, premultiplied like `rgba`, width * height * 4) from the filtered

@@ -5,12 +5,17 @@
 #include <tbb/parallel_for.h>
 
 #include <cstring>
+#include <type_traits>
+#include <vector>
 
 #include "tracer/denoiser_impl.h"
 #include "tracer/simd.h"
 
 #ifndef MESHTOUR_DENOISE_PASS
 #define MESHTOUR_DENOISE_PASS atrous_pass_baseline
+#endif
+#ifndef MESHTOUR_DENOISE_FIT
+#define MESHTOUR_DENOISE_FIT fit_pass_baseline
 #endif
 
 namespace meshtour::denoise_detail {
@@ -26,9 +31,17 @@ using Mask = int __attribute__((vector_size(4 * kWidth)));
 // pixel's own box mean of independent samples, while the beauty is a wider filter's mean of
 // stratified ones, whose error is smaller.)
 constexpr float kDepthSigma = 1.0f;   // depth difference in units of the local depth gradient
-constexpr float kLumaSigma = 2.0f;    // luminance difference in standard deviations
+constexpr float kLumaSigma = 4.0f;    // luminance difference in standard deviations
 constexpr float kAlbedoSigma = 0.1f;  // summed absolute albedo difference
 constexpr int kNormalPowerLog2 = 6;   // weight max(0, n.n')^64
+// The fit's luminance weight: a Gaussian of the guide's luminance difference in units of
+// kFitLumaSigma standard deviations of the guide plus kFitLumaFloor of its luminance (the guide,
+// the a-trous passes' output, is nearly noise-free, so its own deviation alone would stop at
+// every leftover ripple). Measured on the benchmark frames (bench/denoise_quality.cpp).
+constexpr float kFitLumaSigma = 2.0f;
+constexpr float kFitLumaFloor = 0.02f;
+constexpr float kFitRidge = 1e-3f;
+constexpr float kFitNormalScale = 64.0f;  // as the a-trous pass's (n.n')^64, in the exponent  // slope damping, relative to the sum of weights
 
 Lanes load(const float* p) {
   Lanes v;
@@ -52,6 +65,15 @@ Lanes falloff(Lanes x) {
   t = t * t;
   t = t * t;
   return 1.0f / t;
+}
+// The fit's falloff: (1 - x/8)^8 for x < 8, else 0: 1 at 0 and close to exp(-x) near 0, with a
+// shorter tail than falloff (the fit's wide window must not let far, different pixels in) and
+// no division, which would dominate the fit's cost at 81 taps a pixel.
+Lanes falloff_compact(Lanes x) {
+  Lanes t = max_lanes(1.0f - x * 0.125f, Lanes{});
+  t = t * t;
+  t = t * t;
+  return t * t;
 }
 Lanes luminance(Lanes r, Lanes g, Lanes b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
@@ -117,6 +139,118 @@ void MESHTOUR_DENOISE_PASS(Planes& in, Planes& out, Planes& guides, int step, bo
       }
     }
   });
+}
+
+// The fit (denoiser_impl.h): per pixel, a weighted least-squares plane through the raw
+// visibility of the pixels in a (2 radius + 1)^2 window, whose value at the pixel is the result.
+// A weighted mean (zero order) of a sloped signal is pulled towards the side with more weight,
+// which blurs every gradient of a soft shadow or of occlusion; a plane has no such bias, and at
+// the window's centre its value is as noisy as the mean. Sums in a fixed order for every lane.
+void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent) {
+  const int width = raw.width, height = raw.height;
+  const std::ptrdiff_t stride = raw.stride;
+  const float inv_radius = 1.0f / static_cast<float>(radius);
+  // The window's taps, once: a disc rather than a square (the corners add little), each with its
+  // offset in the planes, its position in units of the radius, and 1 / its distance.
+  struct Tap {
+    std::ptrdiff_t offset;
+    float fx, fy, inv_distance;
+  };
+  std::vector<Tap> taps;
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx)
+      if (dx * dx + dy * dy <= radius * radius + radius)
+        taps.push_back({dy * stride + dx, static_cast<float>(dx) * inv_radius, static_cast<float>(dy) * inv_radius,
+                        dx == 0 && dy == 0 ? 1.0f : 1.0f / __builtin_sqrtf(static_cast<float>(dx * dx + dy * dy))});
+  // The guide's luminance (plus alpha in transparent frames), once per pixel rather than once
+  // per tap, into raw's otherwise unused variance plane; the margins stay 0 (no weight there).
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y != range.end(); ++y) {
+      const float* __restrict gin[4] = {guide.at(kR, 0, y), guide.at(kG, 0, y), guide.at(kB, 0, y), guide.at(kA, 0, y)};
+      float* __restrict luma = raw.at(kGuideLuma, 0, y);
+      for (int x = 0; x < width; x += kWidth) {
+        const Lanes l = luminance(load(gin[0] + x), load(gin[1] + x), load(gin[2] + x)) + (transparent ? load(gin[3] + x) : Lanes{});
+        store(luma + x, l);
+      }
+    }
+  });
+  // The rows, with the number of channels known to the compiler (the sums stay in registers).
+  const auto fit_rows = [&](auto channel_count) {
+  constexpr int channels = decltype(channel_count)::value;
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y != range.end(); ++y) {
+      const float* __restrict src[kPlanesPerImage];
+      const float* __restrict gin[kPlanesPerImage];
+      float* __restrict dst[kPlanesPerImage];
+      const float* __restrict gd[kGuides];
+      for (int k = 0; k < kPlanesPerImage; ++k) src[k] = raw.at(k, 0, y), gin[k] = guide.at(k, 0, y), dst[k] = out.at(k, 0, y);
+      for (int k = 0; k < kGuides; ++k) gd[k] = guides.at(k, 0, y);
+      const float* __restrict guide_luma = raw.at(kGuideLuma, 0, y);
+      for (int x = 0; x < width; x += kWidth) {
+        const Lanes nx = load(gd[kNx] + x), ny = load(gd[kNy] + x), nz = load(gd[kNz] + x);
+        Lanes g[kPlanesPerImage];
+        for (int k = 0; k < kPlanesPerImage; ++k) g[k] = load(gin[k] + x);
+        const Mask busy = ((nx != 0.0f) | (ny != 0.0f) | (nz != 0.0f)) & (g[kVar] > 1e-12f);
+        int any_busy = 0;
+        for (int i = 0; i < kWidth; ++i) any_busy |= busy[i];
+        if (!any_busy) {
+          for (int k = 0; k < kPlanesPerImage; ++k) store(dst[k] + x, g[k]);
+          continue;
+        }
+        const Lanes z = load(gd[kDepth] + x), z_grad = load(gd[kDepthGradient] + x);
+        const Lanes luma = load(guide_luma + x);
+        // Depth differences in units of the local depth gradient times the distance (a plane's
+        // rise), and a relative tolerance for flat-on views.
+        const Lanes inv_z = 1.0f / (kDepthSigma * z_grad + 1e-3f * z + 1e-30f);
+        const Lanes inv_l = 1.0f / (kFitLumaSigma * sqrt_lanes(g[kVar]) + kFitLumaFloor * max_lanes(luma, splat(0.05f)));
+        Lanes m00{}, m01{}, m02{}, m11{}, m12{}, m22{};
+        Lanes r0[4] = {}, r1[4] = {}, r2[4] = {};
+        for (const Tap& tap : taps) {
+          const std::ptrdiff_t o = x + tap.offset;
+          // (n.n')^64 ~ exp(-64 (1 - n.n')) near 1: one exponent, one falloff. A neighbour
+          // without a surface (n' = 0) gets exponent 64, beyond the falloff's reach.
+          const Lanes cos_n = nx * load(gd[kNx] + o) + ny * load(gd[kNy] + o) + nz * load(gd[kNz] + o);
+          const Lanes l = (load(guide_luma + o) - luma) * inv_l;
+          const Lanes w = falloff_compact(abs_lanes(z - load(gd[kDepth] + o)) * (inv_z * tap.inv_distance) + 0.5f * (l * l) +
+                                          kFitNormalScale * (1.0f - cos_n));
+          const Lanes wx = w * tap.fx, wy = w * tap.fy;
+          m00 += w;
+          m01 += wx;
+          m02 += wy;
+          m11 += wx * tap.fx;
+          m12 += wx * tap.fy;
+          m22 += wy * tap.fy;
+          for (int k = 0; k < channels; ++k) {
+            const Lanes v = load(src[k] + o);
+            r0[k] += w * v;
+            r1[k] += wx * v;
+            r2[k] += wy * v;
+          }
+        }
+        // The plane's value at the centre by Cramer's rule on the (damped) normal equations.
+        m11 += kFitRidge * m00;
+        m22 += kFitRidge * m00;
+        const Lanes c0 = m11 * m22 - m12 * m12, c1 = m12 * m02 - m01 * m22, c2 = m01 * m12 - m11 * m02;
+        const Lanes det = m00 * c0 + m01 * c1 + m02 * c2;
+        const Mask filtered = busy & (m00 > 0.0f) & (det > 1e-6f * m00 * c0);
+        const Lanes safe_det = filtered ? det : splat(1.0f);
+        // RGB, and alpha where it carries the ground's shadow; in opaque frames alpha is coverage, not noise.
+        if (channels == 3) store(dst[kA] + x, g[kA]);
+        for (int k = 0; k < channels; ++k) {
+          Lanes v = (c0 * r0[k] + c1 * r1[k] + c2 * r2[k]) / safe_det;
+          v = max_lanes(v, Lanes{});  // visibility and alpha are never negative
+          if (k == kA) v = v > 1.0f ? splat(1.0f) : v;
+          store(dst[k] + x, filtered ? v : g[k]);
+        }
+        store(dst[kVar] + x, g[kVar]);
+      }
+    }
+  });
+  };
+  if (transparent)
+    fit_rows(std::integral_constant<int, 4>{});
+  else
+    fit_rows(std::integral_constant<int, 3>{});
 }
 
 }  // namespace meshtour::denoise_detail

@@ -2,8 +2,8 @@
 // Counter-based random numbers: every random number the renderer uses is a pure function of
 // (frame, pixel, sample, dimension), so a pixel never depends on which thread rendered it, in
 // which order tiles ran, or which process rendered the frame. No generator state is shared.
-// Here: the per-pixel key (64-bit, once per pixel); the sampler (sampler.h) seeds its scrambles
-// with 32-bit hashes of it, 16 samples at a time.
+// Here: the key of a frame's block of pixels (64-bit, once per pixel); the sampler (sampler.h)
+// seeds its scrambles with 32-bit hashes of it, 16 samples at a time.
 #include <cstdint>
 
 namespace meshtour::rng {
@@ -16,8 +16,8 @@ constexpr std::uint64_t mix64(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
-/// The part of a sample's key shared by all samples of one pixel: computed once per pixel
-/// rather than once per sample.
+/// The part of a sample's key shared by all samples of one pixel (the sampler passes its block of
+/// pixels: sampler::block_of): computed once per pixel rather than once per sample.
 constexpr std::uint64_t pixel_key(std::uint64_t frame, std::uint64_t pixel) {
   return mix64(mix64(frame + 0x9e3779b97f4a7c15ULL) ^ pixel);
 }

@@ -1,18 +1,25 @@
 #pragma once
 // Low-discrepancy sample numbers: Owen-scrambled Sobol points with hash-based scrambling (Burley
-// 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)), 16 samples at a time.
+// 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)) in Z order (Ahmed and Wonka 2020,
+// "Screen-space blue-noise diffusion of Monte Carlo sampling error via hierarchical ordering of
+// pixels", as pbrt-v4's ZSobolSampler), 16 samples at a time.
 //
-// Every pair of dimensions of a camera sample (pixel position, light position, occlusion
-// direction; the light choice uses one) takes the first two Sobol dimensions at a shuffled index:
-// within a pixel the samples of one pair form a (0, m, 2)-net (every 1/spp-area box of the unit
-// square that a power of two allows holds one sample), so the error of smooth integrands falls
-// faster than 1/sqrt(spp), and the shuffle (an Owen scramble of the sample index, seeded per
-// pixel and per pair) keeps the pairs independent of one another. The values are Owen scrambled
-// too (seeded per pixel), so neighbouring pixels do not share a pattern.
+// The pixels of a block of 256 x 256 share one sequence per pair of dimensions (pixel position,
+// light position, occlusion direction; the light choice uses one): pixel (x, y) takes the spp
+// consecutive indices from its Morton code times spp (first_index). An aligned run of 2^k
+// indices of a Sobol sequence is a (0, k, 2)-net, so a pixel's own samples are one (every
+// 1/spp-area box of the unit square that a power of two allows holds one sample: the error of
+// smooth integrands falls faster than 1/sqrt(spp)), and so are the samples of every aligned 2x2,
+// 4x4, ... group of pixels: neighbouring pixels fill each other's gaps, their errors are
+// negatively correlated (blue noise), and whatever averages neighbours (the reconstruction
+// filter, the denoiser) cancels more of the error than it would of independent pixels'.
+// Each pair shuffles the indices with its own nested (Owen) scramble, which maps aligned runs to
+// aligned runs, so the pairs stay independent of one another; the values are Owen scrambled per
+// block and pair.
 //
 // Integer operations only (shifts, masks, 32-bit multiplies), so every instruction set gives the
-// same bits; the seeds are hashes of the pixel's key (random.h), so a sample depends only on
-// (frame, pixel, sample index), never on threads or tile order.
+// same bits; the seeds are hashes of the block's key (random.h), so a sample depends only on
+// (frame, pixel, sample index), never on threads, tile order or the farm split.
 #include <cstdint>
 
 #include "tracer/simd.h"
@@ -54,19 +61,40 @@ MESHTOUR_SIMD_INLINE U16 sobol1_reversed(U16 index) {
   return index;
 }
 
+/// The blocks of pixels that share a sequence: 2^kBlockBits square. 8 + 8 Morton bits and at
+/// most 12 sample bits (--spp up to 4096) fit the 32-bit index.
+constexpr int kBlockBits = 8;
+/// The block's number (its key's pixel part: random.h).
+constexpr std::uint64_t block_of(int x, int y) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(y) >> kBlockBits) << 32) | (static_cast<std::uint32_t>(x) >> kBlockBits);
+}
+constexpr std::uint32_t spread_bits(std::uint32_t v) {  // bit i of v to bit 2i (v < 256)
+  v = (v | (v << 4)) & 0x0f0fU;
+  v = (v | (v << 2)) & 0x3333U;
+  v = (v | (v << 1)) & 0x5555U;
+  return v;
+}
+/// Pixel (x, y)'s first index in its block's sequence: its Morton code within the block times
+/// 2^log2_spp (2^log2_spp >= spp).
+constexpr std::uint32_t first_index(int x, int y, int log2_spp) {
+  const std::uint32_t mask = (1U << kBlockBits) - 1U;
+  const std::uint32_t morton = spread_bits(static_cast<std::uint32_t>(x) & mask) | (spread_bits(static_cast<std::uint32_t>(y) & mask) << 1);
+  return morton << log2_spp;
+}
+
 /// A 32-bit fixed-point fraction as a float in (0, 1): its top 24 bits, at the centre of the bin.
 MESHTOUR_SIMD_INLINE F16 to_unit(U16 bits) { return (simd::to_float(simd::as_int(bits >> 8)) + 0.5f) * 0x1.0p-24f; }
 
-/// The seeds of one pair of dimensions of one pixel: index shuffle, first and second value.
+/// The seeds of one pair of dimensions of one block: index shuffle, first and second value.
 struct PairSeeds {
   U16 index, x, y;
 };
-MESHTOUR_SIMD_INLINE PairSeeds pair_seeds(U16 pixel_key, std::uint32_t pair) {
+MESHTOUR_SIMD_INLINE PairSeeds pair_seeds(U16 block_key, std::uint32_t pair) {
   const std::uint32_t salt = 0x632be5abU * (pair + 1);
-  return {simd::hash(pixel_key ^ salt), simd::hash(pixel_key ^ (salt + 0x85ebca6bU)), simd::hash(pixel_key ^ (salt + 0xc2b2ae35U))};
+  return {simd::hash(block_key ^ salt), simd::hash(block_key ^ (salt + 0x85ebca6bU)), simd::hash(block_key ^ (salt + 0xc2b2ae35U))};
 }
 
-/// Sample `sample_reversed` (the sample's index within its pixel, bit-reversed) of one pair of
+/// Sample `sample_reversed` (the sample's index in its block's sequence, bit-reversed) of one pair of
 /// dimensions: two numbers in (0, 1).
 MESHTOUR_SIMD_INLINE void pair(U16 sample_reversed, const PairSeeds& seeds, F16& u, F16& v) {
   // The shuffled index, bit-reversed, is Sobol's first dimension at that index.

@@ -242,14 +242,14 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
   const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
   I16 lane_index;
   for (int l = 0; l < simd::kLanes; ++l) lane_index.set(l, l);
-  float light_luminance[8] = {};
-  for (std::size_t i = 0; i < nlights; ++i) light_luminance[i] = f.lights[i].radiance_luminance;
 
   // The sample after the last one set up: its pixel (within the tile) and index in the pixel,
-  // and that pixel's random key.
+  // the random key of the pixel's block, and the pixel's first index in the block's sequence.
   int next_pixel = 0, next_sample = 0;
-  std::uint32_t pixel_key = 0;
+  std::uint32_t block_key = 0, pixel_base = 0;
   int pixel_x = 0, pixel_y = 0;
+  int log2_spp = 0;
+  while ((1 << log2_spp) < spp) ++log2_spp;
 
   for (int k0 = 0; k0 < nsamples; k0 += simd::kLanes) {
     const int lanes = std::min(simd::kLanes, nsamples - k0);
@@ -262,15 +262,16 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
       if (next_sample == 0) {
         pixel_x = x0 + next_pixel % tile_w;
         pixel_y = y0 + next_pixel / tile_w;
-        const std::uint64_t key = rng::pixel_key(f.index ^ f.seed, static_cast<std::uint64_t>(pixel_y) * f.width + pixel_x);
-        pixel_key = static_cast<std::uint32_t>(key ^ (key >> 32));
+        const std::uint64_t key = rng::pixel_key(f.index ^ f.seed, sampler::block_of(pixel_x, pixel_y));
+        block_key = static_cast<std::uint32_t>(key ^ (key >> 32));
+        pixel_base = sampler::first_index(pixel_x, pixel_y, log2_spp);
       }
       px[l] = static_cast<float>(pixel_x);
       py[l] = static_cast<float>(pixel_y);
       buffer_pixel[l] = (pixel_y - y0 + f.apron) * f.buf_w + (pixel_x - x0 + f.apron);
       image_pixel[l] = pixel_y * f.width + pixel_x;
-      lane_key[l] = pixel_key;
-      lane_sample[l] = static_cast<std::uint32_t>(next_sample);
+      lane_key[l] = block_key;
+      lane_sample[l] = pixel_base | static_cast<std::uint32_t>(next_sample);
       if (++next_sample == spp) {
         next_sample = 0;
         ++next_pixel;
@@ -404,51 +405,50 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
           const F16 spec = simd::select(simd::gt(cos_h, f.spec_cutoff), f.spec_scale * simd::pow_unit(simd::max(cos_h, simd::broadcast(1e-30f)), f.shininess), zero);
           return V3{radiance.x * (albedo.x + spec) * cos_l, radiance.y * (albedo.y + spec) * cos_l, radiance.z * (albedo.z + spec) * cos_l};
         };
-        F16 cosines[8];
-        for (std::size_t i = 0; i < nlights; ++i) cosines[i] = dot(n, broadcast(f.lights[i].direction));
+        // What each light would bring here unshadowed (diffuse and highlight; 0 from behind).
+        V3 contributions[8];
+        for (std::size_t i = 0; i < nlights; ++i) {
+          const F16 cos_i = dot(n, broadcast(f.lights[i].direction));
+          const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cos_i);
+          const I16 lit = simd::gt(cos_i, 0.0f);
+          contributions[i] = {simd::select(lit, c.x, zero), simd::select(lit, c.y, zero), simd::select(lit, c.z, zero)};
+        }
         V3 model_base{zero, zero, zero};
         V3 model_light{zero, zero, zero};
         I16 model_shadow = simd::broadcast_int(0);
         if (f.shadows) {
           // One shadow ray to one light, chosen in proportion to the light it brings here
-          // unshadowed (its irradiance's luminance) and weighted by 1/probability: unbiased, and
-          // the light that matters most here gets most of the rays.
+          // unshadowed (the luminance of its whole contribution, highlight included) and weighted
+          // by 1/probability: unbiased, exact in luminance wherever no light is blocked, and the
+          // light that matters most here gets most of the rays.
           F16 weights[8];
           F16 total = zero;
           for (std::size_t i = 0; i < nlights; ++i) {
-            weights[i] = simd::select(simd::gt(cosines[i], 0.0f), cosines[i] * light_luminance[i], zero);
+            weights[i] = luminance(contributions[i].x, contributions[i].y, contributions[i].z);
             total += weights[i];
           }
           const I16 chosen = choose(weights, nlights, total, u_choice);
-          F16 chosen_weight = zero, chosen_cos = zero;
+          F16 chosen_weight = zero;
+          V3 c{zero, zero, zero};
           for (std::size_t i = 0; i < nlights; ++i) {
             const I16 m = simd::eq(chosen, static_cast<int>(i));
             chosen_weight = simd::select(m, weights[i], chosen_weight);
-            chosen_cos = simd::select(m, cosines[i], chosen_cos);
+            c = select(m, contributions[i], c);
           }
           model_shadow = simd::both(on_model, simd::gt(total, 0.0f));
           const LaneLight light = lane_light(f.lights, chosen);
           const F16 inverse_probability = total / simd::select(model_shadow, chosen_weight, one);
-          const V3 c = reflected(light.direction, light.radiance, chosen_cos);
           model_light = {c.x * inverse_probability, c.y * inverse_probability, c.z * inverse_probability};
           shadow_dir = light_direction(light, u_light, v_light);
         } else {
-          for (std::size_t i = 0; i < nlights; ++i) {
-            const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cosines[i]);
-            const I16 lit = simd::gt(cosines[i], 0.0f);
-            model_base = {model_base.x + simd::select(lit, c.x, zero), model_base.y + simd::select(lit, c.y, zero),
-                          model_base.z + simd::select(lit, c.z, zero)};
-          }
+          for (std::size_t i = 0; i < nlights; ++i)
+            model_base = {model_base.x + contributions[i].x, model_base.y + contributions[i].y, model_base.z + contributions[i].z};
         }
         const V3 sky{albedo.x * f.ambient.x(), albedo.y * f.ambient.y(), albedo.z * f.ambient.z()};
         if (f.guides) {
           V3 unshadowed = sky;
-          for (std::size_t i = 0; i < nlights; ++i) {
-            const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cosines[i]);
-            const I16 lit = simd::gt(cosines[i], 0.0f);
-            unshadowed = {unshadowed.x + simd::select(lit, c.x, zero), unshadowed.y + simd::select(lit, c.y, zero),
-                          unshadowed.z + simd::select(lit, c.z, zero)};
-          }
+          for (std::size_t i = 0; i < nlights; ++i)
+            unshadowed = {unshadowed.x + contributions[i].x, unshadowed.y + contributions[i].y, unshadowed.z + contributions[i].z};
           guide_unshadowed = select(on_model, unshadowed, guide_unshadowed);
         }
         V3 model_sky{zero, zero, zero};
