@@ -20,15 +20,22 @@ struct UpRest {
   double support_area = 0.0;  ///< area of the support polygon / area of the model's footprint
   double margin = 0.0;        ///< distance of the centroid's projection inside the support polygon's edge / footprint radius (< 0: it tips over)
   double centroid_height = 0.0;  ///< height of the surface centroid above the rest plane / the model's height along up
-  double score = 0.0;         ///< 0 when the rest is not stable; larger is firmer (see up_axis.cpp)
+  double rest = 0.0;          ///< 0 when the rest is not stable; larger is firmer (see up_axis.cpp)
+  double footprint = 0.0;     ///< area of the hull's shadow along up (the unit of the flat areas)
+  double flat_base = 0.0;     ///< area of the flat surface facing down at the bottom / footprint
+  double flat_top = 0.0;      ///< the same facing up at the top
+  double score = 0.0;         ///< rest and flat base combined (see up_axis.cpp); 0 across a symmetry plane
 };
 
 /// The chosen up axis, why, and all six rests (in the order +x, -x, +y, -y, +z, -z).
 struct UpChoice {
   Axis up;
-    std::string reason;  ///< one line for the user, e.g. "rests on its -y side: support 47% of the footprint, ..."
+  std::string reason;  ///< one line for the user, e.g. "rests on its -y side: support 47% of the footprint, ..."
   bool confident = false;  ///< some side rests firmly and clearly (see up_axis.cpp) ahead of the others; else up is +y
   std::array<UpRest, 6> rests;
+  std::array<double, 3> symmetry{};  ///< share of the surface mirrored across the plane through the centroid normal to x, y, z
+  int symmetry_normal = -1;          ///< the axis normal to the clear plane of symmetry (never up), or -1
+  double margin = 0.0;               ///< best score / second best score
 };
 
 /// The up axis by shape (+y when no side rests firmly and clearly ahead of the others). Deterministic; a few ms beyond the convex hull's cost.
