@@ -6,6 +6,8 @@
 // firmly on no side, so it keeps +y, wrong for Venus (+z). tests/mesh_up_axis_test.cpp prints
 // every side's score.
 #include <array>
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -36,11 +38,24 @@ struct UpChoice {
   std::array<double, 3> symmetry{};  ///< share of the surface mirrored across the plane through the centroid normal to x, y, z
   int symmetry_normal = -1;          ///< the axis normal to the clear plane of symmetry (never up), or -1
   double margin = 0.0;               ///< best score / second best score
+  /// Not empty when the shape overrode the up its file format prescribes (glTF: +y), saying so.
+  std::string warning;
 };
 
 /// The up axis by shape (+y when no side rests firmly and clearly ahead of the others). Deterministic; a few ms beyond the convex hull's cost.
 /// \throw InputError if the mesh has no area (nothing to rest on).
 UpChoice choose_up_axis(const TriangleMesh& mesh);
+
+/// The up axis a file format prescribes: +y for glTF (.gltf, .glb; the glTF 2.0 specification
+/// makes +Y up), nothing for formats without a convention (OBJ, PLY, OFF, STL).
+std::optional<Axis> format_up_axis(const std::filesystem::path& file);
+
+/// choose_up_axis() for a model loaded from `file`. When the format prescribes an up (glTF: +y),
+/// that is the answer unless the shape's choice is confident, disagrees, and is strong: a score of
+/// at least 0.03 (a firm rest or a clearly flat base) and 4x the prescribed side's. Then the
+/// shape wins and `warning` says that it overrode the format's up.
+/// \throw InputError if the mesh has no area.
+UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& file);
 
 /// Whether an --up value asks for this rule ("auto", any case).
 bool is_auto_up(std::string_view text);
