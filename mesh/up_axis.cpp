@@ -75,6 +75,10 @@ constexpr int kSymmetryGrid = 24;
 // are exactly the ones a file's own convention should outrank.
 constexpr double kOverrideScore = 0.03;
 constexpr double kOverrideRatio = 4.0;
+// Nor does it give way for a model thinner than kOverrideThickness of its size along the shape's
+// choice: a flat model (a glTF cut-out character made of layered sprites, a relief) rests firmly
+// on its face, which says nothing about which way its picture is up.
+constexpr double kOverrideThickness = 0.1;
 constexpr double kSymmetric = 0.9;
 constexpr double kSymmetryLead = 0.08;
 
@@ -303,7 +307,9 @@ UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& f
   const double shape = choice.confident ? score_of(choice.up) : 0.0;
   const double format = score_of(*prescribed);
   const std::string name = file.filename().string();
-  if (choice.confident && choice.up != *prescribed && shape >= kOverrideScore && shape >= kOverrideRatio * format) {
+  const Eigen::Vector3d extent = mesh.bounds().extent();
+  const bool thick = extent[choice.up.index] >= kOverrideThickness * extent.maxCoeff();
+  if (choice.confident && choice.up != *prescribed && thick && shape >= kOverrideScore && shape >= kOverrideRatio * format) {
     char text[320];
     std::snprintf(text, sizeof text,
                   "%s is glTF, whose up is %s by the specification, but its shape clearly says %s (score %.3g, %s %.3g): "
@@ -313,8 +319,11 @@ UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& f
     choice.warning = text;
     return choice;
   }
-  choice.reason = "glTF is " + prescribed->name() + " up by the specification (the shape alone: " + choice.up.name() +
-                  (choice.confident ? "" : ", not confident") + "; " + choice.reason + ")";
+  if (choice.confident && choice.up == *prescribed)
+    choice.reason = "glTF is " + prescribed->name() + " up by the specification, and the shape agrees: " + choice.reason;
+  else
+    choice.reason = "glTF is " + prescribed->name() + " up by the specification (the shape alone: " + choice.up.name() +
+                    (choice.confident ? "" : ", not confident") + "; " + choice.reason + ")";
   choice.up = *prescribed;
   choice.confident = true;
   return choice;

@@ -64,8 +64,9 @@ std::optional<Axis> format_up_axis(const std::filesystem::path& file);
 
 /// choose_up_axis() for a model loaded from `file`. When the format prescribes an up (glTF: +y),
 /// that is the answer unless the shape's choice is confident, disagrees, and is strong: a score of
-/// at least 0.03 (a firm rest or a clearly flat base) and 4x the prescribed side's. Then the
-/// shape wins and `warning` says that it overrode the format's up.
+/// at least 0.03 (a firm rest or a clearly flat base) and 4x the prescribed side's, on a model at
+/// least a tenth as thick along it as its size (a flat model rests on its face whatever its up).
+/// Then the shape wins and `warning` says that it overrode the format's up.
 /// \throw InputError if the mesh has no area.
 UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& file);
 

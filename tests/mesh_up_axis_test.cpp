@@ -219,6 +219,15 @@ TEST(UpAxis, GltfKeepsItsUpUnlessTheShapeClearlyDisagrees) {
   EXPECT_NE(overridden.warning.find("glTF"), std::string::npos) << overridden.warning;
   EXPECT_EQ(choose_up_axis(z_up, "plinth.ply").up.name(), "+z");
   EXPECT_TRUE(choose_up_axis(z_up, "plinth.ply").warning.empty());
+  // A flat model (a cut-out character: two layered cards in the xy plane) rests firmly on its
+  // back, -z; that says nothing about its picture's up, so a glTF keeps +y.
+  Builder card;
+  card.box({-1.0, -2.0, 0.0}, {1.0, 2.0, 0.04});
+  card.box({-0.5, -1.0, 0.04}, {0.5, 1.0, 0.08});
+  EXPECT_EQ(choose_up_axis(card.mesh).up.name(), "+z");
+  const UpChoice sprite = choose_up_axis(card.mesh, "sprite.glb");
+  EXPECT_EQ(sprite.up.name(), "+y") << sprite.reason;
+  EXPECT_TRUE(sprite.warning.empty()) << sprite.warning;
   // A weak disagreement (a head with no base: the shape is not confident) keeps +y.
   Builder head;
   head.sphere({0.0, 0.0, 0.0}, 1.0);
