@@ -134,10 +134,10 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   double volume6 = 0.0;                                   // six times the signed volume (> 0: normals point out)
   constexpr int G = kSymmetryGrid;
   std::vector<unsigned char> occupied(static_cast<std::size_t>(G * G * G), 0);
-  const auto cell = [&](double x, int k) { return std::clamp(static_cast<int>((x - lo[k]) / extent[k] * G), 0, G - 1); };
+  const Eigen::Vector3d cells_per_unit = Eigen::Vector3d::Constant(G).cwiseQuotient(extent);
+  const auto cell = [&](double x, int k) { return std::clamp(static_cast<int>((x - lo[k]) * cells_per_unit[k]), 0, G - 1); };
   const auto cell_index = [](int x, int y, int z) { return static_cast<std::size_t>((x * G + y) * G + z); };
   const auto mark = [&](const Eigen::Vector3d& p) { occupied[cell_index(cell(p.x(), 0), cell(p.y(), 1), cell(p.z(), 2))] = 1; };
-  const Eigen::Vector3d cells_per_unit = Eigen::Vector3d::Constant(G).cwiseQuotient(extent);
   for (const auto& t : mesh.triangles) {
     const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
     const Eigen::Vector3d cross = (b - a).cross(c - a);
