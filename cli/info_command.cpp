@@ -82,8 +82,9 @@ nlohmann::json describe(const std::string& file) {
                                 {"texture_cache", texture_cache},
                                 {"peak", 100e6 + mesh_bytes + std::max(coverage, bvh + frames) + texture_cache}};
   // What --up auto would choose (mesh/up_axis.h), with why; the default stays +y.
-  const UpChoice up = choose_up_axis(mesh);
+  const UpChoice up = choose_up_axis(mesh, file);
   j["up_axis"] = {{"auto", up.up.name()}, {"confident", up.confident}, {"reason", up.reason}};
+  if (!up.warning.empty()) j["up_axis"]["warning"] = up.warning;
   return j;
 }
 
@@ -115,6 +116,7 @@ void print_text(const nlohmann::json& j) {
               mem["peak"].get<double>() / 1e6, mem["textures_decoded"].get<double>() / 1e6, mem["texture_cache"].get<double>() / 1e6);
   std::printf("  up axis (--up auto): %s, %s\n", j["up_axis"]["auto"].get<std::string>().c_str(),
               j["up_axis"]["reason"].get<std::string>().c_str());
+  if (j["up_axis"].contains("warning")) std::printf("  warning: %s\n", j["up_axis"]["warning"].get<std::string>().c_str());
 }
 
 }  // namespace

@@ -6,7 +6,19 @@
 //    the model's footprint: a bust's base or four feet, not the top of a head or a curved back;
 //  * the centroid projects well inside it (else the model would tip over);
 //  * the centroid sits low above it (a lower centre of mass is the firmer rest of two equal bases).
-// The score multiplies these, so a rest that fails any of them loses.
+// The rest multiplies these, so a rest that fails any of them scores 0. Two cues that are not
+// about resting join it, both measured in the same pass over the triangles:
+//  * a flat base: sculptures are cut flat or put on a plinth, scans are open or filled flat where
+//    the scanner could not see, figures have soles; the top (a crown, ears, a back) is round. A
+//    base flatter than the top by more than the pose's noise adds to the rest: this finds the
+//    kitten and the Nefertiti bust firmly, and the figures whose feet give no firm rest;
+//  * the plane of bilateral symmetry: up lies in it, so its normal is never up. A truck or a
+//    figure rests firmly on its flank; the mirror test rules that out.
+// Measured alternatives that did not separate up from the other sides on the shared and fetched
+// models, so they are not used: the centroid below mid-height (figures and heads are top-heavy,
+// the bunny and teapot bottom-heavy), the cross-section shrinking toward the top (a head over a
+// neck grows), and rests on the hull's tilted faces (a head rests on its side more firmly than
+// on its neck).
 #include "mesh/up_axis.h"
 
 #include <algorithm>
@@ -26,12 +38,50 @@ namespace {
 // exactly perpendicular to the axis, and a hull facet spanning feet tilts by a few degrees.
 constexpr double kSupportAngleDeg = 12.0;
 // The winner decides when its score is at least kFirmScore and this factor ahead of the runner-up.
-// Measured (tests/mesh_up_axis_test.cpp): the animals standing on their feet score 0.017-0.16 and
-// beat the next side by far more; the Venus bust's best side scores 0.0003, a box on a plinth 0.65.
+// Measured (tests/mesh_up_axis_test.cpp and the fetched models of the README): the models found
+// score 0.016-0.82 and most beat the next side by 4x or more (a scorpion on its legs over its
+// flank by 1.6x); the Venus head's best side scores 0.0003, the bear's 0.
 constexpr double kConfidentRatio = 1.5;
 constexpr double kFirmScore = 0.005;
 // Facets up to this far (share of the model's size) above the support plane still touch the floor.
 constexpr double kPlaneShare = 0.02;
+// A flat end: mesh triangles within kFlatAngle of facing straight out of that end, lying within
+// kFlatSlab of the model's size of its extreme plane. Measured at 10-30 degrees and 2-5%: wider
+// cones and thicker slabs count a round end (the crown of a head, a back) as flat: a dome's cap
+// within 30 degrees projects to a quarter of its disc, within 15 degrees to 7%. A scan's real cut
+// (a bust's chest, a filled scan hole, a teapot's foot) keeps most of its area at 15 degrees.
+constexpr double kFlatAngleDeg = 15.0;
+constexpr double kFlatSlab = 0.02;
+// The flat base counts by how much it exceeds the flat top (both as shares of the footprint):
+// kFlatWeight times the excess over kFlatNoise. Measured on the shared and first fetched models
+// (24, native orientation): the true base leads by 0.13-0.67 where it is clearly flat
+// (kitten, bunny, teapot, Nefertiti's chest, soles of figures, open scan bottoms); the largest
+// lead of a wrong end is 0.069 (the rocker arm's flank; then a Max Planck head's crown 0.067 and
+// a bear's back 0.037), so leads below 0.07 are the pose's noise and count nothing. The weight
+// makes a clear flat base (lead 0.2-0.3) worth as much as a firm rest (0.04-0.07).
+constexpr double kFlatNoise = 0.07;
+constexpr double kFlatWeight = 0.3;
+// Mirror symmetry: the share of occupied cells of a kSymmetryGrid^3 grid over the bounding box
+// whose mirror image across the plane through the centroid (within one cell) is occupied. A plane
+// is the model's plane of bilateral symmetry when at least kSymmetric of the cells match and the
+// other two planes match kSymmetryLead less. Measured: models with a clear left-right plane
+// (figures, heads, the armadillo, Venus, Nefertiti, a cow, a truck) match 0.92-1.00 across it and
+// their other planes less by 0.08 (Venus) to 0.6; the posed animals and the bear lead no plane so
+// clearly (0.70-0.87), and are left to the other cues.
+constexpr int kSymmetryGrid = 24;
+constexpr double kSymmetric = 0.9;
+constexpr double kSymmetryLead = 0.08;
+// A format's prescribed up (glTF: +y) gives way only to a confident choice scoring at least
+// kOverrideScore and kOverrideRatio times the prescribed side: the firm rests and clear flat bases
+// of the shared and fetched models score 0.04-0.82, while the weakest confident choices
+// (0.005-0.02: the armadillo, a head resting on its crown) are exactly the ones a file's own
+// convention should outrank.
+constexpr double kOverrideScore = 0.03;
+constexpr double kOverrideRatio = 4.0;
+// Nor does it give way for a model thinner than kOverrideThickness of its size along the shape's
+// choice: a flat model (a glTF cut-out character made of layered sprites, a relief) rests firmly
+// on its face, which says nothing about which way its picture is up.
+constexpr double kOverrideThickness = 0.1;
 
 double polygon_area(const std::vector<Eigen::Vector2d>& p) {
   double a = 0.0;
@@ -58,61 +108,152 @@ double inside_distance(const std::vector<Eigen::Vector2d>& p, const Eigen::Vecto
 }  // namespace
 
 UpChoice choose_up_axis(const TriangleMesh& mesh) {
-  // The surface centroid (area-weighted): the centre of mass of a shell, and close to the solid's
-  // for a scan; it needs no closed surface.
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  double area = 0.0;
-  for (const auto& t : mesh.triangles) {
-    const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    const double w = 0.5 * (b - a).cross(c - a).norm();
-    centroid += w * (a + b + c) / 3.0;
-    area += w;
-  }
-  if (!(area > 0.0)) throw InputError("--up auto: the mesh has no area, so it has no side to rest on");
-  centroid /= area;
-
   const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh);
   const std::vector<HullTriangle> facets = convex_hull_triangles(hull);
   const double cos_support = std::cos(kSupportAngleDeg * std::numbers::pi / 180.0);
+  Eigen::Vector3d lo = hull.front(), hi = lo;  // the bounding box (the hull's is the model's)
+  for (const Eigen::Vector3d& p : hull) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double model_size = (hi - lo).maxCoeff();  // for the plane tolerances
+  const Eigen::Vector3d extent = (hi - lo).cwiseMax(1e-12 * std::max(1.0, model_size));
+  const Eigen::Vector3d middle = 0.5 * (lo + hi);
 
-  double model_size = 0.0;  // the hull's extent along its longest axis, for the plane tolerance
-  {
-    Eigen::Vector3d lo = hull.front(), hi = lo;
-    for (const Eigen::Vector3d& p : hull) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    model_size = (hi - lo).maxCoeff();
+  // One pass over the triangles gathers everything the cues need (linear in faces, no topology):
+  //  * the surface centroid (area-weighted): the centre of mass of a shell, and close to the
+  //    solid's for a scan; it needs no closed surface;
+  //  * flat ends: per side, the projected area of the triangles at that end that face out of it
+  //    (a cut, a plinth, soles, a filled scan hole). A bust's chest or a statue's plinth is flat
+  //    and at the bottom; the top of a head, ears or a back are round;
+  //  * the vector area and signed volume (open scans and inward normals, below);
+  //  * the cells the surface occupies, for the mirror symmetry test.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double area = 0.0;
+  std::array<double, 6> flat{};  // flat[2k]: facing +k at the +k end; flat[2k + 1]: facing -k at the -k end
+  const double cos_flat = std::cos(kFlatAngleDeg * std::numbers::pi / 180.0);
+  const double slab = kFlatSlab * model_size;
+  Eigen::Vector3d vector_area = Eigen::Vector3d::Zero();  // sum of the triangles' area times normal
+  double volume6 = 0.0;                                   // six times the signed volume (> 0: normals point out)
+  constexpr int G = kSymmetryGrid;
+  std::vector<unsigned char> occupied(static_cast<std::size_t>(G * G * G), 0);
+  const Eigen::Vector3d cells_per_unit = Eigen::Vector3d::Constant(G).cwiseQuotient(extent);
+  const auto cell = [&](double x, int k) { return std::clamp(static_cast<int>((x - lo[k]) * cells_per_unit[k]), 0, G - 1); };
+  const auto cell_index = [](int x, int y, int z) { return static_cast<std::size_t>((x * G + y) * G + z); };
+  const auto mark = [&](const Eigen::Vector3d& p) { occupied[cell_index(cell(p.x(), 0), cell(p.y(), 1), cell(p.z(), 2))] = 1; };
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const double w = 0.5 * cross.norm();
+    if (!(w > 0.0)) continue;
+    const Eigen::Vector3d m = (a + b + c) / 3.0;
+    centroid += w * m;
+    area += w;
+    vector_area += 0.5 * cross;
+    volume6 += (a - middle).dot((b - middle).cross(c - middle));
+    // The surface's cells: the centroid of a triangle smaller than a cell (a scan's), else a
+    // barycentric grid of points no further apart than a cell (a CAD part's long triangles: their
+    // centroids alone sit at a third of each quad's diagonal and look asymmetric).
+    const Eigen::Vector3d tri_lo = a.cwiseMin(b).cwiseMin(c), tri_hi = a.cwiseMax(b).cwiseMax(c);
+    const double span = (tri_hi - tri_lo).cwiseProduct(cells_per_unit).maxCoeff();
+    if (span <= 1.0) {
+      mark(m);
+    } else {
+      const int steps = static_cast<int>(std::ceil(std::min(span, 4.0 * G)));
+      for (int i = 0; i <= steps; ++i)
+        for (int j = 0; i + j <= steps; ++j) mark(a + (b - a) * (static_cast<double>(i) / steps) + (c - a) * (static_cast<double>(j) / steps));
+    }
+    const Eigen::Vector3d n = cross / (2.0 * w);
+    for (int k = 0; k < 3; ++k) {
+      if (n[k] >= cos_flat && tri_lo[k] >= hi[k] - slab) flat[static_cast<std::size_t>(2 * k)] += w * n[k];
+      if (-n[k] >= cos_flat && tri_hi[k] <= lo[k] + slab) flat[static_cast<std::size_t>(2 * k + 1)] -= w * n[k];
+    }
   }
+  if (!(area > 0.0)) throw InputError("--up auto: the mesh has no area, so it has no side to rest on");
+  centroid /= area;
+  // A mesh whose normals point in (signed volume < 0) has the ends' roles swapped.
+  if (volume6 < 0.0) {
+    for (std::size_t k = 0; k < 3; ++k) std::swap(flat[2 * k], flat[2 * k + 1]);
+    vector_area = -vector_area;
+  }
+  // An open mesh: the vector areas of a closed surface's triangles sum to zero, so the sum is
+  // minus the vector area of the caps that would close the holes. A scan's largest hole is usually
+  // its base, which the scanner could not see (a bust's open chest or neck, a statue's underside),
+  // so that cap counts as flat surface at the end it faces. Closed meshes (all shared ones) have
+  // none. Measured: the open head scan (libigl face.obj) gets a base lead of 0.67 from it.
+  for (std::size_t k = 0; k < 3; ++k) flat[vector_area[static_cast<Eigen::Index>(k)] > 0.0 ? 2 * k + 1 : 2 * k] += std::abs(vector_area[static_cast<Eigen::Index>(k)]);
+
+  UpChoice choice;
+  for (int j = 0; j < 3; ++j) {  // the plane through the centroid normal to axis j
+    std::size_t cells = 0, mirrored = 0;
+    for (int x = 0; x < G; ++x)
+      for (int y = 0; y < G; ++y)
+        for (int z = 0; z < G; ++z) {
+          if (!occupied[cell_index(x, y, z)]) continue;
+          ++cells;
+          std::array<int, 3> q{x, y, z};
+          const auto jj = static_cast<std::size_t>(j);
+          q[jj] = cell(2.0 * centroid[j] - (lo[j] + (q[jj] + 0.5) / G * extent[j]), j);
+          bool found = false;
+          for (int dx = -1; dx <= 1 && !found; ++dx)
+            for (int dy = -1; dy <= 1 && !found; ++dy)
+              for (int dz = -1; dz <= 1 && !found; ++dz) {
+                const int u = q[0] + dx, v = q[1] + dy, s = q[2] + dz;
+                found = u >= 0 && v >= 0 && s >= 0 && u < G && v < G && s < G && occupied[cell_index(u, v, s)];
+              }
+          mirrored += found ? 1 : 0;
+        }
+    choice.symmetry[static_cast<std::size_t>(j)] = cells ? static_cast<double>(mirrored) / static_cast<double>(cells) : 0.0;
+  }
+  {
+    std::array<int, 3> by{0, 1, 2};
+    const auto sym = [&](int a) { return choice.symmetry[static_cast<std::size_t>(a)]; };
+    std::sort(by.begin(), by.end(), [&](int a, int b) { return sym(a) > sym(b); });
+    if (sym(by[0]) >= kSymmetric && sym(by[0]) - sym(by[1]) >= kSymmetryLead) choice.symmetry_normal = by[0];
+  }
+
   // The rest with gravity along `down`: on the hull facets within kSupportAngle of facing `down`
   // that touch the support plane.
   const auto rest_on = [&](const Eigen::Vector3d& down, UpRest& rest) {
     const Eigen::Vector3d e1 = down.unitOrthogonal(), e2 = down.cross(e1);
-    const auto flat = [&](const Eigen::Vector3d& p) { return Eigen::Vector2d(p.dot(e1), p.dot(e2)); };
+    const auto flat2 = [&](const Eigen::Vector3d& p) { return Eigen::Vector2d(p.dot(e1), p.dot(e2)); };
     std::vector<Eigen::Vector2d> all, support;
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    double bottom = std::numeric_limits<double>::infinity(), top = -bottom;
     for (const Eigen::Vector3d& p : hull) {
-      all.push_back(flat(p));
-      lo = std::min(lo, -p.dot(down));
-      hi = std::max(hi, -p.dot(down));
+      all.push_back(flat2(p));
+      bottom = std::min(bottom, -p.dot(down));
+      top = std::max(top, -p.dot(down));
     }
     const double tolerance = kPlaneShare * model_size;
     for (const HullTriangle& t : facets)
       if (t.normal.dot(down) >= cos_support &&
-          std::all_of(t.corner.begin(), t.corner.end(), [&](const Eigen::Vector3d& c) { return -c.dot(down) - lo <= tolerance; }))
-        for (const Eigen::Vector3d& c : t.corner) support.push_back(flat(c));
+          std::all_of(t.corner.begin(), t.corner.end(), [&](const Eigen::Vector3d& c) { return -c.dot(down) - bottom <= tolerance; }))
+        for (const Eigen::Vector3d& c : t.corner) support.push_back(flat2(c));
     const std::vector<Eigen::Vector2d> footprint = convex_polygon(std::move(all));
     const std::vector<Eigen::Vector2d> base = convex_polygon(std::move(support));
     const double footprint_area = polygon_area(footprint);
-    if (!(footprint_area > 0.0) || !(hi > lo) || base.size() < 3) return;
+    if (!(footprint_area > 0.0) || !(top > bottom)) return;
+    rest.footprint = footprint_area;
+    if (base.size() < 3) return;
     rest.support_area = polygon_area(base) / footprint_area;
-    rest.margin = inside_distance(base, flat(centroid)) / std::sqrt(footprint_area / std::numbers::pi);
-    rest.centroid_height = (-centroid.dot(down) - lo) / (hi - lo);
-    rest.score = rest.margin > 0.0 ? rest.support_area * rest.margin * (1.0 - rest.centroid_height) : 0.0;
+    rest.margin = inside_distance(base, flat2(centroid)) / std::sqrt(footprint_area / std::numbers::pi);
+    rest.centroid_height = (-centroid.dot(down) - bottom) / (top - bottom);
+    rest.rest = rest.margin > 0.0 ? rest.support_area * rest.margin * (1.0 - rest.centroid_height) : 0.0;
   };
 
-  UpChoice choice;
   for (int k = 0; k < 6; ++k) {
     UpRest& rest = choice.rests[static_cast<std::size_t>(k)];
     rest.up = Axis{k / 2, k % 2 == 1};
     rest_on(-rest.up.vector(), rest);
+  }
+  for (int k = 0; k < 6; ++k) {
+    UpRest& rest = choice.rests[static_cast<std::size_t>(k)];
+    const double footprint = rest.footprint;
+    // With `up` up, the base is the end facing -up (flat[k ^ 1]) and the top the end facing up.
+    if (footprint > 0.0) {
+      rest.flat_base = flat[static_cast<std::size_t>(k ^ 1)] / footprint;
+      rest.flat_top = flat[static_cast<std::size_t>(k)] / footprint;
+    }
+    const double lead = rest.flat_base - rest.flat_top;
+    rest.score = rest.rest + kFlatWeight * std::max(0.0, lead - kFlatNoise);
+    if (rest.up.index == choice.symmetry_normal) rest.score = 0.0;
   }
 
   // Ties (a cube) go to the earlier rest of this order (+y first: the glTF and most scanners' up).
@@ -122,25 +263,70 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   });
   const UpRest& best = choice.rests[order[0]];
   const UpRest& second = choice.rests[order[1]];
-  // Only a firm rest that clearly beats the others overrides the file's convention (+y): a bust
-  // without a flat base or a bear upright on its hind legs rests nowhere firmly, and a guess
-  // would turn it on its side.
+  choice.margin = second.score > 0.0 ? best.score / second.score : std::numeric_limits<double>::infinity();
+  // Only a firm rest or a clearly flat base that beats the others overrides the file's convention
+  // (+y): a guess would turn the model on its side.
   choice.confident = best.score >= kFirmScore && best.score >= kConfidentRatio * second.score;
   choice.up = choice.confident ? best.up : Axis{1, false};
   const auto side = [](const Axis& up) { return Axis{up.index, !up.negative}.name(); };
-  char text[320];
+  const std::string symmetry =
+      choice.symmetry_normal >= 0 ? std::string(", mirror-symmetric across ") + "xyz"[choice.symmetry_normal] : std::string();
+  char text[400];
   if (choice.confident)
     std::snprintf(text, sizeof text,
                   "rests on its %s side: support %.0f%% of the footprint, centroid %.0f%% of the radius inside it, "
-                  "%.0f%% of the height above it (score %.3g, next %s %.3g)",
+                  "%.0f%% of the height above it, flat base %.0f%% (top %.0f%%)%s (score %.3g, next %s %.3g)",
                   side(best.up).c_str(), 100.0 * best.support_area, 100.0 * best.margin, 100.0 * best.centroid_height,
-                  best.score, second.up.name().c_str(), second.score);
+                  100.0 * best.flat_base, 100.0 * best.flat_top, symmetry.c_str(), best.score, second.up.name().c_str(),
+                  second.score);
   else
     std::snprintf(text, sizeof text,
-                  "no side rests clearly firmest (best %s %.3g, next %s %.3g; firm is %.3g and %.1fx the next); "
+                  "no side is clearly the base (best %s %.3g, next %s %.3g; firm is %.3g and %.1fx the next)%s; "
                   "keeping +y, the usual convention",
-                  best.up.name().c_str(), best.score, second.up.name().c_str(), second.score, kFirmScore, kConfidentRatio);
+                  best.up.name().c_str(), best.score, second.up.name().c_str(), second.score, kFirmScore, kConfidentRatio,
+                  symmetry.c_str());
   choice.reason = text;
+  return choice;
+}
+
+std::optional<Axis> format_up_axis(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".gltf" || ext == ".glb") return Axis{1, false};
+  return std::nullopt;
+}
+
+UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& file) {
+  UpChoice choice = choose_up_axis(mesh);
+  const std::optional<Axis> prescribed = format_up_axis(file);
+  if (!prescribed) return choice;
+  const auto score_of = [&](const Axis& up) {
+    for (const UpRest& rest : choice.rests)
+      if (rest.up == up) return rest.score;
+    return 0.0;
+  };
+  const double shape = choice.confident ? score_of(choice.up) : 0.0;
+  const double format = score_of(*prescribed);
+  const std::string name = file.filename().string();
+  const Eigen::Vector3d extent = mesh.bounds().extent();
+  const bool thick = extent[choice.up.index] >= kOverrideThickness * extent.maxCoeff();
+  if (choice.confident && choice.up != *prescribed && thick && shape >= kOverrideScore && shape >= kOverrideRatio * format) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "%s is glTF, whose up is %s by the specification, but its shape clearly says %s (score %.3g, %s %.3g): "
+                  "using %s; give --up %s to keep the file's up",
+                  name.c_str(), prescribed->name().c_str(), choice.up.name().c_str(), shape, prescribed->name().c_str(), format,
+                  choice.up.name().c_str(), prescribed->name().c_str());
+    choice.warning = text;
+    return choice;
+  }
+  if (choice.confident && choice.up == *prescribed)
+    choice.reason = "glTF is " + prescribed->name() + " up by the specification, and the shape agrees: " + choice.reason;
+  else
+    choice.reason = "glTF is " + prescribed->name() + " up by the specification (the shape alone: " + choice.up.name() +
+                    (choice.confident ? "" : ", not confident") + "; " + choice.reason + ")";
+  choice.up = *prescribed;
+  choice.confident = true;
   return choice;
 }
 

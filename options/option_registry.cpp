@@ -49,8 +49,9 @@ std::vector<Option> make_registry() {
        .commands = kRendering, .farm = kToTasks, .excludes = "frame-count"});
   add({.id = "up", .flag = "--up", .kind = Kind::choice, .choices = {"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z", "auto"},
        .ignore_case = true, .default_text = "y",
-       .help = "The model's up axis: x, y, z, -x, -y, -z or auto (the side the model rests on most firmly, y when\n"
-               "no side clearly does; said on stderr) (default y)",
+       .help = "The model's up axis: x, y, z, -x, -y, -z or auto (the side the model stands on: its firmest rest and\n"
+               "flattest base, never across its plane of symmetry; y when no side clearly wins, and y for glTF unless\n"
+               "the shape clearly disagrees; said on stderr) (default y)",
        .scene_key = "up", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
   add({.id = "missing-textures", .flag = "--missing-textures", .kind = Kind::choice, .choices = {"error", "grey"},
        .default_text = "error",

@@ -264,11 +264,13 @@ Scene load_scene(const std::filesystem::path& file) {
 
 void resolve_auto_up(Scene& scene, const TriangleMesh& mesh, bool quiet) {
   if (!scene.up_auto) return;
-  const UpChoice choice = choose_up_axis(mesh);
+  const UpChoice choice = scene.mesh_file ? choose_up_axis(mesh, *scene.mesh_file) : choose_up_axis(mesh);
   scene.up = choice.up;
   scene.up_auto = false;  // decided: a second call (or a copy of the scene) keeps it
   scene.render.world_up = scene.up.vector();
   if (!quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", scene.up.name().c_str(), choice.reason.c_str());
+  // Overriding a glTF file's own up changes the picture: said even with -q.
+  if (!choice.warning.empty()) std::fprintf(stderr, "meshtour: warning: --up auto: %s\n", choice.warning.c_str());
 }
 
 TriangleMesh load_scene_model(const Scene& scene, LoadReport* report) {

@@ -2,8 +2,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <cstdint>
 #include <fstream>
+#include <vector>
 
+#include "gltf_writer.h"
 #include "helpers.h"
 #include "textured_cube.h"
 
@@ -30,6 +34,56 @@ TEST(InfoCommand, JsonReportsCountsTopologyMaterialsAndMemory) {
   EXPECT_EQ(j["up_axis"]["auto"], "+x") << j["up_axis"];
   EXPECT_EQ(j["up_axis"]["confident"], true);
   EXPECT_NE(j["up_axis"]["reason"].get<std::string>().find("rests on its -x side"), std::string::npos) << j["up_axis"];
+}
+
+// A tower on a wide plinth as a GLB, with the plinth under -`up` (mesh/up_axis.h: glTF is +y up
+// by its specification; --up auto keeps that unless the shape clearly disagrees, then warns).
+void write_plinth_glb(const std::filesystem::path& file, int up) {  // up: 1 (y) or 2 (z)
+  std::vector<float> positions;
+  std::vector<std::uint32_t> indices;
+  const auto box = [&](std::array<float, 3> lo, std::array<float, 3> hi) {
+    const auto base = static_cast<std::uint32_t>(positions.size() / 3);
+    for (int i = 0; i < 8; ++i) {
+      const std::array<float, 3> p{i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]};
+      // Built y-up; for up = 2 turned a quarter about x (y goes to z), a rotation, so the
+      // triangles keep facing out.
+      const std::array<float, 3> q = up == 2 ? std::array<float, 3>{p[0], -p[2], p[1]} : p;
+      positions.insert(positions.end(), q.begin(), q.end());
+    }
+    const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& f : quads)
+      for (const int k : {0, 1, 2, 0, 2, 3}) indices.push_back(base + static_cast<std::uint32_t>(f[k]));
+  };
+  box({-1.0f, 0.0f, -1.0f}, {1.0f, 0.3f, 1.0f});
+  box({-0.4f, 0.3f, -0.4f}, {0.4f, 2.0f, 0.4f});
+  test::GltfBuilder b;
+  const int position_accessor = b.floats(positions, 3);
+  const int index_accessor = b.indices(indices);
+  const nlohmann::json primitive = {{"attributes", {{"POSITION", position_accessor}}}, {"indices", index_accessor}};
+  b.doc["meshes"] = {{{"primitives", {primitive}}}};
+  b.doc["nodes"] = {{{"mesh", 0}}};
+  b.doc["scenes"] = {{{"nodes", {0}}}};
+  b.doc["scene"] = 0;
+  b.write_glb(file);
+}
+
+TEST(InfoCommand, GltfKeepsItsUpUnlessTheShapeClearlyDisagrees) {
+  const auto dir = test::scratch_dir();
+  write_plinth_glb(dir / "upright.glb", 1);
+  write_plinth_glb(dir / "z_up.glb", 2);  // exported z-up: the spec says +y, the plinth says +z
+  auto r = test::run_meshtour("info '" + (dir / "upright.glb").string() + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_EQ(j["up_axis"]["auto"], "+y") << j["up_axis"];
+  EXPECT_FALSE(j["up_axis"].contains("warning")) << j["up_axis"];
+  r = test::run_meshtour("info '" + (dir / "z_up.glb").string() + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_EQ(j["up_axis"]["auto"], "+z") << j["up_axis"];
+  ASSERT_TRUE(j["up_axis"].contains("warning")) << j["up_axis"];
+  EXPECT_NE(j["up_axis"]["warning"].get<std::string>().find("glTF"), std::string::npos) << j["up_axis"];
+  r = test::run_meshtour("info '" + (dir / "z_up.glb").string() + "'");
+  EXPECT_NE(r.output.find("warning: z_up.glb is glTF"), std::string::npos) << r.output;
 }
 
 TEST(InfoCommand, MissingTextureIsAWarningAndAMissingFileAnError) {

@@ -109,10 +109,11 @@ void run_path(PathJob& a) {
   const TriangleMesh mesh = load_mesh(a.mesh, &load, LoadOptions{.check_textures = false});  // the path needs no textures
   throw_if_interrupted();
   if (up_auto) {
-    const UpChoice choice = choose_up_axis(mesh);
+    const UpChoice choice = choose_up_axis(mesh, a.mesh);
     a.up = choice.up.name();
     a.options.up = UpDirection::parse(a.up);
     if (!a.quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", a.up.c_str(), choice.reason.c_str());
+    if (!choice.warning.empty()) std::fprintf(stderr, "meshtour: warning: --up auto: %s\n", choice.warning.c_str());
   }
   const bool paper = a.mode == "paper";
   if (!paper && (!a.output.empty() || !a.plot.empty() || !a.debug_dir.empty()))
