@@ -120,6 +120,9 @@ struct FeatureOrbitResult {
   double angular_speed = 0.0;        ///< largest, rad per loop
   double angular_acceleration = 0.0; ///< largest, rad per loop²
   int candidates = 0;                ///< curves that met the smoothness limits and were scored
+  /// The final search's leading curves, scored on every sample, best first: whether the choice
+  /// was a near tie (diagnostics: orbit_bench --invariance).
+  std::vector<std::pair<ElevationCurve, double>> leaders;
   FeatureOrbitPath camera_path() const { return FeatureOrbitPath(geometry); }
 };
 
