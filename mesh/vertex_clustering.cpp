@@ -60,6 +60,7 @@ void slabs(const Polygon& poly, int axis, Emit&& emit) {
     lo = std::min(lo, poly.p[i][axis]);
     hi = std::max(hi, poly.p[i][axis]);
   }
+  if (std::floor(lo) + 1.0 >= hi) return emit(poly);  // within one slab (most faces of a fine mesh)
   Polygon rest = poly, below, above;
   for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0) {
     cut(rest, axis, k, below, above);
@@ -68,6 +69,13 @@ void slabs(const Polygon& poly, int axis, Emit&& emit) {
     if (rest.n < 3) return;
   }
   emit(rest);
+}
+
+// The proxy vertex of cell `c`, -1 if the surface has no area in it.
+long long vertex_in(const std::vector<std::uint64_t>& keys, const Cell& c) {
+  const std::uint64_t k = cell_key(c);
+  const auto it = std::lower_bound(keys.begin(), keys.end(), k);
+  return it != keys.end() && *it == k ? static_cast<long long>(it - keys.begin()) : -1;
 }
 
 struct Moments {
@@ -90,9 +98,14 @@ struct Chunk {
   std::vector<Crossing> crossings;
 };
 
+struct CellSums {
+  std::unordered_map<std::uint64_t, Moments> map;
+  std::uint64_t last_key = 0;
+  Moments* last = nullptr;
+};
+
 // One triangle (grid units): its area and centroid per cell, and the cell edges it crosses.
-void add_triangle(const std::array<Eigen::Vector3d, 3>& q, std::unordered_map<std::uint64_t, Moments>& cells,
-                  std::vector<Crossing>& crossings) {
+void add_triangle(const std::array<Eigen::Vector3d, 3>& q, CellSums& cells, std::vector<Crossing>& crossings) {
   Polygon tri;
   tri.n = 3;
   for (int i = 0; i < 3; ++i) tri.p[i] = q[i];
@@ -108,9 +121,15 @@ void add_triangle(const std::array<Eigen::Vector3d, 3>& q, std::unordered_map<st
         }
         if (!(m.area > 0.0)) return;
         // The piece lies in one cell; its centroid is inside it, away from the cell's faces.
-        Moments& cell = cells[cell_key(cell_of(m.moment / m.area))];
-        cell.area += m.area;
-        cell.moment += m.moment;
+        // Consecutive faces mostly lie in the same cell: the last one is kept at hand (a map's
+        // elements stay where they are when it grows).
+        const std::uint64_t key = cell_key(cell_of(m.moment / m.area));
+        if (key != cells.last_key || !cells.last) {
+          cells.last = &cells.map[key];
+          cells.last_key = key;
+        }
+        cells.last->area += m.area;
+        cells.last->moment += m.moment;
       });
     });
   });
@@ -142,6 +161,27 @@ void add_triangle(const std::array<Eigen::Vector3d, 3>& q, std::unordered_map<st
 
 }  // namespace
 
+std::uint32_t ClusteredMesh::vertex_near(const Eigen::Vector3d& p) const {
+  const Eigen::Vector3d q = (p - grid_origin) / cell_size;
+  if (!q.allFinite()) return 0;
+  const Cell c = cell_of(q);
+  if (const long long v = vertex_in(cell_keys, c); v >= 0) return static_cast<std::uint32_t>(v);
+  std::uint32_t best = 0;
+  double closest = std::numeric_limits<double>::infinity();
+  for (long long dx = -1; dx <= 1; ++dx)
+    for (long long dy = -1; dy <= 1; ++dy)
+      for (long long dz = -1; dz <= 1; ++dz) {
+        const long long v = vertex_in(cell_keys, {c[0] + dx, c[1] + dy, c[2] + dz});
+        if (v < 0) continue;
+        const double d = (mesh.positions[static_cast<std::size_t>(v)] - p).squaredNorm();
+        if (d < closest) {
+          closest = d;
+          best = static_cast<std::uint32_t>(v);
+        }
+      }
+  return best;
+}
+
 ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells) {
   if (target_cells < 1) throw InputError("surface clustering needs at least one cell");
   double total = 0.0;
@@ -167,7 +207,7 @@ ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells
   std::vector<Chunk> chunks((faces + kChunk - 1) / kChunk);
   tbb::parallel_for(std::size_t{0}, chunks.size(), [&](std::size_t ci) {
     if (interrupt_requested()) return;
-    std::unordered_map<std::uint64_t, Moments> cells;
+    CellSums cells;
     Chunk& chunk = chunks[ci];
     for (std::size_t f = ci * kChunk; f < std::min(faces, (ci + 1) * kChunk); ++f) {
       const auto& t = mesh.triangles[f];
@@ -175,7 +215,7 @@ ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells
       if (!q[0].allFinite() || !q[1].allFinite() || !q[2].allFinite()) continue;
       add_triangle(q, cells, chunk.crossings);
     }
-    chunk.cells.assign(cells.begin(), cells.end());
+    chunk.cells.assign(cells.map.begin(), cells.map.end());
     std::sort(chunk.cells.begin(), chunk.cells.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
   });
   throw_if_interrupted();
@@ -188,7 +228,7 @@ ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells
     c = Chunk{};
   }
   std::stable_sort(all.begin(), all.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  std::vector<std::uint64_t> keys;  // cell of each proxy vertex, ascending
+  std::vector<std::uint64_t>& keys = out.cell_keys;
   for (std::size_t i = 0; i < all.size();) {
     Moments m;
     std::size_t j = i;
@@ -200,11 +240,7 @@ ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells
     out.mesh.positions.push_back(out.grid_origin + out.cell_size * (m.moment / m.area));
     i = j;
   }
-  auto vertex_of = [&](const Cell& c) -> long long {
-    const std::uint64_t k = cell_key(c);
-    const auto it = std::lower_bound(keys.begin(), keys.end(), k);
-    return it != keys.end() && *it == k ? static_cast<long long>(it - keys.begin()) : -1;
-  };
+  auto vertex_of = [&](const Cell& c) { return vertex_in(keys, c); };
 
   // One quad per cell edge the surface crosses, as in dual contouring: the crossings along an edge
   // are counted with their facing (one crossing found by two triangles, on their shared edge,
@@ -263,29 +299,6 @@ ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells
     if (k == 0 || triangles[k].sorted != triangles[k - 1].sorted) out.mesh.triangles.push_back(triangles[k].corners);
   throw_if_interrupted();
 
-  // Each input vertex to its cell's vertex, or the nearest one around it.
-  out.vertex_cluster.assign(mesh.positions.size(), 0);
-  tbb::parallel_for(std::size_t{0}, mesh.positions.size(), [&](std::size_t i) {
-    const Eigen::Vector3d q = grid(mesh.positions[i]);
-    if (!q.allFinite()) return;
-    const Cell c = cell_of(q);
-    if (const long long v = vertex_of(c); v >= 0) {
-      out.vertex_cluster[i] = static_cast<std::uint32_t>(v);
-      return;
-    }
-    double best = std::numeric_limits<double>::infinity();
-    for (long long dx = -1; dx <= 1; ++dx)
-      for (long long dy = -1; dy <= 1; ++dy)
-        for (long long dz = -1; dz <= 1; ++dz) {
-          const long long v = vertex_of({c[0] + dx, c[1] + dy, c[2] + dz});
-          if (v < 0) continue;
-          const double d = (out.mesh.positions[static_cast<std::size_t>(v)] - mesh.positions[i]).squaredNorm();
-          if (d < best) {
-            best = d;
-            out.vertex_cluster[i] = static_cast<std::uint32_t>(v);
-          }
-        }
-  });
   return out;
 }
 

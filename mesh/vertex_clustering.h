@@ -27,11 +27,14 @@ namespace meshtour {
 
 struct ClusteredMesh {
   TriangleMesh mesh;                          ///< the proxy (positions and triangles only)
-  /// Proxy vertex of each input vertex: its cell's, or the nearest of the neighbouring cells' when
-  /// the surface has no area in its own (unused vertices: 0).
-  std::vector<std::uint32_t> vertex_cluster;
   double cell_size = 0.0;                     ///< edge of the cubic cells, model units
   Eigen::Vector3d grid_origin = Eigen::Vector3d::Zero();
+  std::vector<std::uint64_t> cell_keys;       ///< cell of each proxy vertex, ascending
+
+  /// The proxy vertex of the cell holding `p`, or the nearest of the neighbouring cells' when the
+  /// surface has no area in it (0 if none has). On demand, not for every input vertex: a lookup
+  /// per vertex of a 4.5M-face mesh cost a third of a second and is rarely needed.
+  std::uint32_t vertex_near(const Eigen::Vector3d& p) const;
 };
 
 /// Clusters the surface of `mesh` into cells of the size that would give about `target_cells` cells

@@ -116,10 +116,10 @@ SampleKernel proxy_kernel(const ClusteredMesh& proxy, const SurfaceSamples& samp
       const Eigen::Vector2d& b = samples.barycentric[i];
       const std::array<double, 3> w{1.0 - b.x() - b.y(), b.x(), b.y()};
       for (int corner = 0; corner < 3; ++corner) {
-        k.vertex.push_back(proxy.vertex_cluster[t[corner]]);
+        k.vertex.push_back(proxy.vertex_near(mesh.positions[t[corner]]));
         k.weight.push_back(w[corner]);
       }
-      k.nearest[i] = proxy.vertex_cluster[t[static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin())]];
+      k.nearest[i] = k.vertex[start + static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin())];
     }
     k.first[i + 1] = k.vertex.size();
   }
