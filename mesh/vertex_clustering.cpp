@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -81,6 +82,15 @@ long long vertex_in(const std::vector<std::uint64_t>& keys, const Cell& c) {
 struct Moments {
   double area = 0.0;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // area × centroid, grid units
+  // The area-weighted quadric of the planes of the surface in the cell: Σ a n nᵀ and Σ a n (n·p).
+  Eigen::Matrix3d quadric = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  void add(const Moments& o) {
+    area += o.area;
+    moment += o.moment;
+    quadric += o.quadric;
+    offset += o.offset;
+  }
 };
 
 // Where the surface crosses a cell edge: the edge runs along `axis` from grid point `point`; `t` is
@@ -106,6 +116,7 @@ struct CellSums {
 
 // One triangle (grid units): its area and centroid per cell, and the cell edges it crosses.
 void add_triangle(const std::array<Eigen::Vector3d, 3>& q, CellSums& cells, std::vector<Crossing>& crossings) {
+  const Eigen::Vector3d normal = (q[1] - q[0]).cross(q[2] - q[0]).normalized();
   Polygon tri;
   tri.n = 3;
   for (int i = 0; i < 3; ++i) tri.p[i] = q[i];
@@ -120,6 +131,8 @@ void add_triangle(const std::array<Eigen::Vector3d, 3>& q, CellSums& cells, std:
           m.moment += area * (piece.p[0] + piece.p[i] + piece.p[i + 1]) / 3.0;
         }
         if (!(m.area > 0.0)) return;
+        m.quadric = m.area * normal * normal.transpose();
+        m.offset = m.area * normal * normal.dot(m.moment / m.area);
         // The piece lies in one cell; its centroid is inside it, away from the cell's faces.
         // Consecutive faces mostly lie in the same cell: the last one is kept at hand (a map's
         // elements stay where they are when it grows).
@@ -128,8 +141,7 @@ void add_triangle(const std::array<Eigen::Vector3d, 3>& q, CellSums& cells, std:
           cells.last = &cells.map[key];
           cells.last_key = key;
         }
-        cells.last->area += m.area;
-        cells.last->moment += m.moment;
+        cells.last->add(m);
       });
     });
   });
@@ -157,6 +169,24 @@ void add_triangle(const std::array<Eigen::Vector3d, 3>& q, CellSums& cells, std:
         crossings.push_back({cell_key(point), a, t, s > 0.0 ? 1 : -1});
       }
   }
+}
+
+// The point of a cell that best fits the planes of the surface in it (area-weighted quadric
+// error), found from the centroid along the directions the planes pin down (eigenvalues above a
+// tenth of the largest: a flat piece moves only along its normal, onto the surface), and kept in
+// the cell. The centroid alone lies off a curved surface by an amount that changes with how the
+// cell cuts it, which reads as curvature noise on the grid.
+Eigen::Vector3d representative(const Moments& m, std::uint64_t key) {
+  const Eigen::Vector3d c = m.moment / m.area;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(m.quadric / m.area);
+  const Eigen::Vector3d r = (m.offset - m.quadric * c) / m.area;
+  const double largest = eigen.eigenvalues().maxCoeff();
+  Eigen::Vector3d x = c;
+  for (int k = 0; k < 3; ++k)
+    if (eigen.eigenvalues()[k] > 0.1 * largest && largest > 0.0)
+      x += eigen.eigenvectors().col(k) * (eigen.eigenvectors().col(k).dot(r) / eigen.eigenvalues()[k]);
+  const Eigen::Vector3d lo(static_cast<double>(key >> 42), static_cast<double>((key >> 21) & 0x1FFFFF), static_cast<double>(key & 0x1FFFFF));
+  return x.cwiseMax(lo).cwiseMin(lo + Eigen::Vector3d::Ones());
 }
 
 }  // namespace
@@ -233,11 +263,10 @@ ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells
     Moments m;
     std::size_t j = i;
     for (; j < all.size() && all[j].first == all[i].first; ++j) {
-      m.area += all[j].second.area;
-      m.moment += all[j].second.moment;
+      m.add(all[j].second);
     }
     keys.push_back(all[i].first);
-    out.mesh.positions.push_back(out.grid_origin + out.cell_size * (m.moment / m.area));
+    out.mesh.positions.push_back(out.grid_origin + out.cell_size * representative(m, all[i].first));
     i = j;
   }
   auto vertex_of = [&](const Cell& c) { return vertex_in(keys, c); };

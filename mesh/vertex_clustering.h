@@ -3,8 +3,10 @@
 // surface and not on how it is tessellated: clustering into cubic cells (after Rossignac & Borrel
 // 1993), with two changes that take the input's vertices out of the answer.
 //
-//  - Vertices: one per cell the surface passes through, at the centroid of the surface inside that
-//    cell (the triangles are clipped to the cells, so the area and its centroid are exact). Plain
+//  - Vertices: one per cell the surface passes through, at the point of the cell that best fits
+//    the surface inside it (the triangles are clipped to the cells, so the area, its centroid and
+//    its area-weighted plane quadric are exact; the point starts at the centroid and moves onto the
+//    surface along the directions the quadric pins down, as in dual contouring). Plain
 //    vertex clustering put it at the mean of the input vertices in the cell and made a vertex only
 //    where an input vertex lay: a finer tessellation of the same shape filled cells the surface
 //    merely clips (the bunny's proxy grew from 9,466 to 10,994 vertices over two 1-to-4 splits)
