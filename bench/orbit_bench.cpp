@@ -98,12 +98,14 @@ int invariance(int levels) {
     std::printf("%-6d %10zu %8.2f %9.4f %9.2f %10.1f", level, mesh.triangles.size(), seconds, r.scores.objective, worst,
                 360.0 * r.geometry.start);
     for (const auto& f : e.by_definition) std::printf(" %19.2f%%", 100.0 * f.feature_coverage);
-    // The leading curves (objective ×100, mean elevation / swing in degrees): a flip between
-    // levels is a tie when the curves scored within the tie tolerance.
+    // The leading curves (objective ×100; mean elevation / swing @ phase / ripple, degrees and
+    // loop fractions): a flip between levels is a tie when the curves scored within the tie tolerance.
     std::printf("   leaders:");
-    for (std::size_t c = 0; c < std::min<std::size_t>(3, r.leaders.size()); ++c)
-      std::printf(" %.2f (%.1f/%.1f)", 100.0 * r.leaders[c].second, r.leaders[c].first.base * 180.0 / std::numbers::pi,
-                  r.leaders[c].first.swing * 180.0 / std::numbers::pi);
+    constexpr double deg = 180.0 / std::numbers::pi;
+    for (std::size_t c = 0; c < std::min<std::size_t>(3, r.leaders.size()); ++c) {
+      const meshtour::ElevationCurve& e = r.leaders[c].first;
+      std::printf(" %.2f (%.0f/%.0f@%.3f/%.0f)", 100.0 * r.leaders[c].second, e.base * deg, e.swing * deg, e.swing_phase, e.ripple * deg);
+    }
     std::printf("\n");
     std::fflush(stdout);
   }
