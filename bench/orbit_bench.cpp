@@ -23,6 +23,7 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -127,8 +128,8 @@ double quantile(std::vector<double> v, double q) {
 int feature_diagnosis(int levels) {
   const meshtour::CoverageOptions options = orbit_options().coverage;
   std::vector<std::array<std::vector<std::uint8_t>, meshtour::kFeatureMeasures>> masks;
-  std::printf("%-6s %9s %8s %8s %8s %8s %8s %7s %6s %6s %6s %6s %9s %9s %8s\n", "level", "faces", "proxy_v", "proxy_f", "a10", "a50",
-              "a90", "patches", "w10", "w50", "w90", "wmean", "J_patch", "J_salien", "proxy_cpu");
+  std::printf("%-6s %9s %8s %8s %8s %8s %8s %7s %6s %6s %6s %6s %9s %9s %8s %8s\n", "level", "faces", "proxy_v", "proxy_f", "a10", "a50",
+              "a90", "patches", "w10", "w50", "w90", "wmean", "J_patch", "J_salien", "proxy_cpu", "boundary");
   for (int level = 0; level <= levels; ++level) {
     const auto& mesh = mesh_at(level);
     double proxy_s = 1e30;  // CPU seconds (all threads), the least of three builds: the machine is shared
@@ -139,6 +140,11 @@ int feature_diagnosis(int levels) {
       proxy_s = std::min(proxy_s, static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC);
     }
     const double cell_area = proxy.cell_size * proxy.cell_size;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edge_faces;  // unordered edge → faces
+    for (const auto& t : proxy.mesh.triangles)
+      for (int e = 0; e < 3; ++e) ++edge_faces[std::minmax(t[e], t[(e + 1) % 3])];
+    std::size_t boundary = 0;
+    for (const auto& [edge, count] : edge_faces) boundary += count == 1;
     std::vector<double> area = meshtour::face_areas(proxy.mesh);
     for (double& a : area) a /= cell_area;
     const meshtour::SurfaceAnalysis surface = meshtour::analyze_surface(proxy.mesh, options.surface);
@@ -155,10 +161,10 @@ int feature_diagnosis(int levels) {
       }
       jaccard[m] = either ? static_cast<double>(both) / static_cast<double>(either) : 1.0;
     }
-    std::printf("%-6d %9zu %8zu %8zu %8.3f %8.3f %8.3f %7d %6.1f %6.1f %6.1f %6.2f %9.3f %9.3f %8.3f\n", level, mesh.triangles.size(),
+    std::printf("%-6d %9zu %8zu %8zu %8.3f %8.3f %8.3f %7d %6.1f %6.1f %6.1f %6.2f %9.3f %9.3f %8.3f %8zu\n", level, mesh.triangles.size(),
                 proxy.mesh.positions.size(), proxy.mesh.triangles.size(), quantile(area, 0.1), quantile(area, 0.5), quantile(area, 0.9),
                 surface.patch_count, quantile(surface.face_weight, 0.1), quantile(surface.face_weight, 0.5),
-                quantile(surface.face_weight, 0.9), wmean, jaccard[0], jaccard[1], proxy_s);
+                quantile(surface.face_weight, 0.9), wmean, jaccard[0], jaccard[1], proxy_s, boundary);
     std::fflush(stdout);
   }
   return 0;
