@@ -141,6 +141,12 @@ TEST(FeatureOrbit, SameShapeFinerTessellationSameOrbitFromComputedFeatures) {
   options.coverage.surface_weight = 0.3;
   options.coverage.proxy_cells = 2000;  // cells of about twice the coarse edges
   options.frames = 12;
+  // On this small sphere (32k samples, evenly spread bumps) the leading curves lie within 0.3
+  // points of each other, a tie by the rule, and where the samples fall decides between
+  // them under the default 0.2-point tolerance (a 5 degree flip). With a wider tolerance the
+  // plainest of them wins at both levels, and what is checked is that the features and scores
+  // are the same.
+  options.tie_tolerance = 0.01;
   const FeatureOrbitResult a = compute_feature_orbit(coarse, options), b = compute_feature_orbit(fine, options);
   const FeatureOrbitPath pa = a.camera_path(), pb = b.camera_path();
   double worst = 0.0;
