@@ -9,14 +9,21 @@
 // evaluation figures of every level's 12 frames under every feature definition:
 //
 //   build/bench/orbit_bench --invariance=3 [--mesh=FILE] [--up=y]
+//
+// --features=LEVELS prints why the features would move: the proxy, w(f) on it, and the overlap of
+// every level's feature samples with level 0's.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -27,6 +34,8 @@
 #include "mesh/mesh.h"
 #include "pathgen/coverage.h"
 #include "pathgen/feature_orbit.h"
+#include "pathgen/features.h"
+#include "pathgen/surface.h"
 
 namespace {
 
@@ -90,7 +99,72 @@ int invariance(int levels) {
     std::printf("%-6d %10zu %8.2f %9.4f %9.2f %10.1f", level, mesh.triangles.size(), seconds, r.scores.objective, worst,
                 360.0 * r.geometry.start);
     for (const auto& f : e.by_definition) std::printf(" %19.2f%%", 100.0 * f.feature_coverage);
+    // The leading curves (objective ×100; mean elevation / swing @ phase / ripple, degrees and
+    // loop fractions): a flip between levels is a tie when the curves scored within the tie tolerance.
+    std::printf("   leaders:");
+    constexpr double deg = 180.0 / std::numbers::pi;
+    for (std::size_t c = 0; c < std::min<std::size_t>(3, r.leaders.size()); ++c) {
+      const meshtour::ElevationCurve& e = r.leaders[c].first;
+      std::printf(" %.2f (%.0f/%.0f@%.3f/%.0f)", 100.0 * r.leaders[c].second, e.base * deg, e.swing * deg, e.swing_phase, e.ripple * deg);
+    }
     std::printf("\n");
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+
+// Why features move with the tessellation: per level, the proxy (vertices, faces, face area
+// quantiles in cell areas), the patch density w(f) on it (patches, w quantiles) and the overlap
+// (Jaccard) of each measure's feature samples with level 0's (sample i lies in the same level-0
+// face at every level, as the split keeps the face order and the area).
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[static_cast<std::size_t>(k)];
+}
+
+int feature_diagnosis(int levels) {
+  const meshtour::CoverageOptions options = orbit_options().coverage;
+  std::vector<std::array<std::vector<std::uint8_t>, meshtour::kFeatureMeasures>> masks;
+  std::printf("%-6s %9s %8s %8s %8s %8s %8s %7s %6s %6s %6s %6s %9s %9s %8s %8s\n", "level", "faces", "proxy_v", "proxy_f", "a10", "a50",
+              "a90", "patches", "w10", "w50", "w90", "wmean", "J_patch", "J_salien", "proxy_cpu", "boundary");
+  for (int level = 0; level <= levels; ++level) {
+    const auto& mesh = mesh_at(level);
+    double proxy_s = 1e30;  // CPU seconds (all threads), the least of three builds: the machine is shared
+    meshtour::ClusteredMesh proxy;
+    for (int run = 0; run < 3; ++run) {
+      const std::clock_t start = std::clock();
+      proxy = meshtour::coverage_proxy(mesh, options);
+      proxy_s = std::min(proxy_s, static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC);
+    }
+    const double cell_area = proxy.cell_size * proxy.cell_size;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edge_faces;  // unordered edge → faces
+    for (const auto& t : proxy.mesh.triangles)
+      for (int e = 0; e < 3; ++e) ++edge_faces[std::minmax(t[e], t[(e + 1) % 3])];
+    std::size_t boundary = 0;
+    for (const auto& [edge, count] : edge_faces) boundary += count == 1;
+    std::vector<double> area = meshtour::face_areas(proxy.mesh);
+    for (double& a : area) a /= cell_area;
+    const meshtour::SurfaceAnalysis surface = meshtour::analyze_surface(proxy.mesh, options.surface);
+    const meshtour::CoverageModel model(mesh, options);
+    masks.push_back({model.features(meshtour::FeatureMeasure::patch_density), model.features(meshtour::FeatureMeasure::saliency)});
+    double wmean = 0.0;
+    for (double w : surface.face_weight) wmean += w / static_cast<double>(surface.face_weight.size());
+    std::array<double, meshtour::kFeatureMeasures> jaccard{};
+    for (int m = 0; m < meshtour::kFeatureMeasures; ++m) {
+      std::size_t both = 0, either = 0;
+      for (std::size_t i = 0; i < masks[0][m].size(); ++i) {
+        both += masks[0][m][i] && masks.back()[m][i];
+        either += masks[0][m][i] || masks.back()[m][i];
+      }
+      jaccard[m] = either ? static_cast<double>(both) / static_cast<double>(either) : 1.0;
+    }
+    std::printf("%-6d %9zu %8zu %8zu %8.3f %8.3f %8.3f %7d %6.1f %6.1f %6.1f %6.2f %9.3f %9.3f %8.3f %8zu\n", level, mesh.triangles.size(),
+                proxy.mesh.positions.size(), proxy.mesh.triangles.size(), quantile(area, 0.1), quantile(area, 0.5), quantile(area, 0.9),
+                surface.patch_count, quantile(surface.face_weight, 0.1), quantile(surface.face_weight, 0.5),
+                quantile(surface.face_weight, 0.9), wmean, jaccard[0], jaccard[1], proxy_s, boundary);
     std::fflush(stdout);
   }
   return 0;
@@ -100,7 +174,7 @@ int invariance(int levels) {
 
 int main(int argc, char** argv) {
   g_source_mesh = std::filesystem::path(MESHTOUR_SOURCE_DIR).parent_path() / "shared" / "meshes" / "bunny.ply";
-  int invariance_levels = -1;
+  int invariance_levels = -1, feature_levels = -1;
   std::vector<char*> rest = {argv[0]};
   for (int i = 1; i < argc; ++i) {
     if (std::strncmp(argv[i], "--mesh=", 7) == 0)
@@ -111,9 +185,12 @@ int main(int argc, char** argv) {
       invariance_levels = 3;
     else if (std::strncmp(argv[i], "--invariance=", 13) == 0)
       invariance_levels = std::atoi(argv[i] + 13);
+    else if (std::strncmp(argv[i], "--features=", 11) == 0)
+      feature_levels = std::atoi(argv[i] + 11);
     else
       rest.push_back(argv[i]);
   }
   if (invariance_levels >= 0) return invariance(invariance_levels);
+  if (feature_levels >= 0) return feature_diagnosis(feature_levels);
   return meshtour::bench::run_benchmarks(rest);
 }

@@ -116,10 +116,10 @@ SampleKernel proxy_kernel(const ClusteredMesh& proxy, const SurfaceSamples& samp
       const Eigen::Vector2d& b = samples.barycentric[i];
       const std::array<double, 3> w{1.0 - b.x() - b.y(), b.x(), b.y()};
       for (int corner = 0; corner < 3; ++corner) {
-        k.vertex.push_back(proxy.vertex_cluster[t[corner]]);
+        k.vertex.push_back(proxy.vertex_near(mesh.positions[t[corner]]));
         k.weight.push_back(w[corner]);
       }
-      k.nearest[i] = proxy.vertex_cluster[t[static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin())]];
+      k.nearest[i] = k.vertex[start + static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin())];
     }
     k.first[i + 1] = k.vertex.size();
   }
@@ -186,7 +186,7 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
   if (given && options.face_features.size() != mesh.triangles.size())
     throw InputError("coverage: one feature flag per face is needed");
   s.samples = sample_surface(mesh, options.samples);
-  ClusteredMesh proxy = cluster_vertices(mesh, options.proxy_cells);
+  ClusteredMesh proxy = coverage_proxy(mesh, options);
   std::array<std::vector<double>, kFeatureMeasures> proxy_value;
   timer.done("samples and proxy");
   if (!given) {
@@ -204,8 +204,8 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
   // Each sample takes the values of the proxy vertices near it (within one cell), weighted by a
   // smooth kernel of the distance and by how well their normals agree with its own. What a sample
   // gets then depends on where it is on the shape, not on the face it lies on: a coarse face
-  // spans several cells, a fine one none. Where no proxy vertex is near (a thin part that
-  // clustering collapsed), the vertices its face's corners merged into are blended instead.
+  // spans several cells, a fine one none. Where no proxy vertex is near or faces its way (a thin
+  // part whose sides share cells), the proxy vertices of its face's corners are blended instead.
   const std::size_t n = s.samples.size();
   s.words = (n + 63) / 64;
   const SampleKernel kernel = proxy_kernel(proxy, s.samples, mesh);
@@ -264,6 +264,10 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
 }
 
 CoverageModel::~CoverageModel() = default;
+
+ClusteredMesh coverage_proxy(const TriangleMesh& mesh, const CoverageOptions& options) {
+  return cluster_surface(mesh, options.proxy_cells);
+}
 
 ViewCoverage CoverageModel::coverage(const View& view, std::size_t stride) const {
   const Impl& s = *impl_;

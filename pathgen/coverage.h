@@ -7,10 +7,11 @@
 //  - Where: a fixed number of area-weighted samples of the surface (visibility/), so a shape and
 //    any finer tessellation of it are measured alike.
 //  - What counts as a feature: each sample takes its value from the proxy vertices within one
-//    cell of it (a proxy of the mesh at a fixed resolution, mesh/vertex_clustering.h; a smooth
-//    kernel of the distance, so not the face it lies on decides), under two independent measures: the paper's patch
-//    density w(f) (ALGORITHM.md §8) and mesh saliency (Lee, Varshney & Jacobs 2005,
-//    pathgen/saliency.h). The top `feature_quantile` of the samples by value are the features.
+//    cell of it (a proxy of the surface at a fixed resolution, made of the surface and not of the
+//    input's vertices, so a finer tessellation gives the same proxy: mesh/vertex_clustering.h; a
+//    smooth kernel of the distance, so not the face it lies on decides), under two independent
+//    measures: the paper's patch density w(f) (ALGORITHM.md §8) and mesh saliency (Lee, Varshney
+//    & Jacobs 2005, pathgen/saliency.h). The top `feature_quantile` of the samples by value are the features.
 //  - Seen well: in the frame, unoccluded, and facing the camera within an angle; two angles,
 //    the evaluation's traditional 75° and a stricter 60°.
 // A definition is one measure at one angle; the objective of a set of views is the mean over the
@@ -24,6 +25,7 @@
 
 #include "core/camera.h"
 #include "mesh/mesh.h"
+#include "mesh/vertex_clustering.h"
 #include "pathgen/surface.h"
 #include "visibility/visibility.h"
 
@@ -113,6 +115,9 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// The proxy the features are measured on (what CoverageModel builds; for diagnostics and tests).
+ClusteredMesh coverage_proxy(const TriangleMesh& mesh, const CoverageOptions& options);
 
 /// Number of bits set in `bits` (a ViewCoverage bitset).
 std::size_t count_bits(const std::vector<std::uint64_t>& bits);

@@ -226,7 +226,10 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     const ElevationCurve* pick = nullptr;
     for (const auto& [curve, value] : leaders)
       if (value >= top - options.tie_tolerance && (!pick || plainness(curve) < plainness(*pick))) pick = &curve;
-    return *pick;
+    const ElevationCurve picked = *pick;
+    std::stable_sort(leaders.begin(), leaders.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    result.leaders = std::move(leaders);
+    return picked;
   };
   for (double base = options.base_min_deg; base <= options.base_max_deg + 1e-9; base += options.base_step_deg)
     for (double swing = 0.0; swing <= options.swing_max_deg + 1e-9; swing += options.swing_step_deg)
