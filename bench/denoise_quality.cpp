@@ -175,7 +175,18 @@ double flicker(const Image& a, const std::vector<float>& ra, const Image& b, con
 
 // The reference (4096 spp, its own seed, raw), rendered once and cached as EXR with its albedo.
 Image reference(const Case& c, const fs::path& cache) {
-  const fs::path file = cache / (c.name + "-" + std::to_string(kWidth) + "x" + std::to_string(kHeight) + ".exr");
+  // The camera is part of the name: a change of the default path (or the scene) must not compare
+  // frames with a reference of another view.
+  std::uint64_t camera_key = 1469598103934665603ULL;  // FNV-1a over the camera's numbers
+  for (const double v : {c.camera.eye.x(), c.camera.eye.y(), c.camera.eye.z(), c.camera.target.x(), c.camera.target.y(),
+                         c.camera.target.z(), c.camera.up.x(), c.camera.up.y(), c.camera.up.z(), c.camera.vertical_fov_deg}) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (int b = 0; b < 8; ++b) camera_key = (camera_key ^ ((bits >> (8 * b)) & 0xffU)) * 1099511628211ULL;
+  }
+  char key[17];
+  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(camera_key));
+  const fs::path file = cache / (c.name + "-" + std::to_string(kWidth) + "x" + std::to_string(kHeight) + "-" + key + ".exr");
   RenderOptions o = c.options;
   o.samples_per_pixel = kReferenceSpp;
   o.denoise = false;
@@ -318,10 +329,10 @@ int main(int argc, char** argv) {
                    img.display_rgba());
       const Metrics m = compare(img, img.display_rgba(), ref);
       const Metrics b = compare(img, img.display_rgba(), ref, &band);
-      std::printf("| %s | %s %d spp | %.2f %% | %.2f | %.4f | %.2f |\n", c.name.c_str(), denoise ? "denoised" : "raw", spp,
+      std::printf("| %s | %s %d spp | %.3f %% | %.2f | %.4f | %.2f |\n", c.name.c_str(), denoise ? "denoised" : "raw", spp,
                   100 * m.relative_rmse, m.display_rmse, m.ssim, seconds);
       char cell[64];
-      std::snprintf(cell, sizeof cell, " %s %d: %.2f %% |", denoise ? "dn" : "raw", spp, 100 * b.relative_rmse);
+      std::snprintf(cell, sizeof cell, " %s %d: %.3f %% |", denoise ? "dn" : "raw", spp, 100 * b.relative_rmse);
       band_row += cell;
       std::fflush(stdout);
     }

@@ -1,5 +1,5 @@
-// The denoiser (denoiser.h): demodulate by the albedo, a-trous passes guided by normal, depth,
-// albedo and the lighting's variance, remodulate. Four pixels at a time (GCC vector extension;
+// The denoiser (denoiser.h): divide by the unshadowed light, two a-trous passes guided by normal,
+// depth and the visibility's variance, the fit, multiply back. Four pixels at a time (GCC vector extension;
 // SSE2 at the baseline every x86-64 CPU runs), rows in parallel.
 #include "tracer/denoiser.h"
 
@@ -20,11 +20,21 @@ void DenoiseGuides::reset(int w, int h, int spp) {
   height = h;
   samples_per_pixel = spp;
   const std::size_t n = static_cast<std::size_t>(w) * h;
-  albedo.assign(n * 3, 0.0f);
   unshadowed.assign(n * 3, 0.0f);
   normal.assign(n * 3, 0.0f);
   depth.assign(n, std::numeric_limits<float>::infinity());
   moments.assign(n * 2, 0.0f);
+}
+
+void DenoiseGuides::resize(int w, int h, int spp) {
+  width = w;
+  height = h;
+  samples_per_pixel = spp;
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  unshadowed.resize(n * 3);
+  normal.resize(n * 3);
+  depth.resize(n);
+  moments.resize(n * 2);
 }
 
 using namespace denoise_detail;
@@ -58,73 +68,32 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   const std::size_t npix = static_cast<std::size_t>(width) * height;
   const bool transparent = settings.transparent;
   Planes guides(width, height, kGuides, scratch.guides), a(width, height, kPlanesPerImage, scratch.ping),
-      b(width, height, kPlanesPerImage, scratch.pong);
-  // The unshadowed light the beauty is divided by: the box means through the reconstruction
-  // filter's pixel weights (separable, renormalised at the frame's edges like the beauty).
-  std::vector<float>& unshadowed_h = scratch.unshadowed_h;
-  std::vector<float>& unshadowed_f = scratch.unshadowed_f;
-  unshadowed_h.resize(npix * 3);
-  unshadowed_f.resize(npix * 3);
-  const int reach = settings.reach;
-  // One axis of the separable filter: (dx, dy) is the step between taps; at the frame's edges
-  // only the taps inside count, renormalised.
-  float full_sum = 0;  // the taps' sum, added in the same order as the loop below adds them
-  for (int i = -reach; i <= reach; ++i) full_sum += settings.taps[static_cast<std::size_t>(i + reach)];
-  const auto filter_axis = [&](const std::vector<float>& in, std::vector<float>& out, int dx, int dy) {
-    const std::ptrdiff_t step = (static_cast<std::ptrdiff_t>(dy) * width + dx) * 3;
-    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
-      for (int y = range.begin(); y != range.end(); ++y)
-        for (int x = 0; x < width; ++x) {
-          const std::size_t p = (static_cast<std::size_t>(y) * width + x) * 3;
-          const int lo = std::max(-reach, dx ? -x : -y), hi = std::min(reach, dx ? width - 1 - x : height - 1 - y);
-          if (lo == -reach && hi == reach) {  // all taps inside (most pixels): no bounds, a fixed sum
-            float acc[3] = {0, 0, 0};
-            const float* q = in.data() + static_cast<std::ptrdiff_t>(p) - reach * step;
-            for (int i = 0; i <= 2 * reach; ++i, q += step) {
-              const float t = settings.taps[static_cast<std::size_t>(i)];
-              acc[0] += t * q[0];
-              acc[1] += t * q[1];
-              acc[2] += t * q[2];
-            }
-            for (int c = 0; c < 3; ++c) out[p + static_cast<std::size_t>(c)] = acc[c] / full_sum;
-            continue;
-          }
-          float acc[3] = {0, 0, 0}, sum = 0;
-          for (int i = lo; i <= hi; ++i) {
-            const float t = settings.taps[static_cast<std::size_t>(i + reach)];
-            const float* q = in.data() + static_cast<std::ptrdiff_t>(p) + i * step;
-            acc[0] += t * q[0];
-            acc[1] += t * q[1];
-            acc[2] += t * q[2];
-            sum += t;
-          }
-          for (int c = 0; c < 3; ++c) out[p + static_cast<std::size_t>(c)] = acc[c] / sum;
-        }
-    });
-  };
-  filter_axis(g.unshadowed, unshadowed_h, 1, 0);
-  filter_axis(unshadowed_h, unshadowed_f, 0, 1);
+      b(width, height, kPlanesPerImage, scratch.pong), luma_a(width, height, kLumaPlanes, scratch.luma_ping),
+      luma_b(width, height, kLumaPlanes, scratch.luma_pong);
   const auto divisor = [&](std::size_t p, int c) {
-    const float v = unshadowed_f[p * 3 + static_cast<std::size_t>(c)];
+    const float v = g.unshadowed[p * 3 + static_cast<std::size_t>(c)];
     return v > 1e-3f ? v : 1.0f;
   };
 
-  // Planes: the visibility (beauty / unshadowed light) and alpha, the variance of the pixel's mean, the guides.
-  const float n = static_cast<float>(std::max(1, g.samples_per_pixel));
+  // Planes: the visibility (beauty / unshadowed light) and alpha, the variance of the pixel's
+  // mean, the guides; and the visibility's luminance (plus alpha in transparent frames, where it
+  // holds the ground's shadow), which the a-trous passes filter into the fit's guide.
+  const float inv_n = 1.0f / static_cast<float>(std::max(1, g.samples_per_pixel));
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
         const std::size_t p = static_cast<std::size_t>(y) * width + x;
         for (int c = 0; c < 3; ++c) *a.at(c, x, y) = rgba[p * 4 + static_cast<std::size_t>(c)] / divisor(p, c);
         *a.at(kA, x, y) = rgba[p * 4 + 3];
-        const float mean = g.moments[p * 2] / n, second = g.moments[p * 2 + 1] / n;
-        *a.at(kVar, x, y) = std::max(0.0f, second - mean * mean) / n;
+        *luma_a.at(kLuma, x, y) = 0.2126f * *a.at(kR, x, y) + 0.7152f * *a.at(kG, x, y) + 0.0722f * *a.at(kB, x, y) +
+                                  (transparent ? *a.at(kA, x, y) : 0.0f);
+        const float mean = g.moments[p * 2] * inv_n, second = g.moments[p * 2 + 1] * inv_n;
+        *a.at(kVar, x, y) = std::max(0.0f, second - mean * mean) * inv_n;
         const float* nrm = &g.normal[p * 3];
         const float len2 = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
         const float inv = len2 > 0.0f ? 1.0f / std::sqrt(len2) : 0.0f;
         for (int c = 0; c < 3; ++c) *guides.at(kNx + c, x, y) = nrm[c] * inv;
         *guides.at(kDepth, x, y) = std::isfinite(g.depth[p]) ? g.depth[p] : 0.0f;
-        for (int c = 0; c < 3; ++c) *guides.at(kAlbedoR + c, x, y) = g.albedo[p * 3 + static_cast<std::size_t>(c)];
       }
   });
   // The depth's gradient: the smaller one-sided difference along each axis, so that a
@@ -158,7 +127,7 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
           float acc = 0;
           for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) acc += k[dx + 1] * k[dy + 1] * *a.at(kVar, x + dx, y + dy);
-          *b.at(kVar, x, y) = acc;
+          *luma_a.at(kLumaVar, x, y) = acc;
           continue;
         }
         float acc = 0, w = 0;
@@ -168,35 +137,27 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
             acc += k[dx + 1] * k[dy + 1] * *a.at(kVar, x + dx, y + dy);
             w += k[dx + 1] * k[dy + 1];
           }
-        *b.at(kVar, x, y) = acc / w;
+        *luma_a.at(kLumaVar, x, y) = acc / w;
       }
   });
-  std::memcpy(a.plane(kVar), b.plane(kVar), sizeof(float) * static_cast<std::size_t>(a.stride) * a.rows);
 
-  // The unfiltered visibility, for the fit.
-  const int fit_radius = std::clamp(settings.fit_radius, 0, 8);
-  Planes raw(width, height, fit_radius > 0 ? kPlanesPerImage : 0, scratch.raw);
-  if (fit_radius > 0) std::memcpy(raw.data, a.data, sizeof(float) * static_cast<std::size_t>(a.stride) * a.rows * kPlanesPerImage);
-
-  Planes* in = &a;
-  Planes* out = &b;
+  // The guide: the luminance through the a-trous passes; then the fit of the unfiltered planes.
+  Planes* in = &luma_a;
+  Planes* out = &luma_b;
   const int passes = std::clamp(settings.passes, 1, 5);
   for (int pass = 0; pass < passes; ++pass) {
-    pass_for(settings.instruction_set)(*in, *out, guides, 1 << pass, transparent);
+    pass_for(settings.instruction_set)(*in, *out, guides, 1 << pass);
     std::swap(in, out);
   }
-  if (fit_radius > 0) {
-    fit_for(settings.instruction_set)(raw, *in, *out, guides, fit_radius, transparent);
-    std::swap(in, out);
-  }
+  fit_for(settings.instruction_set)(a, *in, b, guides, std::clamp(settings.fit_radius, 1, 8), transparent);
 
   std::vector<float> result(npix * 4);
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
         const std::size_t p = static_cast<std::size_t>(y) * width + x;
-        for (int c = 0; c < 3; ++c) result[p * 4 + static_cast<std::size_t>(c)] = *in->at(c, x, y) * divisor(p, c);
-        result[p * 4 + 3] = *in->at(kA, x, y);
+        for (int c = 0; c < 3; ++c) result[p * 4 + static_cast<std::size_t>(c)] = *b.at(c, x, y) * divisor(p, c);
+        result[p * 4 + 3] = *b.at(kA, x, y);
       }
   });
   return result;

@@ -24,13 +24,11 @@ namespace meshtour {
 struct DenoiseGuides {
   int width = 0, height = 0;
   int samples_per_pixel = 1;
-  /// Mean surface colour of the samples: the model's albedo; for the ground and the background
-  /// the background's colour (white in transparent frames), whose "lighting" is then the shadow.
-  std::vector<float> albedo;  ///< 3 per pixel
-  /// Mean light the samples would reflect if no shadow or occlusion ray were blocked (albedo times
+  /// The light the samples would reflect if no shadow or occlusion ray were blocked (albedo times
   /// the lights and the sky, with highlights; the background's colour where the ground and the
-  /// background are seen): the frame is divided by it, filtered and multiplied back, so only the
-  /// visibility is filtered and the shading's detail stays sharp.
+  /// background are seen), through the reconstruction filter with the beauty's own sample
+  /// weights: the frame is divided by it, filtered and multiplied back, so only the visibility is
+  /// filtered, and the shading's detail, colour edges and silhouettes stay as the raw frame has them.
   std::vector<float> unshadowed;  ///< 3 per pixel
   std::vector<float> normal;  ///< 3 per pixel: sum of the hit samples' shading normals (0: none hit)
   std::vector<float> depth;   ///< 1 per pixel: nearest hit's distance along the camera axis, +inf if none
@@ -38,20 +36,20 @@ struct DenoiseGuides {
   /// alpha in transparent frames): the variance estimate.
   std::vector<float> moments;  ///< 2 per pixel
 
+  /// Sizes the guides for a frame and clears them (0; depth +inf).
   void reset(int width, int height, int samples_per_pixel);
+  /// Sizes the guides for a frame without clearing them: the renderer clears each tile's pixels
+  /// while they are in its cache and writes `unshadowed` whole.
+  void resize(int width, int height, int samples_per_pixel);
 };
 
 struct DenoiseSettings {
-  /// The reconstruction filter along one axis, as weights of a pixel's box mean on the pixels
-  /// from -reach to +reach (taps[reach] is the pixel itself): the unshadowed light is filtered
-  /// with it, so that it matches the beauty it divides.
-  std::array<float, 5> taps{0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
-  int reach = 0;
   bool transparent = false;  ///< RGB premultiplied; the shadows on the ground are in alpha
-  int passes = 2;            ///< a-trous passes (steps 1, 2, 4, ...: 3x3 taps each), 1..5: the fit's guide
-  /// The fit's window: a plane through the unfiltered visibility of the (2 fit_radius + 1)^2
-  /// pixels around each pixel, weighted by the guides and the a-trous passes' output; 0: no fit
-  /// (the passes' output is the result). 0..8.
+  /// A-trous passes (steps 1, 2, 4, ...: 3x3 taps each) over the visibility's luminance, 1..5:
+  /// the fit's guide.
+  int passes = 2;
+  /// The fit's window: a plane through the unfiltered visibility of the pixels within
+  /// fit_radius (a disc: dx^2 + dy^2 <= r^2 + r), weighted by normal, depth and the guide. 1..8.
   int fit_radius = 4;
   /// Which copy of the a-trous pass runs (the same bits; the renderer picks its tile kernel's).
   enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
@@ -61,7 +59,7 @@ struct DenoiseSettings {
 /// mapping and page-faulting it afresh for every frame cost more than the filter itself.
 struct DenoiseWorkspace {
   DenoiseGuides frame_guides;  ///< for the renderer: the guides of the frame being rendered
-  std::vector<float> guides, ping, pong, raw, unshadowed_h, unshadowed_f;
+  std::vector<float> guides, ping, pong, luma_ping, luma_pong;
 };
 
 /// The denoised frame (RGBA, premultiplied like `rgba`, width * height * 4) from the filtered

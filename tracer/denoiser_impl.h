@@ -40,20 +40,23 @@ struct Planes {
 };
 
 
+// The frame's planes: the visibility (RGB), alpha, and the variance of the pixel's mean.
 enum Plane { kR, kG, kB, kA, kVar, kPlanesPerImage };
-constexpr int kGuideLuma = kVar;  // the fit's copy of the unfiltered planes holds the guide's luminance here
-enum Guide { kNx, kNy, kNz, kDepth, kDepthGradient, kAlbedoR, kAlbedoG, kAlbedoB, kGuides };
+// The guide's planes: the visibility's luminance (plus alpha in transparent frames) and its variance.
+enum LumaPlane { kLuma, kLumaVar, kLumaPlanes };
+enum Guide { kNx, kNy, kNz, kDepth, kDepthGradient, kGuides };
 
-// One a-trous pass with step `step` from `in` to `out` (both kPlanesPerImage planes), one copy
-// per instruction set (the same bits: per-pixel IEEE operations only, no FMA contraction).
-using AtrousPass = void (*)(Planes& in, Planes& out, Planes& guides, int step, bool transparent);
-void atrous_pass_baseline(Planes& in, Planes& out, Planes& guides, int step, bool transparent);
-void atrous_pass_x86_64_v3(Planes& in, Planes& out, Planes& guides, int step, bool transparent);
-void atrous_pass_x86_64_v4(Planes& in, Planes& out, Planes& guides, int step, bool transparent);
+// One a-trous pass with step `step` from `in` to `out` (both kLumaPlanes planes), one copy per
+// instruction set (the same bits: per-pixel IEEE operations only, no FMA contraction).
+using AtrousPass = void (*)(Planes& in, Planes& out, Planes& guides, int step);
+void atrous_pass_baseline(Planes& in, Planes& out, Planes& guides, int step);
+void atrous_pass_x86_64_v3(Planes& in, Planes& out, Planes& guides, int step);
+void atrous_pass_x86_64_v4(Planes& in, Planes& out, Planes& guides, int step);
 
 // The fit: per pixel, a weighted least-squares plane (value and slopes along x and y) through the
-// unfiltered visibility `raw` of the pixels within `radius`, weighted by normal, depth and the
-// luminance of `guide` (the a-trous passes' output), written to `out`; one copy per instruction set.
+// unfiltered visibility `raw` (kPlanesPerImage planes) of the pixels within `radius`, weighted by
+// normal, depth and the guide's luminance (`guide`, kLumaPlanes planes: the a-trous passes'
+// output), written to `out`; one copy per instruction set.
 using FitPass = void (*)(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
 void fit_pass_baseline(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
 void fit_pass_x86_64_v3(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);

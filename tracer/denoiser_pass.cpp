@@ -32,16 +32,15 @@ using Mask = int __attribute__((vector_size(4 * kWidth)));
 // stratified ones, whose error is smaller.)
 constexpr float kDepthSigma = 1.0f;   // depth difference in units of the local depth gradient
 constexpr float kLumaSigma = 4.0f;    // luminance difference in standard deviations
-constexpr float kAlbedoSigma = 0.1f;  // summed absolute albedo difference
 constexpr int kNormalPowerLog2 = 6;   // weight max(0, n.n')^64
 // The fit's luminance weight: a Gaussian of the guide's luminance difference in units of
 // kFitLumaSigma standard deviations of the guide plus kFitLumaFloor of its luminance (the guide,
 // the a-trous passes' output, is nearly noise-free, so its own deviation alone would stop at
 // every leftover ripple). Measured on the benchmark frames (bench/denoise_quality.cpp).
 constexpr float kFitLumaSigma = 2.0f;
-constexpr float kFitLumaFloor = 0.02f;
-constexpr float kFitRidge = 1e-3f;
-constexpr float kFitNormalScale = 64.0f;  // as the a-trous pass's (n.n')^64, in the exponent  // slope damping, relative to the sum of weights
+constexpr float kFitLumaFloor = 0.015f;
+constexpr float kFitRidge = 1e-3f;         // slope damping, relative to the sum of weights
+constexpr float kFitNormalScale = 64.0f;  // as the a-trous pass's (n.n')^64, in the exponent
 
 Lanes load(const float* p) {
   Lanes v;
@@ -75,67 +74,61 @@ Lanes falloff_compact(Lanes x) {
   t = t * t;
   return t * t;
 }
-Lanes luminance(Lanes r, Lanes g, Lanes b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
 }  // namespace
 
-// One a-trous pass with step `step` from `in` to `out` (both kPlanesPerImage planes). The
-// planes' addresses are taken once per row (restrict: the stores cannot change them), and groups
-// of four pixels with nothing to filter are copied.
-void MESHTOUR_DENOISE_PASS(Planes& in, Planes& out, Planes& guides, int step, bool transparent) {
+// One a-trous pass with step `step` from `in` to `out` (both kLumaPlanes planes: the visibility's
+// luminance and its variance). The planes' addresses are taken once per row (restrict: the
+// stores cannot change them), and groups of pixels with nothing to filter are copied.
+void MESHTOUR_DENOISE_PASS(Planes& in, Planes& out, Planes& guides, int step) {
   const int width = in.width, height = in.height;
   const std::ptrdiff_t stride = in.stride;
   constexpr float h[3] = {0.25f, 0.5f, 0.25f};
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y != range.end(); ++y) {
-      const float* __restrict src[kPlanesPerImage];
-      float* __restrict dst[kPlanesPerImage];
+      const float* __restrict src_luma = in.at(kLuma, 0, y);
+      const float* __restrict src_var = in.at(kLumaVar, 0, y);
+      float* __restrict dst_luma = out.at(kLuma, 0, y);
+      float* __restrict dst_var = out.at(kLumaVar, 0, y);
       const float* __restrict gd[kGuides];
-      for (int k = 0; k < kPlanesPerImage; ++k) src[k] = in.at(k, 0, y), dst[k] = out.at(k, 0, y);
       for (int k = 0; k < kGuides; ++k) gd[k] = guides.at(k, 0, y);
       for (int x = 0; x < width; x += kWidth) {
         const Lanes nx = load(gd[kNx] + x), ny = load(gd[kNy] + x), nz = load(gd[kNz] + x);
-        Lanes c[kPlanesPerImage];
-        for (int k = 0; k < kPlanesPerImage; ++k) c[k] = load(src[k] + x);
+        const Lanes luma = load(src_luma + x), var = load(src_var + x);
         // Nothing to filter: no surface (sky, padding), or no noise (the lit ground far from the
         // model, whose rays are known unblocked and not traced; the variance is prefiltered, so
         // this is no pixel next to a noisy one).
-        const Mask busy = ((nx != 0.0f) | (ny != 0.0f) | (nz != 0.0f)) & (c[kVar] > 1e-12f);
+        const Mask busy = ((nx != 0.0f) | (ny != 0.0f) | (nz != 0.0f)) & (var > 1e-12f);
         int any_busy = 0;
         for (int i = 0; i < kWidth; ++i) any_busy |= busy[i];
         if (!any_busy) {
-          for (int k = 0; k < kPlanesPerImage; ++k) store(dst[k] + x, c[k]);
+          store(dst_luma + x, luma);
+          store(dst_var + x, var);
           continue;
         }
         const Lanes z = load(gd[kDepth] + x), z_grad = load(gd[kDepthGradient] + x);
-        const Lanes ar = load(gd[kAlbedoR] + x), ag = load(gd[kAlbedoG] + x), ab = load(gd[kAlbedoB] + x);
-        const Lanes luma = luminance(c[kR], c[kG], c[kB]) + (transparent ? c[kA] : Lanes{});
         const Lanes inv_z = 1.0f / (kDepthSigma * z_grad * static_cast<float>(step) + 1e-3f * z + 1e-30f);
-        const Lanes inv_l = 1.0f / (kLumaSigma * sqrt_lanes(c[kVar]) + 1e-4f);
-        Lanes sum[kPlanesPerImage] = {}, sum_w{};
+        const Lanes inv_l = 1.0f / (kLumaSigma * sqrt_lanes(var) + 1e-4f);
+        Lanes sum_luma{}, sum_var{}, sum_w{};
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
             const std::ptrdiff_t o = x + (dy * stride + dx) * step;
-            Lanes q[kPlanesPerImage];
-            for (int k = 0; k < kPlanesPerImage; ++k) q[k] = load(src[k] + o);
-            const Lanes q_luma = luminance(q[kR], q[kG], q[kB]) + (transparent ? q[kA] : Lanes{});
+            const Lanes q_luma = load(src_luma + o);
             Lanes cos_n = max_lanes(nx * load(gd[kNx] + o) + ny * load(gd[kNy] + o) + nz * load(gd[kNz] + o), Lanes{});
             for (int i = 0; i < kNormalPowerLog2; ++i) cos_n = cos_n * cos_n;
             const float inv_distance = dx != 0 && dy != 0 ? 0.5f : 1.0f;
-            const Lanes albedo_diff = abs_lanes(ar - load(gd[kAlbedoR] + o)) + abs_lanes(ag - load(gd[kAlbedoG] + o)) + abs_lanes(ab - load(gd[kAlbedoB] + o));
-            const Lanes exponent = abs_lanes(z - load(gd[kDepth] + o)) * inv_z * inv_distance + abs_lanes(luma - q_luma) * inv_l +
-                                albedo_diff * (1.0f / kAlbedoSigma);
+            const Lanes exponent = abs_lanes(z - load(gd[kDepth] + o)) * inv_z * inv_distance + abs_lanes(luma - q_luma) * inv_l;
             const Lanes w = (h[dx + 1] * h[dy + 1]) * cos_n * falloff(exponent);
-            for (int k = 0; k < kVar; ++k) sum[k] += w * q[k];
-            sum[kVar] += (w * w) * q[kVar];
+            sum_luma += w * q_luma;
+            sum_var += (w * w) * load(src_var + o);
             sum_w += w;
           }
         // Pixels with nothing to filter stay as they are, whichever group of pixels they share a
         // vector with (so every vector width gives the same bits).
         const Mask filtered = busy & (sum_w > 0.0f);
         const Lanes safe_w = filtered ? sum_w : splat(1.0f);
-        for (int k = 0; k < kVar; ++k) store(dst[k] + x, filtered ? sum[k] / safe_w : c[k]);
-        store(dst[kVar] + x, filtered ? sum[kVar] / (safe_w * safe_w) : c[kVar]);
+        store(dst_luma + x, filtered ? sum_luma / safe_w : luma);
+        store(dst_var + x, filtered ? sum_var / (safe_w * safe_w) : var);
       }
     }
   });
@@ -162,39 +155,28 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
       if (dx * dx + dy * dy <= radius * radius + radius)
         taps.push_back({dy * stride + dx, static_cast<float>(dx) * inv_radius, static_cast<float>(dy) * inv_radius,
                         dx == 0 && dy == 0 ? 1.0f : 1.0f / __builtin_sqrtf(static_cast<float>(dx * dx + dy * dy))});
-  // The guide's luminance (plus alpha in transparent frames), once per pixel rather than once
-  // per tap, into raw's otherwise unused variance plane; the margins stay 0 (no weight there).
-  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
-    for (int y = range.begin(); y != range.end(); ++y) {
-      const float* __restrict gin[4] = {guide.at(kR, 0, y), guide.at(kG, 0, y), guide.at(kB, 0, y), guide.at(kA, 0, y)};
-      float* __restrict luma = raw.at(kGuideLuma, 0, y);
-      for (int x = 0; x < width; x += kWidth) {
-        const Lanes l = luminance(load(gin[0] + x), load(gin[1] + x), load(gin[2] + x)) + (transparent ? load(gin[3] + x) : Lanes{});
-        store(luma + x, l);
-      }
-    }
-  });
   // The rows, with the number of channels known to the compiler (the sums stay in registers).
   const auto fit_rows = [&](auto channel_count) {
   constexpr int channels = decltype(channel_count)::value;
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y != range.end(); ++y) {
       const float* __restrict src[kPlanesPerImage];
-      const float* __restrict gin[kPlanesPerImage];
       float* __restrict dst[kPlanesPerImage];
       const float* __restrict gd[kGuides];
-      for (int k = 0; k < kPlanesPerImage; ++k) src[k] = raw.at(k, 0, y), gin[k] = guide.at(k, 0, y), dst[k] = out.at(k, 0, y);
+      for (int k = 0; k < kPlanesPerImage; ++k) src[k] = raw.at(k, 0, y), dst[k] = out.at(k, 0, y);
       for (int k = 0; k < kGuides; ++k) gd[k] = guides.at(k, 0, y);
-      const float* __restrict guide_luma = raw.at(kGuideLuma, 0, y);
+      const float* __restrict guide_luma = guide.at(kLuma, 0, y);
+      const float* __restrict guide_var = guide.at(kLumaVar, 0, y);
       for (int x = 0; x < width; x += kWidth) {
         const Lanes nx = load(gd[kNx] + x), ny = load(gd[kNy] + x), nz = load(gd[kNz] + x);
-        Lanes g[kPlanesPerImage];
-        for (int k = 0; k < kPlanesPerImage; ++k) g[k] = load(gin[k] + x);
-        const Mask busy = ((nx != 0.0f) | (ny != 0.0f) | (nz != 0.0f)) & (g[kVar] > 1e-12f);
+        Lanes c[kPlanesPerImage];  // the pixels' own, unfiltered values
+        for (int k = 0; k < kPlanesPerImage; ++k) c[k] = load(src[k] + x);
+        const Lanes var = load(guide_var + x);
+        const Mask busy = ((nx != 0.0f) | (ny != 0.0f) | (nz != 0.0f)) & (var > 1e-12f);
         int any_busy = 0;
         for (int i = 0; i < kWidth; ++i) any_busy |= busy[i];
         if (!any_busy) {
-          for (int k = 0; k < kPlanesPerImage; ++k) store(dst[k] + x, g[k]);
+          for (int k = 0; k < kPlanesPerImage; ++k) store(dst[k] + x, c[k]);
           continue;
         }
         const Lanes z = load(gd[kDepth] + x), z_grad = load(gd[kDepthGradient] + x);
@@ -202,7 +184,7 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
         // Depth differences in units of the local depth gradient times the distance (a plane's
         // rise), and a relative tolerance for flat-on views.
         const Lanes inv_z = 1.0f / (kDepthSigma * z_grad + 1e-3f * z + 1e-30f);
-        const Lanes inv_l = 1.0f / (kFitLumaSigma * sqrt_lanes(g[kVar]) + kFitLumaFloor * max_lanes(luma, splat(0.05f)));
+        const Lanes inv_l = 1.0f / (kFitLumaSigma * sqrt_lanes(var) + kFitLumaFloor * max_lanes(luma, splat(0.05f)));
         Lanes m00{}, m01{}, m02{}, m11{}, m12{}, m22{};
         Lanes r0[4] = {}, r1[4] = {}, r2[4] = {};
         for (const Tap& tap : taps) {
@@ -232,17 +214,19 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
         m22 += kFitRidge * m00;
         const Lanes c0 = m11 * m22 - m12 * m12, c1 = m12 * m02 - m01 * m22, c2 = m01 * m12 - m11 * m02;
         const Lanes det = m00 * c0 + m01 * c1 + m02 * c2;
-        const Mask filtered = busy & (m00 > 0.0f) & (det > 1e-6f * m00 * c0);
-        const Lanes safe_det = filtered ? det : splat(1.0f);
+        // Where the plane is not determined (a lone pixel, a thin line), the weighted mean; with no
+        // weight at all, the pixel itself.
+        const Mask planar = busy & (m00 > 0.0f) & (det > 1e-6f * m00 * c0), averaged = busy & (m00 > 0.0f);
+        const Lanes safe_det = planar ? det : splat(1.0f), safe_m00 = averaged ? m00 : splat(1.0f);
         // RGB, and alpha where it carries the ground's shadow; in opaque frames alpha is coverage, not noise.
-        if (channels == 3) store(dst[kA] + x, g[kA]);
+        if (channels == 3) store(dst[kA] + x, c[kA]);
         for (int k = 0; k < channels; ++k) {
-          Lanes v = (c0 * r0[k] + c1 * r1[k] + c2 * r2[k]) / safe_det;
+          Lanes v = planar ? (c0 * r0[k] + c1 * r1[k] + c2 * r2[k]) / safe_det : r0[k] / safe_m00;
           v = max_lanes(v, Lanes{});  // visibility and alpha are never negative
           if (k == kA) v = v > 1.0f ? splat(1.0f) : v;
-          store(dst[k] + x, filtered ? v : g[k]);
+          store(dst[k] + x, averaged ? v : c[k]);
         }
-        store(dst[kVar] + x, g[kVar]);
+        store(dst[kVar] + x, c[kVar]);
       }
     }
   });

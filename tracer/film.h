@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstring>
 #include <numbers>
+#include <type_traits>
 
 #include "tracer/simd.h"
 
@@ -53,19 +54,27 @@ private:
 /// Four floats in one SIMD register (GCC and Clang vector extension; plain SSE on x86-64).
 using Float4 = float __attribute__((vector_size(16)));
 
+/// Up to eight floats in one or two SIMD registers (GCC and Clang vector extension).
+using Float8 = float __attribute__((vector_size(32)));
+
 /// The filtered sums of the samples of one pixel over the (2 Reach + 1)^2 pixels around it. All
 /// samples of a pixel reach the same pixels, so they are summed here and added to the tile's
-/// buffer once per pixel instead of once per sample; RGBA is summed four channels at a time.
-template <int Reach>
+/// buffer once per pixel instead of once per sample. Each sample carries `Values` floats (4:
+/// premultiplied RGBA; 7: RGBA and, for the denoiser, the unshadowed light's RGB), summed as one
+/// vector; the buffer holds Values + 1 floats per pixel (the values, then the weight).
+template <int Reach, int Values>
 class PixelSplat {
 public:
   static constexpr int kTaps = 2 * Reach + 1;
   static constexpr int kWeightVectors = (kTaps + 3) / 4;
+  static_assert(Values == 4 || Values == 7);
+  using Vector = std::conditional_t<Values == 4, Float4, Float8>;
 
-  /// A sample with premultiplied RGBA `value` and tap weights `wx`, `wy` (ReconstructionFilter::weights:
-  /// wx[i] of lane `lane` is the weight of the pixel i - Reach columns away).
-  void add(const simd::F16* wx_lanes, const simd::F16* wy_lanes, int lane, Float4 value) {
-    Float4 weighted[kTaps];
+  /// A sample with values `value` (lanes past Values are ignored) and tap weights `wx`, `wy`
+  /// (ReconstructionFilter::weights: wx[i] of lane `lane` is the weight of the pixel i - Reach
+  /// columns away).
+  void add(const simd::F16* wx_lanes, const simd::F16* wy_lanes, int lane, Vector value) {
+    Vector weighted[kTaps];
     float weights[kWeightVectors * 4] = {};
     for (int i = 0; i < kTaps; ++i) {
       weights[i] = wx_lanes[i][lane];
@@ -75,25 +84,25 @@ public:
     std::memcpy(wx, weights, sizeof wx);
     for (int j = 0; j < kTaps; ++j) {
       const float wy = wy_lanes[j][lane];
-      for (int i = 0; i < kTaps; ++i) rgba_[j][i] += wy * weighted[i];
+      for (int i = 0; i < kTaps; ++i) values_[j][i] += wy * weighted[i];
       for (int v = 0; v < kWeightVectors; ++v) weight_[j][v] += wy * wx[v];
     }
   }
 
-  /// Adds the sums to `buffer` (rows of `stride` pixels, RGBA and weight each), around the pixel
-  /// at (x, y), which must be at least Reach pixels inside the buffer.
+  /// Adds the sums to `buffer` (rows of `stride` pixels, Values + 1 floats each), around the
+  /// pixel at (x, y), which must be at least Reach pixels inside the buffer.
   void flush(float* buffer, int stride, int x, int y) const {
     for (int j = 0; j < kTaps; ++j) {
-      float* dst = buffer + (static_cast<std::size_t>(y + j - Reach) * stride + (x - Reach)) * 5;
-      for (int i = 0; i < kTaps; ++i, dst += 5) {
-        for (int c = 0; c < 4; ++c) dst[c] += rgba_[j][i][c];
-        dst[4] += weight_[j][i / 4][i % 4];
+      float* dst = buffer + (static_cast<std::size_t>(y + j - Reach) * stride + (x - Reach)) * (Values + 1);
+      for (int i = 0; i < kTaps; ++i, dst += Values + 1) {
+        for (int c = 0; c < Values; ++c) dst[c] += values_[j][i][c];
+        dst[Values] += weight_[j][i / 4][i % 4];
       }
     }
   }
 
 private:
-  Float4 rgba_[kTaps][kTaps] = {};
+  Vector values_[kTaps][kTaps] = {};
   Float4 weight_[kTaps][kWeightVectors] = {};
 };
 

@@ -94,10 +94,8 @@ Renderer::Impl::TileKernel choose_tile_kernel() {
   return &Impl::render_tile_baseline;
 }
 
-// The denoiser's settings for this frame: the reconstruction filter as weights of pixel box
-// means (the mean of the filter's tap weights over a pixel's positions), for its unshadowed
-// light; and the copy of its pass that matches the tile kernel.
-DenoiseSettings denoise_settings(const ReconstructionFilter& filter, bool transparent, Renderer::Impl::TileKernel kernel) {
+// The denoiser's settings for this frame: the copy of its passes that matches the tile kernel.
+DenoiseSettings denoise_settings(bool transparent, Renderer::Impl::TileKernel kernel) {
   DenoiseSettings s;
   s.transparent = transparent;
   using Set = DenoiseSettings::InstructionSet;
@@ -105,15 +103,6 @@ DenoiseSettings denoise_settings(const ReconstructionFilter& filter, bool transp
   s.instruction_set = kernel == &Impl::render_tile_x86_64_v4 ? Set::x86_64_v4
                       : kernel == &Impl::render_tile_x86_64_v3 ? Set::x86_64_v3
                                                                 : Set::baseline;
-  s.reach = filter.reach();
-  simd::F16 offsets, w[5];
-  for (int l = 0; l < simd::kLanes; ++l) offsets.set(l, (static_cast<float>(l) + 0.5f) / simd::kLanes);
-  filter.weights(offsets, w);
-  for (int i = 0; i <= 2 * s.reach; ++i) {
-    float sum = 0.0f;
-    for (int l = 0; l < simd::kLanes; ++l) sum += w[i][l];
-    s.taps[static_cast<std::size_t>(i)] = sum / simd::kLanes;
-  }
   return s;
 }
 
@@ -379,7 +368,9 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   const int ntiles = tiles_x * tiles_y;
   const int apron = f.apron = filter.apron();
   const int buf_w = f.buf_w = kTileSize + 2 * apron;
-  const std::size_t buf_floats = static_cast<std::size_t>(buf_w) * buf_w * 5;
+  // Per buffer pixel: RGBA and the weight, plus the unshadowed light's RGB when denoising.
+  const int splat_floats = options.denoise ? 8 : 5;
+  const std::size_t buf_floats = static_cast<std::size_t>(buf_w) * buf_w * splat_floats;
   // Each tile splats its samples into its own buffer (with an apron for the filter's reach);
   // the buffers are summed afterwards in a fixed order, so no sum depends on thread timing.
   // One allocation for the frame; each tile clears its own part (in parallel, while it is hot).
@@ -405,7 +396,7 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
         spare_workspaces.pop_back();
       }
     }
-    workspace.frame_guides.reset(width, height, f.spp);
+    workspace.frame_guides.resize(width, height, f.spp);  // each tile clears its own pixels
     f.guides = &workspace.frame_guides;
   }
 
@@ -428,17 +419,21 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
-        float acc[5] = {0, 0, 0, 0, 0};
+        float acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
         for (int ty = std::max(0, (y - apron) / kTileSize); ty <= std::min(tiles_y - 1, (y + apron) / kTileSize); ++ty)
           for (int tx = std::max(0, (x - apron) / kTileSize); tx <= std::min(tiles_x - 1, (x + apron) / kTileSize); ++tx) {
             const int bx = x - (tx * kTileSize - apron), by = y - (ty * kTileSize - apron);
             if (bx < 0 || by < 0 || bx >= buf_w || by >= buf_w) continue;
             const float* src = tile_sums.data() + buf_floats * static_cast<std::size_t>(ty * tiles_x + tx) +
-                               (static_cast<std::size_t>(by) * buf_w + bx) * 5;
-            for (int c = 0; c < 5; ++c) acc[c] += src[c];
+                               (static_cast<std::size_t>(by) * buf_w + bx) * splat_floats;
+            for (int c = 0; c < splat_floats; ++c) acc[c] += src[c];
           }
-        float* dst = &image.rgba[(static_cast<std::size_t>(y) * width + x) * 4];
-        for (int c = 0; c < 4; ++c) dst[c] = acc[4] > 0.0f ? acc[c] / acc[4] : 0.0f;
+        const std::size_t p = static_cast<std::size_t>(y) * width + x;
+        const float weight = acc[splat_floats - 1];
+        float* dst = &image.rgba[p * 4];
+        for (int c = 0; c < 4; ++c) dst[c] = weight > 0.0f ? acc[c] / weight : 0.0f;
+        if (options.denoise)
+          for (int c = 0; c < 3; ++c) workspace.frame_guides.unshadowed[p * 3 + c] = weight > 0.0f ? acc[4 + c] / weight : 0.0f;
       }
   });
 
@@ -447,7 +442,7 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
     spare_buffers.push_back(std::move(tile_sums));
   }
   if (options.denoise) {
-    image.denoised = denoise(image.rgba, workspace.frame_guides, denoise_settings(filter, transparent, render_tile), &workspace);
+    image.denoised = denoise(image.rgba, workspace.frame_guides, denoise_settings(transparent, render_tile), &workspace);
     std::lock_guard lock(buffer_mutex);
     spare_workspaces.push_back(std::move(workspace));
   }
@@ -463,3 +458,4 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
 }
 
 }  // namespace meshtour
+

@@ -128,90 +128,86 @@ MESHTOUR_SIMD_INLINE int popcount(I16 mask) {
   return n;
 }
 
-// Splats one packet's samples (premultiplied RGBA per lane) onto the tile's buffer: lanes of
-// the same pixel are summed first, then added to the pixels around it.
-template <int Reach>
-MESHTOUR_SIMD_INLINE void splat_packet(const F16 (&rgba)[4], const F16* wx, const F16* wy, const int* buffer_pixel, int lanes, float* sums,
-                  int stride) {
-  constexpr int kTaps = 2 * Reach + 1;
+// Splats one packet's samples (`Values` floats per lane: premultiplied RGBA, and for the
+// denoiser the unshadowed light's RGB) onto the tile's buffer (Values + 1 floats per pixel, the
+// weight last): lanes of the same pixel are summed first, then added to the pixels around it.
+//
+// With `extras` (at most kSpare vectors), the fast path also sums their lanes into `extra_sums`
+// in the last tree's spare slots and returns true; otherwise (lanes of several pixels) it
+// returns false and the caller sums them itself.
+template <int Reach, int Values, int Extras = 0>
+MESHTOUR_SIMD_INLINE bool splat_packet(const F16 (&values)[Values], const F16* wx, const F16* wy, const int* buffer_pixel, int lanes,
+                                       float* sums, int stride, const F16* extras = nullptr, float* extra_sums = nullptr) {
+  constexpr int kTaps = 2 * Reach + 1, kFloats = Values + 1;
   if (lanes == simd::kLanes && buffer_pixel[0] == buffer_pixel[simd::kLanes - 1]) {
     // All 16 samples in one pixel (lanes are in sample order, so first = last means all): the
-    // sums over the samples of wx[i] wy[j] (RGBA, 1) for every tap, 16 sums per tree.
-    constexpr int kSums = kTaps * kTaps * 5, kTrees = (kSums + simd::kLanes - 1) / simd::kLanes;
+    // sums over the samples of wx[i] wy[j] (values, 1) for every tap, 16 sums per tree.
+    constexpr int kSums = kTaps * kTaps * kFloats, kTrees = (kSums + simd::kLanes - 1) / simd::kLanes;
     F16 products[kTrees * simd::kLanes];
     for (int j = 0; j < kTaps; ++j) {
-      const F16 weighted[5] = {wy[j] * rgba[0], wy[j] * rgba[1], wy[j] * rgba[2], wy[j] * rgba[3], wy[j]};
+      F16 weighted[kFloats];
+      for (int c = 0; c < Values; ++c) weighted[c] = wy[j] * values[c];
+      weighted[Values] = wy[j];
       for (int i = 0; i < kTaps; ++i)
-        for (int c = 0; c < 5; ++c) products[(j * kTaps + i) * 5 + c] = wx[i] * weighted[c];
+        for (int c = 0; c < kFloats; ++c) products[(j * kTaps + i) * kFloats + c] = wx[i] * weighted[c];
     }
-    for (int k = kSums; k < kTrees * simd::kLanes; ++k) products[k] = simd::broadcast(0.0f);
+    static_assert(kSums + Extras <= kTrees * simd::kLanes, "the extras must fit the last tree's spare slots");
+    for (int e = 0; e < Extras; ++e) products[kSums + e] = extras[e];
+    for (int k = kSums + Extras; k < kTrees * simd::kLanes; ++k) products[k] = simd::broadcast(0.0f);
     alignas(64) float totals[kTrees * simd::kLanes];
     for (int t = 0; t < kTrees; ++t) simd::store(totals + t * simd::kLanes, simd::sum_lanes(products + t * simd::kLanes));
-    // A row of taps is contiguous both here and in the buffer (5 floats per pixel).
+    for (int e = 0; e < Extras; ++e) extra_sums[e] = totals[kSums + e];
+    // A row of taps is contiguous both here and in the buffer (kFloats per pixel).
     const int x = buffer_pixel[0] % stride, y = buffer_pixel[0] / stride;
     for (int j = 0; j < kTaps; ++j) {
-      float* dst = sums + (static_cast<std::size_t>(y + j - Reach) * stride + (x - Reach)) * 5;
-      for (int k = 0; k < kTaps * 5; ++k) dst[k] += totals[j * kTaps * 5 + k];
+      float* dst = sums + (static_cast<std::size_t>(y + j - Reach) * stride + (x - Reach)) * kFloats;
+      for (int k = 0; k < kTaps * kFloats; ++k) dst[k] += totals[j * kTaps * kFloats + k];
     }
-    return;
+    return true;
   }
-  PixelSplat<Reach> acc;
+  using Splat = PixelSplat<Reach, Values>;
+  Splat acc;
   int current = buffer_pixel[0];
   for (int l = 0; l < lanes; ++l) {
     if (buffer_pixel[l] != current) {
       acc.flush(sums, stride, current % stride, current / stride);
-      acc = PixelSplat<Reach>{};
+      acc = Splat{};
       current = buffer_pixel[l];
     }
-    acc.add(wx, wy, l, Float4{rgba[0][l], rgba[1][l], rgba[2][l], rgba[3][l]});
+    typename Splat::Vector v{};
+    for (int c = 0; c < Values; ++c) v[c] = values[c][l];
+    acc.add(wx, wy, l, v);
   }
   acc.flush(sums, stride, current % stride, current / stride);
+  return false;
 }
 
 MESHTOUR_SIMD_INLINE F16 luminance(F16 r, F16 g, F16 b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
-// Adds a packet's samples to the denoiser's per-pixel guides: box means of albedo and unshadowed
-// light, normal sums, the nearest depth, and the moments of the sample's visibility (its light
-// divided by its unshadowed light): the variance estimate.
-MESHTOUR_SIMD_INLINE void accumulate_guides(DenoiseGuides& g, bool transparent, int spp, const int* image_pixel, int lanes,
-                                            const F16 (&rgba)[4], const V3& albedo, const V3& unshadowed, const V3& normal,
-                                            F16 depth) {
+// What the denoiser gathers per pixel besides the splatted unshadowed light (denoiser.h): normal
+// sums, the moments of each sample's visibility (its light divided by its unshadowed light: the
+// variance estimate) and the nearest depth. The five sums of a packet whose 16 samples are one
+// pixel's ride in splat_packet's spare slots; other packets add lane by lane.
+constexpr int kGuideSums = 5;
+MESHTOUR_SIMD_INLINE void guide_values(bool transparent, const F16 (&rgba)[4], const V3& unshadowed, const V3& normal, F16 (&out)[kGuideSums]) {
   const F16 unshadowed_luma = simd::max(luminance(unshadowed.x, unshadowed.y, unshadowed.z), simd::broadcast(1e-4f));
   const F16 signal = luminance(rgba[0], rgba[1], rgba[2]) / unshadowed_luma + (transparent ? rgba[3] : simd::broadcast(0.0f));
-  const float inv_spp = 1.0f / static_cast<float>(spp);
-  if (lanes == simd::kLanes && image_pixel[0] == image_pixel[simd::kLanes - 1]) {
-    // All 16 samples in one pixel (as in splat_packet): the 11 sums in one tree, added once.
-    const F16 zero = simd::broadcast(0.0f);
-    const F16 values[simd::kLanes] = {albedo.x, albedo.y, albedo.z, unshadowed.x, unshadowed.y, unshadowed.z, normal.x, normal.y,
-                                      normal.z, signal, signal * signal, zero, zero, zero, zero, zero};
-    const F16 sums = simd::sum_lanes(values);
-    const std::size_t p = static_cast<std::size_t>(image_pixel[0]);
-    for (int c = 0; c < 3; ++c) {
-      g.albedo[p * 3 + c] += sums[c] * inv_spp;
-      g.unshadowed[p * 3 + c] += sums[3 + c] * inv_spp;
-      g.normal[p * 3 + c] += sums[6 + c];
-    }
-    g.moments[p * 2 + 0] += sums[9];
-    g.moments[p * 2 + 1] += sums[10];
-    float nearest = depth[0];
-    for (int l = 1; l < simd::kLanes; ++l) nearest = std::min(nearest, depth[l]);
-    g.depth[p] = std::min(g.depth[p], nearest);
-    return;
-  }
+  out[0] = normal.x;
+  out[1] = normal.y;
+  out[2] = normal.z;
+  out[3] = signal;
+  out[4] = signal * signal;
+}
+MESHTOUR_SIMD_INLINE void add_pixel_guides(DenoiseGuides& g, std::size_t p, const float (&sums)[kGuideSums], float nearest) {
+  for (int c = 0; c < 3; ++c) g.normal[p * 3 + c] += sums[c];
+  g.moments[p * 2 + 0] += sums[3];
+  g.moments[p * 2 + 1] += sums[4];
+  g.depth[p] = std::min(g.depth[p], nearest);
+}
+MESHTOUR_SIMD_INLINE void add_lane_guides(DenoiseGuides& g, const int* image_pixel, int lanes, const F16 (&values)[kGuideSums], F16 depth) {
   for (int l = 0; l < lanes; ++l) {
-    const std::size_t p = static_cast<std::size_t>(image_pixel[l]);
-    g.albedo[p * 3 + 0] += albedo.x[l] * inv_spp;
-    g.albedo[p * 3 + 1] += albedo.y[l] * inv_spp;
-    g.albedo[p * 3 + 2] += albedo.z[l] * inv_spp;
-    g.unshadowed[p * 3 + 0] += unshadowed.x[l] * inv_spp;
-    g.unshadowed[p * 3 + 1] += unshadowed.y[l] * inv_spp;
-    g.unshadowed[p * 3 + 2] += unshadowed.z[l] * inv_spp;
-    g.normal[p * 3 + 0] += normal.x[l];
-    g.normal[p * 3 + 1] += normal.y[l];
-    g.normal[p * 3 + 2] += normal.z[l];
-    g.depth[p] = std::min(g.depth[p], depth[l]);
-    g.moments[p * 2 + 0] += signal[l];
-    g.moments[p * 2 + 1] += signal[l] * signal[l];
+    const float sums[kGuideSums] = {values[0][l], values[1][l], values[2][l], values[3][l], values[4][l]};
+    add_pixel_guides(g, static_cast<std::size_t>(image_pixel[l]), sums, depth[l]);
   }
 }
 
@@ -234,6 +230,14 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
   const int tx = tile % f.tiles_x, ty = tile / f.tiles_x;
   const int x0 = tx * kTileSize, y0 = ty * kTileSize;
   const int x1 = std::min(f.width, x0 + kTileSize), y1 = std::min(f.height, y0 + kTileSize);
+  if (f.guides)  // the tile's pixels of the denoiser's guides, which only this tile's samples add to
+    for (int y = y0; y < y1; ++y) {
+      const std::size_t row = static_cast<std::size_t>(y) * f.width;
+      std::fill(f.guides->normal.begin() + static_cast<std::ptrdiff_t>((row + x0) * 3), f.guides->normal.begin() + static_cast<std::ptrdiff_t>((row + x1) * 3), 0.0f);
+      std::fill(f.guides->moments.begin() + static_cast<std::ptrdiff_t>((row + x0) * 2), f.guides->moments.begin() + static_cast<std::ptrdiff_t>((row + x1) * 2), 0.0f);
+      std::fill(f.guides->depth.begin() + static_cast<std::ptrdiff_t>(row + x0), f.guides->depth.begin() + static_cast<std::ptrdiff_t>(row + x1),
+                std::numeric_limits<float>::infinity());
+    }
   const int tile_w = x1 - x0;
   const int spp = f.spp;
   const int nsamples = tile_w * (y1 - y0) * spp;
@@ -324,14 +328,14 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     F16 base[4] = {bg.x, bg.y, bg.z, zero}, with_light[4] = {zero, zero, zero, zero}, with_sky[4] = {zero, zero, zero, zero};
     I16 shadow_valid = simd::broadcast_int(0), sky_valid = simd::broadcast_int(0);
     V3 shadow_dir{zero, zero, one}, sky_dir{zero, zero, one}, org = eye;
-    // What the sample tells the denoiser (denoiser.h): the surface colour its light is divided
-    // by (the background's for the ground and the background: their "lighting" is the shadow),
-    // the shading normal and the depth.
-    V3 guide_albedo = f.transparent ? V3{one, one, one} : bg, guide_normal{zero, zero, zero};
-    // ... and the light it would get if no shadow or occlusion ray were blocked: the frame is
-    // divided by it, so that the denoiser filters only the visibility of the lights and the sky
-    // (the shading's detail, normals, textures and highlights, is noise-free and stays sharp).
-    V3 guide_unshadowed = guide_albedo;
+    // What the sample tells the denoiser (denoiser.h): the shading normal, the depth, and the
+    // light it would get if no shadow or occlusion ray were blocked (the background's colour, or
+    // white in transparent frames, for the ground and the background: their "lighting" is the
+    // shadow): the frame is divided by it, so that the denoiser filters only the visibility of
+    // the lights and the sky (the shading's detail, normals, textures and highlights, is
+    // noise-free and stays sharp).
+    V3 guide_normal{zero, zero, zero};
+    V3 guide_unshadowed = f.transparent ? V3{one, one, one} : bg;
     F16 guide_depth = simd::broadcast(std::numeric_limits<float>::infinity());
 
     if (simd::any(simd::either(on_model, on_ground))) {
@@ -395,7 +399,6 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
         n = select(simd::gt(n_len2, 0.0f), V3{n.x * inv_n, n.y * inv_n, n.z * inv_n}, ng);
         n = select(simd::gt(dot(n, dir), 0.0f), V3{-n.x, -n.y, -n.z}, n);
         const V3 albedo{simd::load(ar), simd::load(ag), simd::load(ab)};
-        guide_albedo = select(on_model, albedo, guide_albedo);
         guide_normal = select(on_model, n, guide_normal);
         const V3 view{-dir.x, -dir.y, -dir.z};
         // Unshadowed Blinn-Phong light from a light (cos_l = cosine of its incidence, > 0).
@@ -578,17 +581,36 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     for (int ch = 0; ch < 4; ++ch)
       rgba[ch] = base[ch] + simd::select(light_seen, with_light[ch], zero) + simd::select(sky_seen, with_sky[ch], zero);
 
-    if (f.guides)
-      accumulate_guides(*f.guides, f.transparent, spp, image_pixel, lanes, rgba, guide_albedo, guide_unshadowed, guide_normal, guide_depth);
-
     // 4. Reconstruction filter: every sample is splatted onto the pixels within the radius.
     F16 wx[5], wy[5];
     filter.weights(offset_x, wx);
     filter.weights(offset_y, wy);
-    switch (filter.reach()) {
-      case 0: splat_packet<0>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
-      case 1: splat_packet<1>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
-      default: splat_packet<2>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
+    if (f.guides) {
+      // The denoiser divides the frame by the unshadowed light: splatted with the very same
+      // weights, so that the ratio is the visibility also at silhouettes and colour edges.
+      const F16 values[7] = {rgba[0], rgba[1], rgba[2], rgba[3], guide_unshadowed.x, guide_unshadowed.y, guide_unshadowed.z};
+      F16 extras[kGuideSums];
+      guide_values(f.transparent, rgba, guide_unshadowed, guide_normal, extras);
+      float extra_sums[kGuideSums];
+      bool summed = false;
+      switch (filter.reach()) {
+        case 0: summed = splat_packet<0, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, f.buf_w, extras, extra_sums); break;
+        case 1: summed = splat_packet<1, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, f.buf_w, extras, extra_sums); break;
+        default: summed = splat_packet<2, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, f.buf_w, extras, extra_sums); break;
+      }
+      if (summed) {
+        float nearest = guide_depth[0];
+        for (int l = 1; l < simd::kLanes; ++l) nearest = std::min(nearest, guide_depth[l]);
+        add_pixel_guides(*f.guides, static_cast<std::size_t>(image_pixel[0]), extra_sums, nearest);
+      } else {
+        add_lane_guides(*f.guides, image_pixel, lanes, extras, guide_depth);
+      }
+    } else {
+      switch (filter.reach()) {
+        case 0: splat_packet<0>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
+        case 1: splat_packet<1>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
+        default: splat_packet<2>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
+      }
     }
   }
   if (!f.image->normal.empty())

@@ -81,8 +81,8 @@ struct ExtraLayers {
 struct RenderOptions {
   int width = 1280;
   int height = 720;
-  /// Owen-scrambled Sobol samples (tracer/sampler.h): the error falls about as 1/spp on smooth
-  /// light and soft shadows (faster than 1/sqrt(spp)); powers of two keep the points a net.
+  /// Owen-scrambled Sobol samples in Z order (tracer/sampler.h): the error falls a little faster
+  /// than 1/sqrt(spp) (shadow edges and occlusion are not smooth); powers of two keep the points a net.
   int samples_per_pixel = 16;
   /// Radius of the Blackman-Harris reconstruction filter in pixels: samples are weighted by
   /// their distance to each pixel's centre, removing the jaggies a box filter leaves. 0.5..2.
