@@ -1,6 +1,6 @@
 // The denoiser (denoiser.h): divide by the unshadowed light, two a-trous passes guided by normal,
-// depth and the visibility's variance, the fit, multiply back. Four pixels at a time (GCC vector extension;
-// SSE2 at the baseline every x86-64 CPU runs), rows in parallel.
+// depth and the visibility's variance, the fit, multiply back. The stages' hot loops are in
+// denoiser_pass.cpp (one copy per instruction set); the set-up and the result here, rows in parallel.
 #include "tracer/denoiser.h"
 
 #include <tbb/parallel_for.h>
@@ -40,22 +40,18 @@ void DenoiseGuides::resize(int w, int h, int spp) {
 using namespace denoise_detail;
 
 namespace {
-AtrousPass pass_for(DenoiseSettings::InstructionSet set) {
+// The copies of the two stages compiled for one instruction set.
+struct Stages {
+  AtrousPass atrous;
+  FitPass fit;
+};
+Stages stages_for(DenoiseSettings::InstructionSet set) {
   switch (set) {
 #if defined(MESHTOUR_TILE_KERNELS_X86_64)
-    case DenoiseSettings::InstructionSet::x86_64_v3: return &atrous_pass_x86_64_v3;
-    case DenoiseSettings::InstructionSet::x86_64_v4: return &atrous_pass_x86_64_v4;
+    case DenoiseSettings::InstructionSet::x86_64_v3: return {&atrous_pass_x86_64_v3, &fit_pass_x86_64_v3};
+    case DenoiseSettings::InstructionSet::x86_64_v4: return {&atrous_pass_x86_64_v4, &fit_pass_x86_64_v4};
 #endif
-    default: return &atrous_pass_baseline;
-  }
-}
-FitPass fit_for(DenoiseSettings::InstructionSet set) {
-  switch (set) {
-#if defined(MESHTOUR_TILE_KERNELS_X86_64)
-    case DenoiseSettings::InstructionSet::x86_64_v3: return &fit_pass_x86_64_v3;
-    case DenoiseSettings::InstructionSet::x86_64_v4: return &fit_pass_x86_64_v4;
-#endif
-    default: return &fit_pass_baseline;
+    default: return {&atrous_pass_baseline, &fit_pass_baseline};
   }
 }
 }  // namespace
@@ -142,14 +138,15 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   });
 
   // The guide: the luminance through the a-trous passes; then the fit of the unfiltered planes.
+  const Stages stages = stages_for(settings.instruction_set);
   Planes* in = &luma_a;
   Planes* out = &luma_b;
   const int passes = std::clamp(settings.passes, 1, 5);
   for (int pass = 0; pass < passes; ++pass) {
-    pass_for(settings.instruction_set)(*in, *out, guides, 1 << pass);
+    stages.atrous(*in, *out, guides, 1 << pass);
     std::swap(in, out);
   }
-  fit_for(settings.instruction_set)(a, *in, b, guides, std::clamp(settings.fit_radius, 1, 8), transparent);
+  stages.fit(a, *in, b, guides, std::clamp(settings.fit_radius, 1, 8), transparent);
 
   std::vector<float> result(npix * 4);
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {

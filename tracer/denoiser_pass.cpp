@@ -176,7 +176,7 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
         int any_busy = 0;
         for (int i = 0; i < kWidth; ++i) any_busy |= busy[i];
         if (!any_busy) {
-          for (int k = 0; k < kPlanesPerImage; ++k) store(dst[k] + x, c[k]);
+          for (int k = 0; k < kVar; ++k) store(dst[k] + x, c[k]);  // the variance plane of the result is not read
           continue;
         }
         const Lanes z = load(gd[kDepth] + x), z_grad = load(gd[kDepthGradient] + x);
@@ -226,7 +226,6 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
           if (k == kA) v = v > 1.0f ? splat(1.0f) : v;
           store(dst[k] + x, averaged ? v : c[k]);
         }
-        store(dst[kVar] + x, c[kVar]);
       }
     }
   });

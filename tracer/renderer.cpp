@@ -458,4 +458,3 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
 }
 
 }  // namespace meshtour
-

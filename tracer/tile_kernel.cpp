@@ -132,7 +132,7 @@ MESHTOUR_SIMD_INLINE int popcount(I16 mask) {
 // denoiser the unshadowed light's RGB) onto the tile's buffer (Values + 1 floats per pixel, the
 // weight last): lanes of the same pixel are summed first, then added to the pixels around it.
 //
-// With `extras` (at most kSpare vectors), the fast path also sums their lanes into `extra_sums`
+// With `extras` (as many as the last tree's spare slots hold), the fast path also sums their lanes into `extra_sums`
 // in the last tree's spare slots and returns true; otherwise (lanes of several pixels) it
 // returns false and the caller sums them itself.
 template <int Reach, int Values, int Extras = 0>
