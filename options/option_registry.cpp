@@ -74,8 +74,10 @@ std::vector<Option> make_registry() {
   add({.id = "fov", .flag = "--fov", .kind = Kind::number_or_choice, .lo = 5, .hi = 120, .choices = {"auto"},
        .default_text = "auto",
        .help = "Vertical field of view: degrees (5-120), or auto (default): the paper path keeps its camera distance\n"
-               "and the fov is fitted so every vertex stays in frame at every frame; the turntable uses 35 degrees\n"
-               "and fits its radius. A fixed fov moves the paper path's camera back where needed instead.",
+               "and the fov is fitted so every vertex stays in frame at every frame; the feature orbit plans its\n"
+               "distances for a long 10-degree lens (about 135 mm: it sees the surface more squarely than a wide one);\n"
+               "the turntable uses 35 degrees and fits its radius. A fixed fov moves the paper path's camera back\n"
+               "where needed instead, and the feature orbit plans for it.",
        .scene_key = "camera.fov", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
   add({.id = "elevation", .flag = "--elevation", .kind = Kind::number, .lo = -80, .hi = 80, .default_text = "18",
        .help = "Turntable: camera elevation above the model's centre, degrees (default 18)",

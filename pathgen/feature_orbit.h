@@ -64,7 +64,13 @@ struct FeatureOrbitOptions {
   double tie_tolerance = 0.002;
   /// When > 0, the score of each frame of a loop of this many frames is reported (frame_scores).
   int frames = 0;
-  double vertical_fov_deg = 35.0;  ///< the lens the distance is planned for
+  /// The lens the distances are planned for (the tour fits its fov to them). A long lens, as
+  /// product photography uses (10 degrees vertical, about 135 mm on full frame): from farther
+  /// away a view sees more of the surface squarely, where a close, wide lens sees the sides of
+  /// the model at grazing angles. Measured on the seven shared meshes (`meshtour evaluate`),
+  /// planning for 35 degrees instead costs 2 to 7 points of feature coverage under every
+  /// definition, and left the orbit up to 5 points behind the paper's path on three of them.
+  double vertical_fov_deg = 10.0;
   double aspect = 16.0 / 9.0;      ///< frame width / height the distance is planned for
   /// Dolly: the distance follows (a smooth two-harmonic envelope of) what each view needs to keep
   /// the whole model in frame, so a slender model fills the frame from every side. The angular

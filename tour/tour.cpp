@@ -121,6 +121,9 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     orbit.coverage.surface = path_search_options(scene.path_search).surface;
     orbit.up = scene.up;
     orbit.aspect = lens.aspect;
+    // A fixed --fov is the lens the distances are planned for; auto keeps the orbit's long lens
+    // (FeatureOrbitOptions::vertical_fov_deg), and choose_fov() fits the tour's fov to it.
+    if (!scene.auto_fov) orbit.vertical_fov_deg = scene.vertical_fov_deg;
     if (view_scores) orbit.frames = scene.frames;
     const FeatureOrbitResult result = compute_feature_orbit(mesh, orbit);
     if (view_scores) *view_scores = result.frame_scores;
