@@ -98,9 +98,11 @@ std::vector<Option> make_registry() {
        .default_text = "on",
        .help = "Denoise the frames (default on): PNG frames and the video show the denoised frame; EXR frames keep\n"
                "the raw frame as the main layer and add the denoised one as the layer 'denoised' (encode uses it)",
-       .long_help = "An edge-avoiding a-trous filter of the lighting guided by albedo, normal, depth and a per-pixel "
-                    "variance estimate (tracer/denoiser.h); textures and vertex colours are divided out first, so "
-                    "they stay sharp. Deterministic: the same bits for any thread count, CPU and farm split.",
+       .long_help = "Filters the lighting, not the colours (tracer/denoiser.h): the frame is divided by its unshadowed "
+                    "light, splatted with the same sample weights, so textures, vertex colours and silhouettes stay "
+                    "sharp; the visibility left is fitted by a weighted least-squares plane over a disc of radius 4, "
+                    "weighted by normal, depth and a two-pass a-trous guide of its luminance, and multiplied back. "
+                    "Deterministic: the same bits for any thread count, CPU and farm split.",
        .scene_key = "output.denoise", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "background", .flag = "--background", .kind = Kind::choice, .choices = {"gradient", "transparent"},
        .help = "gradient, or transparent (PNG frames get alpha; the ground's shadows stay, as alpha)",
