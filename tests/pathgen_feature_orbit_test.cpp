@@ -103,6 +103,26 @@ TEST(FeatureOrbit, TheLoopStartsAtItsBestView) {
   EXPECT_GT((first.eye - first.target).normalized().x(), 0.7) << "frame 0 does not look at the +x features";
 }
 
+TEST(FeatureOrbit, ItsLongLensSeesTheSurfaceMoreSquarelyThanAWideOne) {
+  // Why the orbit plans for a 10-degree lens (FeatureOrbitOptions::vertical_fov_deg): from farther
+  // away each view sees more of the surface within the seen-well angle. The same search planned
+  // for 35 degrees must see less under every definition, clearly so at the strict angle.
+  const TriangleMesh mesh = test_meshes::bumpy_sphere(3, 0.0, 11);
+  std::vector<std::uint8_t> features(mesh.triangles.size());
+  for (std::size_t f = 0; f < features.size(); ++f) features[f] = mesh.positions[mesh.triangles[f][0]].z() > 0.2;
+  FeatureOrbitOptions long_lens = fast_options(features);
+  long_lens.coverage.surface_weight = 0.3;
+  FeatureOrbitOptions wide = long_lens;
+  ASSERT_EQ(long_lens.vertical_fov_deg, 10.0);
+  wide.vertical_fov_deg = 35.0;
+  const FeatureOrbitResult a = compute_feature_orbit(mesh, long_lens), b = compute_feature_orbit(mesh, wide);
+  for (int d = 0; d < kFeatureDefinitions; ++d) EXPECT_GE(a.scores.feature_share[d], b.scores.feature_share[d]) << "definition " << d;
+  EXPECT_GT(a.scores.surface_share[1], b.scores.surface_share[1] + 0.02);  // the strict angle's whole surface
+  EXPECT_GT(a.scores.objective, b.scores.objective);
+  // The long lens's orbit is farther away: the distance that frames the model through it.
+  EXPECT_GT(a.geometry.distance_at(0.0), 2.5 * b.geometry.distance_at(0.0));
+}
+
 TEST(FeatureOrbit, SameShapeFinerTessellationSameOrbit) {
   // The same shape split 1-to-4 twice (16 times the faces), with the same features (by position):
   // the search and the start must give the same orbit (elevation within 1 degree everywhere).
