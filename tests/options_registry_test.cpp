@@ -13,6 +13,7 @@
 #include "jobs/batch_manifest.h"
 #include "options/cli_options.h"
 #include "options/option_registry.h"
+#include "pathgen/feature_orbit.h"
 #include "scenes/scene.h"
 
 namespace meshtour {
@@ -231,6 +232,13 @@ TEST(OptionRegistry, CrfRangeIsTheCodecs) {
   const auto items = read_batch_manifest(dir / "m.csv");
   EXPECT_NE(items[0].error, "");
   EXPECT_EQ(items[1].error, "");
+}
+
+TEST(OptionRegistry, FovHelpNamesTheLensTheFeatureOrbitPlansFor) {
+  // The number lives in FeatureOrbitOptions; the registry (which does not depend on pathgen)
+  // repeats it in words, so a change of the lens must change the help too.
+  const std::string lens = std::to_string(static_cast<int>(FeatureOrbitOptions{}.vertical_fov_deg)) + "-degree lens";
+  EXPECT_NE(options::option("fov").help.find(lens), std::string::npos) << "--fov help does not name the " << lens;
 }
 
 TEST(OptionRegistry, ManifestAcceptsEveryPathMode) {

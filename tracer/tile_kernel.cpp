@@ -132,8 +132,8 @@ MESHTOUR_SIMD_INLINE int popcount(I16 mask) {
 // denoiser the unshadowed light's RGB) onto the tile's buffer (Values + 1 floats per pixel, the
 // weight last): lanes of the same pixel are summed first, then added to the pixels around it.
 //
-// With `extras` (as many as the last tree's spare slots hold), the fast path also sums their lanes into `extra_sums`
-// in the last tree's spare slots and returns true; otherwise (lanes of several pixels) it
+// With `extras` (as many as the last tree's spare slots hold), the fast path also sums their
+// lanes into `extra_sums` in the last tree's spare slots and returns true; otherwise (lanes of several pixels) it
 // returns false and the caller sums them itself.
 template <int Reach, int Values, int Extras = 0>
 MESHTOUR_SIMD_INLINE bool splat_packet(const F16 (&values)[Values], const F16* wx, const F16* wy, const int* buffer_pixel, int lanes,
