@@ -100,8 +100,9 @@ std::vector<Option> make_registry() {
                "the raw frame as the main layer and add the denoised one as the layer 'denoised' (encode uses it)",
        .long_help = "Filters the lighting, not the colours (tracer/denoiser.h): the frame is divided by its unshadowed "
                     "light, splatted with the same sample weights, so textures, vertex colours and silhouettes stay "
-                    "sharp; the visibility left is fitted by a weighted least-squares plane over a disc of radius 4, "
-                    "weighted by normal, depth and a two-pass a-trous guide of its luminance, and multiplied back. "
+                    "sharp; the visibility left is fitted over a disc of radius 5 by weighted least squares on the "
+                    "pixel offset and the tilt of the surface normal (so small bumps keep their occlusion), weighted "
+                    "by normal, depth and a two-pass a-trous guide of its luminance, and multiplied back. "
                     "Deterministic: the same bits for any thread count, CPU and farm split.",
        .scene_key = "output.denoise", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "background", .flag = "--background", .kind = Kind::choice, .choices = {"gradient", "transparent"},

@@ -1,7 +1,8 @@
 #pragma once
-// The denoiser: an edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with the
-// variance-guided luminance weights of SVGF's spatial filter (Schied et al. 2017), applied to the
-// lighting, not the colours: the frame is divided by the light its samples would reflect
+// The denoiser: a guide from an edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with
+// the variance-guided luminance weights of SVGF's spatial filter (Schied et al. 2017), then a
+// weighted least-squares fit of each pixel's neighbourhood by pixel offset and normal tilt (after
+// NFOR, Bitterli et al. 2016), applied to the lighting, not the colours: the frame is divided by the light its samples would reflect
 // unshadowed (albedo x lights and sky; tracer-computed, noise-free), filtered, and multiplied
 // back, so textures, vertex colours and the shading of small bumps stay sharp and only the
 // visibility of the lights and the sky, the noise, is filtered (the ratio estimator of Heitz et al.
@@ -9,7 +10,7 @@
 //
 // Same bits on every CPU: without FMA contraction (-ffp-contract=off for the whole project), with
 // IEEE add/multiply/divide/sqrt only and its own rational weight function (no exp, pow or log,
-// whose glibc versions differ by CPU). Its hot loop, the a-trous pass (denoiser_pass.cpp), is
+// whose glibc versions differ by CPU). Its hot loops, the a-trous pass and the fit (denoiser_pass.cpp), are
 // compiled once per x86-64 level like the tile kernel, and every copy runs each pixel through the
 // same operations whatever the vector width (Renderer.SamePixelsWithEveryInstructionSet compares
 // the denoised frames too); rows are filtered in parallel, each row's result a function of the
@@ -48,9 +49,10 @@ struct DenoiseSettings {
   /// A-trous passes (steps 1, 2, 4, ...: 3x3 taps each) over the visibility's luminance, 1..5:
   /// the fit's guide.
   int passes = 2;
-  /// The fit's window: a plane through the unfiltered visibility of the pixels within
-  /// fit_radius (a disc: dx^2 + dy^2 <= r^2 + r), weighted by normal, depth and the guide. 1..8.
-  int fit_radius = 4;
+  /// The fit's window: the unfiltered visibility of the pixels within fit_radius (a disc:
+  /// dx^2 + dy^2 <= r^2 + r, 97 pixels at 5), weighted by normal, depth and the guide, fitted by
+  /// offset and normal tilt (denoiser_pass.cpp). 1..8.
+  int fit_radius = 5;
   /// Which copy of the a-trous pass runs (the same bits; the renderer picks its tile kernel's).
   enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
 };

@@ -37,10 +37,13 @@ constexpr int kNormalPowerLog2 = 6;   // weight max(0, n.n')^64
 // kFitLumaSigma standard deviations of the guide plus kFitLumaFloor of its luminance (the guide,
 // the a-trous passes' output, is nearly noise-free, so its own deviation alone would stop at
 // every leftover ripple). Measured on the benchmark frames (bench/denoise_quality.cpp).
-constexpr float kFitLumaSigma = 2.0f;
+constexpr float kFitLumaSigma = 2.5f;
 constexpr float kFitLumaFloor = 0.015f;
 constexpr float kFitRidge = 1e-3f;         // slope damping, relative to the sum of weights
-constexpr float kFitNormalScale = 64.0f;  // as the a-trous pass's (n.n')^64, in the exponent
+constexpr float kFitNormalRidge = 1e-3f;   // damping of the normal-tilt coefficients, likewise
+// The fit's normal weight, exp(-16 (1 - n.n')): looser than the a-trous pass's (n.n')^64, because
+// the fit models the visibility's change with the normal (a feature) instead of only stopping at it.
+constexpr float kFitNormalScale = 16.0f;
 
 Lanes load(const float* p) {
   Lanes v;
@@ -134,11 +137,16 @@ void MESHTOUR_DENOISE_PASS(Planes& in, Planes& out, Planes& guides, int step) {
   });
 }
 
-// The fit (denoiser_impl.h): per pixel, a weighted least-squares plane through the raw
-// visibility of the pixels in a (2 radius + 1)^2 window, whose value at the pixel is the result.
-// A weighted mean (zero order) of a sloped signal is pulled towards the side with more weight,
-// which blurs every gradient of a soft shadow or of occlusion; a plane has no such bias, and at
-// the window's centre its value is as noisy as the mean. Sums in a fixed order for every lane.
+// The fit (denoiser_impl.h): per pixel, a weighted least-squares fit of the raw visibility of the
+// pixels in a disc of `radius` by five features: 1, the offset along x and y (a plane) and the
+// tilt of the neighbour's normal against the pixel's own, in two directions of its tangent plane;
+// its value at the pixel (offset 0, tilt 0) is the result. A weighted mean (zero order) of a
+// sloped signal is pulled towards the side with more weight, which blurs every gradient of a
+// soft shadow or of occlusion; the plane has no such bias. The normal's tilt carries the
+// occlusion of small bumps (fur, carving, cloth), which changes with the normal faster than with
+// the position: as a feature rather than only a weight it lets neighbours on the other flank of a
+// bump count without flattening the bump (after NFOR, Bitterli et al. 2016, which regresses on
+// the renderer's features). Sums in a fixed order for every lane.
 void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent) {
   const int width = raw.width, height = raw.height;
   const std::ptrdiff_t stride = raw.stride;
@@ -155,10 +163,12 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
       if (dx * dx + dy * dy <= radius * radius + radius)
         taps.push_back({dy * stride + dx, static_cast<float>(dx) * inv_radius, static_cast<float>(dy) * inv_radius,
                         dx == 0 && dy == 0 ? 1.0f : 1.0f / __builtin_sqrtf(static_cast<float>(dx * dx + dy * dy))});
+  constexpr int kFeatures = 5;
   // The rows, with the number of channels known to the compiler (the sums stay in registers).
   const auto fit_rows = [&](auto channel_count) {
   constexpr int channels = decltype(channel_count)::value;
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    std::vector<Lanes> weighted(taps.size() * 3);  // per tap: weight and weighted tilts
     for (int y = range.begin(); y != range.end(); ++y) {
       const float* __restrict src[kPlanesPerImage];
       float* __restrict dst[kPlanesPerImage];
@@ -185,43 +195,85 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
         // rise), and a relative tolerance for flat-on views.
         const Lanes inv_z = 1.0f / (kDepthSigma * z_grad + 1e-3f * z + 1e-30f);
         const Lanes inv_l = 1.0f / (kFitLumaSigma * sqrt_lanes(var) + kFitLumaFloor * max_lanes(luma, splat(0.05f)));
-        Lanes m00{}, m01{}, m02{}, m11{}, m12{}, m22{};
-        Lanes r0[4] = {}, r1[4] = {}, r2[4] = {};
-        for (const Tap& tap : taps) {
+        // Two directions of the pixel's tangent plane (Duff et al. 2017, "Building an orthonormal
+        // basis, revisited": no branch, one division), along which a neighbour's normal tilts.
+        const Lanes sign = nz >= 0.0f ? splat(1.0f) : splat(-1.0f);
+        const Lanes inv = -1.0f / (sign + nz), cross = nx * ny * inv;
+        const Lanes t1x = 1.0f + sign * nx * nx * inv, t1y = sign * cross, t1z = -sign * nx;
+        const Lanes t2x = cross, t2y = sign + ny * ny * inv, t2z = -ny;
+        // The normal equations' lower triangle (m[i][j], j <= i) and right-hand sides.
+        Lanes m[kFeatures][kFeatures] = {};
+        Lanes r[kFeatures][4] = {};
+        // Two sweeps over the taps, so that fewer sums are live at once (no spills): the weights
+        // and the normal equations first, keeping each tap's weighted tilts; then the right-hand sides.
+        for (std::size_t t = 0; t < taps.size(); ++t) {
+          const Tap& tap = taps[t];
           const std::ptrdiff_t o = x + tap.offset;
-          // (n.n')^64 ~ exp(-64 (1 - n.n')) near 1: one exponent, one falloff. A neighbour
-          // without a surface (n' = 0) gets exponent 64, beyond the falloff's reach.
-          const Lanes cos_n = nx * load(gd[kNx] + o) + ny * load(gd[kNy] + o) + nz * load(gd[kNz] + o);
+          // (n.n')^s ~ exp(-s (1 - n.n')) near 1: one exponent, one falloff. A neighbour
+          // without a surface (n' = 0) gets exponent s, beyond the falloff's reach.
+          const Lanes qx = load(gd[kNx] + o), qy = load(gd[kNy] + o), qz = load(gd[kNz] + o);
+          const Lanes cos_n = nx * qx + ny * qy + nz * qz;
           const Lanes l = (load(guide_luma + o) - luma) * inv_l;
           const Lanes w = falloff_compact(abs_lanes(z - load(gd[kDepth] + o)) * (inv_z * tap.inv_distance) + 0.5f * (l * l) +
                                           kFitNormalScale * (1.0f - cos_n));
-          const Lanes wx = w * tap.fx, wy = w * tap.fy;
-          m00 += w;
-          m01 += wx;
-          m02 += wy;
-          m11 += wx * tap.fx;
-          m12 += wx * tap.fy;
-          m22 += wy * tap.fy;
+          // The tilt: (n' - n) . t = n' . t, since n . t = 0.
+          const Lanes f[kFeatures] = {splat(1.0f), splat(tap.fx), splat(tap.fy), qx * t1x + qy * t1y + qz * t1z, qx * t2x + qy * t2y + qz * t2z};
+          Lanes wf[kFeatures];
+          wf[0] = w;
+          for (int i = 1; i < kFeatures; ++i) wf[i] = w * f[i];
+          for (int i = 0; i < kFeatures; ++i)
+            for (int j = 0; j <= i; ++j) m[i][j] += j == 0 ? wf[i] : wf[i] * f[j];
+          Lanes* kept = &weighted[t * 3];
+          kept[0] = w, kept[1] = wf[3], kept[2] = wf[4];
+        }
+        for (std::size_t t = 0; t < taps.size(); ++t) {
+          const std::ptrdiff_t o = x + taps[t].offset;
+          const Lanes* kept = &weighted[t * 3];
+          const Lanes wf[kFeatures] = {kept[0], kept[0] * taps[t].fx, kept[0] * taps[t].fy, kept[1], kept[2]};
           for (int k = 0; k < channels; ++k) {
             const Lanes v = load(src[k] + o);
-            r0[k] += w * v;
-            r1[k] += wx * v;
-            r2[k] += wy * v;
+            for (int i = 0; i < kFeatures; ++i) r[i][k] += wf[i] * v;
           }
         }
-        // The plane's value at the centre by Cramer's rule on the (damped) normal equations.
-        m11 += kFitRidge * m00;
-        m22 += kFitRidge * m00;
-        const Lanes c0 = m11 * m22 - m12 * m12, c1 = m12 * m02 - m01 * m22, c2 = m01 * m12 - m11 * m02;
-        const Lanes det = m00 * c0 + m01 * c1 + m02 * c2;
-        // Where the plane is not determined (a lone pixel, a thin line), the weighted mean; with no
-        // weight at all, the pixel itself.
-        const Mask planar = busy & (m00 > 0.0f) & (det > 1e-6f * m00 * c0), averaged = busy & (m00 > 0.0f);
-        const Lanes safe_det = planar ? det : splat(1.0f), safe_m00 = averaged ? m00 : splat(1.0f);
+        // Damped slopes (relative to the sum of weights), then the fit's value at the pixel:
+        // s = M^-1 e0 by an LDL^T factorisation, the value is s . r.
+        const Lanes m00 = m[0][0];
+        m[1][1] += kFitRidge * m00;
+        m[2][2] += kFitRidge * m00;
+        m[3][3] += kFitNormalRidge * m00;
+        m[4][4] += kFitNormalRidge * m00;
+        Lanes d[kFeatures], inv_d[kFeatures], lower[kFeatures][kFeatures] = {};
+        Mask solvable = busy & (m00 > 0.0f);
+        for (int j = 0; j < kFeatures; ++j) {
+          Lanes dj = m[j][j];
+          for (int k = 0; k < j; ++k) dj -= lower[j][k] * lower[j][k] * d[k];
+          solvable &= dj > 1e-6f * m00;
+          d[j] = dj;
+          inv_d[j] = 1.0f / (solvable ? dj : splat(1.0f));
+          for (int i = j + 1; i < kFeatures; ++i) {
+            Lanes v = m[i][j];
+            for (int k = 0; k < j; ++k) v -= lower[i][k] * lower[j][k] * d[k];
+            lower[i][j] = v * inv_d[j];
+          }
+        }
+        Lanes s[kFeatures];
+        for (int i = 0; i < kFeatures; ++i) {  // L y = e0, then y / d
+          Lanes v = i == 0 ? splat(1.0f) : Lanes{};
+          for (int k = 0; k < i; ++k) v -= lower[i][k] * s[k];
+          s[i] = v;
+        }
+        for (int i = 0; i < kFeatures; ++i) s[i] = s[i] * inv_d[i];
+        for (int i = kFeatures - 1; i >= 0; --i)  // L^T s = y / d
+          for (int k = i + 1; k < kFeatures; ++k) s[i] -= lower[k][i] * s[k];
+        // Where the fit is not determined, the weighted mean; with no weight at all, the pixel itself.
+        const Mask averaged = busy & (m00 > 0.0f);
+        const Lanes safe_m00 = averaged ? m00 : splat(1.0f);
         // RGB, and alpha where it carries the ground's shadow; in opaque frames alpha is coverage, not noise.
         if (channels == 3) store(dst[kA] + x, c[kA]);
         for (int k = 0; k < channels; ++k) {
-          Lanes v = planar ? (c0 * r0[k] + c1 * r1[k] + c2 * r2[k]) / safe_det : r0[k] / safe_m00;
+          Lanes fitted = s[0] * r[0][k];
+          for (int i = 1; i < kFeatures; ++i) fitted += s[i] * r[i][k];
+          Lanes v = solvable ? fitted : r[0][k] / safe_m00;
           v = max_lanes(v, Lanes{});  // visibility and alpha are never negative
           if (k == kA) v = v > 1.0f ? splat(1.0f) : v;
           store(dst[k] + x, averaged ? v : c[k]);
