@@ -79,24 +79,37 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
         const std::size_t p = static_cast<std::size_t>(y) * width + x;
+        const float* nrm = &g.normal[p * 3];
+        const float len2 = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
+        if (!(len2 > 0.0f)) {
+          // Nothing hit (the sky, the background: most of a frame): no neighbour gives the pixel
+          // any weight (it has no normal) and it is never filtered, so the result takes its raw
+          // value (below) and its planes need only be finite and the same every time.
+          for (int k = 0; k < kPlanesPerImage; ++k) *a.at(k, x, y) = 0.0f;
+          *luma_a.at(kLuma, x, y) = 0.0f;
+          for (int k = 0; k < kGuides; ++k) *guides.at(k, x, y) = 0.0f;
+          continue;
+        }
         for (int c = 0; c < 3; ++c) *a.at(c, x, y) = rgba[p * 4 + static_cast<std::size_t>(c)] / divisor(p, c);
         *a.at(kA, x, y) = rgba[p * 4 + 3];
         *luma_a.at(kLuma, x, y) = 0.2126f * *a.at(kR, x, y) + 0.7152f * *a.at(kG, x, y) + 0.0722f * *a.at(kB, x, y) +
                                   (transparent ? *a.at(kA, x, y) : 0.0f);
         const float mean = g.moments[p * 2] * inv_n, second = g.moments[p * 2 + 1] * inv_n;
         *a.at(kVar, x, y) = std::max(0.0f, second - mean * mean) * inv_n;
-        const float* nrm = &g.normal[p * 3];
-        const float len2 = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
-        const float inv = len2 > 0.0f ? 1.0f / std::sqrt(len2) : 0.0f;
+        const float inv = 1.0f / std::sqrt(len2);
         for (int c = 0; c < 3; ++c) *guides.at(kNx + c, x, y) = nrm[c] * inv;
         *guides.at(kDepth, x, y) = std::isfinite(g.depth[p]) ? g.depth[p] : 0.0f;
       }
   });
+  const auto hit = [&](int x, int y) {
+    return *guides.at(kNx, x, y) != 0.0f || *guides.at(kNy, x, y) != 0.0f || *guides.at(kNz, x, y) != 0.0f;
+  };
   // The depth's gradient: the smaller one-sided difference along each axis, so that a
   // silhouette (a jump on one side only) does not count as a steep surface.
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
+        if (!hit(x, y)) continue;  // read only where a pixel is filtered; zeroed above
         const float z = *guides.at(kDepth, x, y);
         if (x > 0 && y > 0 && x + 1 < width && y + 1 < height) {  // inside: no bounds checks
           const float* d = guides.at(kDepth, x, y);
@@ -119,6 +132,10 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
     constexpr float k[3] = {0.25f, 0.5f, 0.25f};
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
+        if (!hit(x, y)) {  // never filtered, and its neighbours give it no weight
+          *luma_a.at(kLumaVar, x, y) = 0.0f;
+          continue;
+        }
         if (x > 0 && y > 0 && x + 1 < width && y + 1 < height) {  // inside: the weights sum to 1
           float acc = 0;
           for (int dy = -1; dy <= 1; ++dy)
@@ -153,6 +170,10 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
     for (int y = range.begin(); y != range.end(); ++y)
       for (int x = 0; x < width; ++x) {
         const std::size_t p = static_cast<std::size_t>(y) * width + x;
+        if (!hit(x, y)) {  // nothing hit: the raw pixel
+          for (int c = 0; c < 4; ++c) result[p * 4 + static_cast<std::size_t>(c)] = rgba[p * 4 + static_cast<std::size_t>(c)];
+          continue;
+        }
         for (int c = 0; c < 3; ++c) result[p * 4 + static_cast<std::size_t>(c)] = *b.at(c, x, y) * divisor(p, c);
         result[p * 4 + 3] = *b.at(kA, x, y);
       }

@@ -182,6 +182,38 @@ MESHTOUR_SIMD_INLINE bool splat_packet(const F16 (&values)[Values], const F16* w
   return false;
 }
 
+// The denoiser's splat (RGBA, unshadowed RGB, weight per buffer pixel) of a packet whose 16
+// samples are all one pixel's and all see the background: there the unshadowed light is the
+// background's colour, the beauty's own RGB (white in transparent frames: the weight), so its sums
+// are the beauty's, the same products summed the same way (the same bits as splat_packet<Reach, 7>),
+// and are not formed a second time. Most packets of a catalogue frame are background.
+template <int Reach>
+MESHTOUR_SIMD_INLINE void splat_background_packet(const F16 (&rgba)[4], const F16* wx, const F16* wy, int buffer_pixel, float* sums,
+                                                  int stride, bool transparent) {
+  constexpr int kTaps = 2 * Reach + 1, kIn = 5, kOut = 8;
+  constexpr int kSums = kTaps * kTaps * kIn, kTrees = (kSums + simd::kLanes - 1) / simd::kLanes;
+  F16 products[kTrees * simd::kLanes];
+  for (int j = 0; j < kTaps; ++j) {
+    F16 weighted[kIn];
+    for (int c = 0; c < 4; ++c) weighted[c] = wy[j] * rgba[c];
+    weighted[4] = wy[j];
+    for (int i = 0; i < kTaps; ++i)
+      for (int c = 0; c < kIn; ++c) products[(j * kTaps + i) * kIn + c] = wx[i] * weighted[c];
+  }
+  for (int k = kSums; k < kTrees * simd::kLanes; ++k) products[k] = simd::broadcast(0.0f);
+  alignas(64) float totals[kTrees * simd::kLanes];
+  for (int t = 0; t < kTrees; ++t) simd::store(totals + t * simd::kLanes, simd::sum_lanes(products + t * simd::kLanes));
+  const int x = buffer_pixel % stride, y = buffer_pixel / stride;
+  for (int j = 0; j < kTaps; ++j)
+    for (int i = 0; i < kTaps; ++i) {
+      float* dst = sums + (static_cast<std::size_t>(y + j - Reach) * stride + (x + i - Reach)) * kOut;
+      const float* t = totals + (j * kTaps + i) * kIn;
+      for (int c = 0; c < 4; ++c) dst[c] += t[c];
+      for (int c = 0; c < 3; ++c) dst[4 + c] += transparent ? t[4] : t[c];
+      dst[7] += t[4];
+    }
+}
+
 MESHTOUR_SIMD_INLINE F16 luminance(F16 r, F16 g, F16 b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
 // What the denoiser gathers per pixel besides the splatted unshadowed light (denoiser.h): normal
@@ -338,7 +370,8 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     V3 guide_unshadowed = f.transparent ? V3{one, one, one} : bg;
     F16 guide_depth = simd::broadcast(std::numeric_limits<float>::infinity());
 
-    if (simd::any(simd::either(on_model, on_ground))) {
+    const bool any_hit = simd::any(simd::either(on_model, on_ground));
+    if (any_hit) {
       const F16 t = simd::load(primary.ray.tfar);
       guide_depth = simd::select(simd::either(on_model, on_ground), t * dot(dir, broadcast(f.forward)), guide_depth);
       V3 ng{simd::load(primary.hit.Ng_x), simd::load(primary.hit.Ng_y), simd::load(primary.hit.Ng_z)};
@@ -585,7 +618,15 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     F16 wx[5], wy[5];
     filter.weights(offset_x, wx);
     filter.weights(offset_y, wy);
-    if (f.guides) {
+    if (f.guides && !any_hit && lanes == simd::kLanes && buffer_pixel[0] == buffer_pixel[simd::kLanes - 1]) {
+      // One pixel's samples, all on the background: its guides stay as the tile cleared them (no
+      // normal, no depth: the denoiser passes the pixel through).
+      switch (filter.reach()) {
+        case 0: splat_background_packet<0>(rgba, wx, wy, buffer_pixel[0], sums, f.buf_w, f.transparent); break;
+        case 1: splat_background_packet<1>(rgba, wx, wy, buffer_pixel[0], sums, f.buf_w, f.transparent); break;
+        default: splat_background_packet<2>(rgba, wx, wy, buffer_pixel[0], sums, f.buf_w, f.transparent); break;
+      }
+    } else if (f.guides) {
       // The denoiser divides the frame by the unshadowed light: splatted with the very same
       // weights, so that the ratio is the visibility also at silhouettes and colour edges.
       const F16 values[7] = {rgba[0], rgba[1], rgba[2], rgba[3], guide_unshadowed.x, guide_unshadowed.y, guide_unshadowed.z};
