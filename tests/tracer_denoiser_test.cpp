@@ -175,6 +175,30 @@ TEST(Denoiser, OcclusionThatFollowsTheNormalOfSmallBumpsStays) {
   EXPECT_LT(worst, 1e-3);
 }
 
+// A channel that gets no light (the blue of an orange surface) next to one that does (where a
+// highlight, which is white, begins): the dark side must stay dark. Dividing it by 1 instead of
+// its nothing of light once let the bright side's visibility, about 0.6 here, into the frame as
+// a blue fleck (seen in the vertex-colour golden image).
+TEST(Denoiser, AChannelWithoutLightStaysDarkBesideOneWithLight) {
+  Synthetic s;
+  s.fill(constant(0.5f), constant(10.0f), constant(0.6f), 0.1f);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * kWidth + x;
+      const float blue_light = x < kWidth / 2 ? 0.0f : 0.5f;
+      s.rgba[p * 4 + 2] = s.rgba[p * 4 + 2] / 0.5f * blue_light;  // the same visibility, this light
+      s.guides.unshadowed[p * 3 + 2] = blue_light;
+    }
+  const std::vector<float> out = denoise(s.rgba, s.guides, DenoiseSettings{});
+  double brightest = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth / 2; ++x) brightest = std::max(brightest, double(out[(static_cast<std::size_t>(y) * kWidth + x) * 4 + 2]));
+  std::printf("brightest blue where there is no blue light: %.3g\n", brightest);
+  EXPECT_LT(brightest, 1e-6);
+  // The lit side is still filtered: its blue is the visibility times its light, near 0.3.
+  EXPECT_NEAR(out[(static_cast<std::size_t>(kHeight / 2) * kWidth + kWidth * 3 / 4) * 4 + 2], 0.3f, 0.03f);
+}
+
 TEST(Denoiser, SameBitsWithOneOrTwoThreads) {
   Synthetic s;
   s.fill([](int x, int y) { return (x / 7 + y / 5) % 2 ? 0.2f : 0.7f; }, [](int x, int) { return 5.0f + 0.1f * x; },

@@ -66,10 +66,13 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   Planes guides(width, height, kGuides, scratch.guides), a(width, height, kPlanesPerImage, scratch.ping),
       b(width, height, kPlanesPerImage, scratch.pong), luma_a(width, height, kLumaPlanes, scratch.luma_ping),
       luma_b(width, height, kLumaPlanes, scratch.luma_pong);
-  const auto divisor = [&](std::size_t p, int c) {
-    const float v = g.unshadowed[p * 3 + static_cast<std::size_t>(c)];
-    return v > 1e-3f ? v : 1.0f;
-  };
+  // A channel whose unshadowed light is (nearly) nothing, such as the blue of an orange surface
+  // outside its highlight, has no visibility of its own: it takes the pixel's luminance
+  // visibility for the filter's neighbours and keeps its raw value. (Dividing by 1 there instead
+  // put the neighbours' visibility, about 1, straight into the frame: a blue fleck wherever a
+  // highlight's edge crossed such a surface.)
+  constexpr float kNoLight = 1e-3f;
+  const auto unshadowed = [&](std::size_t p, int c) { return g.unshadowed[p * 3 + static_cast<std::size_t>(c)]; };
 
   // Planes: the visibility (beauty / unshadowed light) and alpha, the variance of the pixel's
   // mean, the guides; and the visibility's luminance (plus alpha in transparent frames, where it
@@ -90,7 +93,13 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
           for (int k = 0; k < kGuides; ++k) *guides.at(k, x, y) = 0.0f;
           continue;
         }
-        for (int c = 0; c < 3; ++c) *a.at(c, x, y) = rgba[p * 4 + static_cast<std::size_t>(c)] / divisor(p, c);
+        const float light_luma = 0.2126f * unshadowed(p, 0) + 0.7152f * unshadowed(p, 1) + 0.0722f * unshadowed(p, 2);
+        const float luma_visibility =
+            light_luma > kNoLight ? (0.2126f * rgba[p * 4] + 0.7152f * rgba[p * 4 + 1] + 0.0722f * rgba[p * 4 + 2]) / light_luma : 1.0f;
+        for (int c = 0; c < 3; ++c) {
+          const float light = unshadowed(p, c);
+          *a.at(c, x, y) = light > kNoLight ? rgba[p * 4 + static_cast<std::size_t>(c)] / light : luma_visibility;
+        }
         *a.at(kA, x, y) = rgba[p * 4 + 3];
         *luma_a.at(kLuma, x, y) = 0.2126f * *a.at(kR, x, y) + 0.7152f * *a.at(kG, x, y) + 0.0722f * *a.at(kB, x, y) +
                                   (transparent ? *a.at(kA, x, y) : 0.0f);
@@ -174,7 +183,11 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
           for (int c = 0; c < 4; ++c) result[p * 4 + static_cast<std::size_t>(c)] = rgba[p * 4 + static_cast<std::size_t>(c)];
           continue;
         }
-        for (int c = 0; c < 3; ++c) result[p * 4 + static_cast<std::size_t>(c)] = *b.at(c, x, y) * divisor(p, c);
+        for (int c = 0; c < 3; ++c) {
+          const float light = unshadowed(p, c);
+          // Where the light is nothing, the raw value (nothing, up to rounding) stays.
+          result[p * 4 + static_cast<std::size_t>(c)] = light > kNoLight ? *b.at(c, x, y) * light : rgba[p * 4 + static_cast<std::size_t>(c)];
+        }
         result[p * 4 + 3] = *b.at(kA, x, y);
       }
   });

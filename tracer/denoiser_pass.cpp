@@ -37,13 +37,13 @@ constexpr int kNormalPowerLog2 = 6;   // weight max(0, n.n')^64
 // kFitLumaSigma standard deviations of the guide plus kFitLumaFloor of its luminance (the guide,
 // the a-trous passes' output, is nearly noise-free, so its own deviation alone would stop at
 // every leftover ripple). Measured on the benchmark frames (bench/denoise_quality.cpp).
-constexpr float kFitLumaSigma = 2.5f;
+constexpr float kFitLumaSigma = 2.0f;
 constexpr float kFitLumaFloor = 0.015f;
 constexpr float kFitRidge = 1e-3f;         // slope damping, relative to the sum of weights
 constexpr float kFitNormalRidge = 1e-3f;   // damping of the normal-tilt coefficients, likewise
-// The fit's normal weight, exp(-16 (1 - n.n')): looser than the a-trous pass's (n.n')^64, because
+// The fit's normal weight, exp(-32 (1 - n.n')): looser than the a-trous pass's (n.n')^64, because
 // the fit models the visibility's change with the normal (a feature) instead of only stopping at it.
-constexpr float kFitNormalScale = 16.0f;
+constexpr float kFitNormalScale = 32.0f;
 
 Lanes load(const float* p) {
   Lanes v;

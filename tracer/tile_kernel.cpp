@@ -67,21 +67,37 @@ MESHTOUR_SIMD_INLINE LaneLight lane_light(const std::vector<FrameLight>& lights,
 
 // Picks light i with probability weights[i] / total per lane (u in [0, 1), total > 0 where it
 // matters): the first light whose running sum exceeds u * total; rounding at the very top falls
-// back to the last light with a weight.
+// back to the last light with a weight. `reused` is where u falls inside the chosen light's
+// share, stretched to [0, 1): a fresh number for sampling that light, and, u being one coordinate
+// of a 2D net, the samples that pick a light keep the net's stratification with the other
+// coordinate on its disc (the samples of a pixel that pick the key light cover the key light's
+// disc evenly, which an independent pair, of which they would be a random subset, does not).
 template <typename Weight>
-MESHTOUR_SIMD_INLINE I16 choose(const Weight* weights, std::size_t n, F16 total, F16 u) {
+MESHTOUR_SIMD_INLINE I16 choose(const Weight* weights, std::size_t n, F16 total, F16 u, F16& reused) {
   const F16 target = u * total;
-  F16 acc = simd::broadcast(0.0f);
+  F16 acc = simd::broadcast(0.0f), before = acc, width = acc, last_before = acc, last_width = acc;
   I16 chosen = simd::broadcast_int(-1), last = simd::broadcast_int(0);
   for (std::size_t i = 0; i < n; ++i) {
     const F16 w = simd::broadcast(0.0f) + weights[i];
     const I16 has = simd::gt(w, 0.0f);
-    acc += simd::select(has, w, simd::broadcast(0.0f));
+    const F16 next = acc + simd::select(has, w, simd::broadcast(0.0f));
     const I16 i_vec = simd::broadcast_int(static_cast<int>(i));
-    chosen = simd::select_int(simd::both(has, simd::both(simd::lt(chosen, 0), simd::lt(target, acc))), i_vec, chosen);
+    const I16 picked = simd::both(has, simd::both(simd::lt(chosen, 0), simd::lt(target, next)));
+    chosen = simd::select_int(picked, i_vec, chosen);
+    before = simd::select(picked, acc, before);
+    width = simd::select(picked, w, width);
     last = simd::select_int(has, i_vec, last);
+    last_before = simd::select(has, acc, last_before);
+    last_width = simd::select(has, w, last_width);
+    acc = next;
   }
-  return simd::select_int(simd::lt(chosen, 0), last, chosen);
+  const I16 fallback = simd::lt(chosen, 0);
+  before = simd::select(fallback, last_before, before);
+  width = simd::select(fallback, last_width, width);
+  const I16 sized = simd::gt(width, 0.0f);
+  const F16 stretched = (target - before) / simd::select(sized, width, simd::broadcast(1.0f));
+  reused = simd::select(sized, simd::min(simd::max(stretched, simd::broadcast(0.0f)), simd::broadcast(0x1.fffffep-1f)), u);
+  return simd::select_int(fallback, last, chosen);
 }
 
 // A direction uniform over a light's disc (a spherical cap), from numbers (u, v) in (0, 1).
@@ -321,7 +337,6 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     sampler::pair(sample_reversed, sampler::pair_seeds(key, 0), u_cam, v_cam);
     sampler::pair(sample_reversed, sampler::pair_seeds(key, 1), u_light, v_light);
     sampler::pair(sample_reversed, sampler::pair_seeds(key, 2), u_sky, v_sky);
-    const F16 u_choice = sampler::single(sample_reversed, sampler::pair_seeds(key, 3));
 
     // 1. Camera rays, spread over the pixel by the sampler.
     const F16 offset_x = u_cam, offset_y = v_cam;
@@ -463,7 +478,8 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
             weights[i] = luminance(contributions[i].x, contributions[i].y, contributions[i].z);
             total += weights[i];
           }
-          const I16 chosen = choose(weights, nlights, total, u_choice);
+          F16 u_disc;
+          const I16 chosen = choose(weights, nlights, total, u_light, u_disc);
           F16 chosen_weight = zero;
           V3 c{zero, zero, zero};
           for (std::size_t i = 0; i < nlights; ++i) {
@@ -475,7 +491,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
           const LaneLight light = lane_light(f.lights, chosen);
           const F16 inverse_probability = total / simd::select(model_shadow, chosen_weight, one);
           model_light = {c.x * inverse_probability, c.y * inverse_probability, c.z * inverse_probability};
-          shadow_dir = light_direction(light, u_light, v_light);
+          shadow_dir = light_direction(light, u_disc, v_light);
         } else {
           for (std::size_t i = 0; i < nlights; ++i)
             model_base = {model_base.x + contributions[i].x, model_base.y + contributions[i].y, model_base.z + contributions[i].z};
@@ -560,9 +576,10 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
               if (f.ground_weights[i] > 0.0f)
                 shadow_possible = simd::either(shadow_possible, disc_may_hit_model(broadcast(f.lights[i].direction), simd::broadcast(f.lights[i].cos_half_angle),
                                                       simd::broadcast(f.lights[i].sin_half_angle)));
-          const I16 chosen = choose(f.ground_weights, nlights, simd::broadcast(f.ground_light_total), u_choice);
+          F16 u_disc;
+          const I16 chosen = choose(f.ground_weights, nlights, simd::broadcast(f.ground_light_total), u_light, u_disc);
           const LaneLight light = lane_light(f.lights, chosen);
-          const V3 d = light_direction(light, u_light, v_light);
+          const V3 d = light_direction(light, u_disc, v_light);
           const F16 b = dot(org, d), c = dist2 - radius2;
           const I16 may_hit = simd::either(simd::lt(c, 0.0f), simd::both(simd::lt(b, 0.0f), simd::ge(b * b, c)));
           const I16 traced = simd::both(simd::both(on_ground, shadow_possible), simd::both(disc_may_hit_model(light.direction, light.cos_half_angle, light.sin_half_angle), may_hit));
