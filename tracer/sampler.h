@@ -5,7 +5,7 @@
 // pixels", as pbrt-v4's ZSobolSampler), 16 samples at a time.
 //
 // The pixels of a block of 256 x 256 share one sequence per pair of dimensions (pixel position,
-// light position, occlusion direction; the light choice uses one): pixel (x, y) takes the spp
+// light choice and position, occlusion direction): pixel (x, y) takes the spp
 // consecutive indices from its Morton code times spp (first_index). An aligned run of 2^k
 // indices of a Sobol sequence is a (0, k, 2)-net, so a pixel's own samples are one (every
 // 1/spp-area box of the unit square that a power of two allows holds one sample: the error of
@@ -102,12 +102,6 @@ MESHTOUR_SIMD_INLINE void pair(U16 sample_reversed, const PairSeeds& seeds, F16&
   const U16 index = reverse_bits(sobol0);
   u = to_unit(reverse_bits(laine_karras(index, seeds.x)));
   v = to_unit(reverse_bits(laine_karras(sobol1_reversed(index), seeds.y)));
-}
-
-/// One number in (0, 1): the first dimension of a pair.
-MESHTOUR_SIMD_INLINE F16 single(U16 sample_reversed, const PairSeeds& seeds) {
-  const U16 index = reverse_bits(laine_karras(sample_reversed, seeds.index));
-  return to_unit(reverse_bits(laine_karras(index, seeds.x)));
 }
 
 }  // namespace meshtour::sampler
