@@ -9,7 +9,8 @@
 // Per case (640x360; the 4096-spp references at 1280x720 would take an hour on 2 cores): raw 4,
 // 16, 64, 256 spp and denoised 4, 16, 64 spp, each with its relative RMSE (linear RGB:
 // sqrt(sum (x - ref)^2 / sum ref^2)), display RMSE (8-bit sRGB, /255), SSIM of the display
-// luminance (11x11 Gaussian window, sigma 1.5) and seconds per frame. The error inside a band
+// luminance (11x11 Gaussian window, sigma 1.5) and seconds per frame. References are cached under
+// the camera and a fingerprint of the renderer, so they are rendered again after either changes. The error inside a band
 // around albedo edges (texture and colour edges, from the reference's albedo layer), the flicker
 // (the same frame with two sample seeds: mean absolute display difference, /255) raw vs denoised
 // at 16 spp, and the cost of denoising at 1280x720, 16 spp on the bunny and the default scene.
@@ -175,17 +176,27 @@ double flicker(const Image& a, const std::vector<float>& ra, const Image& b, con
 
 // The reference (4096 spp, its own seed, raw), rendered once and cached as EXR with its albedo.
 Image reference(const Case& c, const fs::path& cache) {
-  // The camera is part of the name: a change of the default path (or the scene) must not compare
-  // frames with a reference of another view.
-  std::uint64_t camera_key = 1469598103934665603ULL;  // FNV-1a over the camera's numbers
+  // The camera and the renderer are part of the name: a change of the default path (or the
+  // scene) must not compare frames with a reference of another view, nor a change of the sampler
+  // or the look with a reference of another renderer (both converge to one image, but an older
+  // sampler's reference is noisier, and a look change is another image). The renderer is
+  // fingerprinted by a thumbnail of the frame (64x36, 16 spp), whose bits any such change moves.
+  std::uint64_t key_hash = 1469598103934665603ULL;  // FNV-1a
+  const auto mix = [&](const void* data, std::size_t size) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) key_hash = (key_hash ^ bytes[i]) * 1099511628211ULL;
+  };
   for (const double v : {c.camera.eye.x(), c.camera.eye.y(), c.camera.eye.z(), c.camera.target.x(), c.camera.target.y(),
-                         c.camera.target.z(), c.camera.up.x(), c.camera.up.y(), c.camera.up.z(), c.camera.vertical_fov_deg}) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    for (int b = 0; b < 8; ++b) camera_key = (camera_key ^ ((bits >> (8 * b)) & 0xffU)) * 1099511628211ULL;
+                         c.camera.target.z(), c.camera.up.x(), c.camera.up.y(), c.camera.up.z(), c.camera.vertical_fov_deg})
+    mix(&v, sizeof v);
+  {
+    RenderOptions thumb = c.options;
+    thumb.width = 64, thumb.height = 36, thumb.samples_per_pixel = 16, thumb.denoise = false, thumb.sample_seed = 1000;
+    const Image fingerprint = Renderer(c.mesh, thumb).render(c.camera, kFrame);
+    mix(fingerprint.rgba.data(), fingerprint.rgba.size() * sizeof(float));
   }
   char key[17];
-  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(camera_key));
+  std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(key_hash));
   const fs::path file = cache / (c.name + "-" + std::to_string(kWidth) + "x" + std::to_string(kHeight) + "-" + key + ".exr");
   RenderOptions o = c.options;
   o.samples_per_pixel = kReferenceSpp;
