@@ -9,11 +9,12 @@
 // Per case (640x360; the 4096-spp references at 1280x720 would take an hour on 2 cores): raw 4,
 // 16, 64, 256 spp and denoised 4, 16, 64 spp, each with its relative RMSE (linear RGB:
 // sqrt(sum (x - ref)^2 / sum ref^2)), display RMSE (8-bit sRGB, /255), SSIM of the display
-// luminance (11x11 Gaussian window, sigma 1.5) and seconds per frame. References are cached under
-// the camera and a fingerprint of the renderer, so they are rendered again after either changes. The error inside a band
+// luminance (11x11 Gaussian window, sigma 1.5) and seconds per frame. The error inside a band
 // around albedo edges (texture and colour edges, from the reference's albedo layer), the flicker
 // (the same frame with two sample seeds: mean absolute display difference, /255) raw vs denoised
 // at 16 spp, and the cost of denoising at 1280x720, 16 spp on the bunny and the default scene.
+// References are cached under the camera and a fingerprint of the renderer, so they are rendered
+// again after either changes.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 

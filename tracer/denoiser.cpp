@@ -72,6 +72,7 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   // put the neighbours' visibility, about 1, straight into the frame: a blue fleck wherever a
   // highlight's edge crossed such a surface.)
   constexpr float kNoLight = 1e-3f;
+  const auto luminance = [](float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; };
   const auto unshadowed = [&](std::size_t p, int c) { return g.unshadowed[p * 3 + static_cast<std::size_t>(c)]; };
 
   // Planes: the visibility (beauty / unshadowed light) and alpha, the variance of the pixel's
@@ -93,16 +94,14 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
           for (int k = 0; k < kGuides; ++k) *guides.at(k, x, y) = 0.0f;
           continue;
         }
-        const float light_luma = 0.2126f * unshadowed(p, 0) + 0.7152f * unshadowed(p, 1) + 0.0722f * unshadowed(p, 2);
-        const float luma_visibility =
-            light_luma > kNoLight ? (0.2126f * rgba[p * 4] + 0.7152f * rgba[p * 4 + 1] + 0.0722f * rgba[p * 4 + 2]) / light_luma : 1.0f;
+        const float light_luma = luminance(unshadowed(p, 0), unshadowed(p, 1), unshadowed(p, 2));
+        const float luma_visibility = light_luma > kNoLight ? luminance(rgba[p * 4], rgba[p * 4 + 1], rgba[p * 4 + 2]) / light_luma : 1.0f;
         for (int c = 0; c < 3; ++c) {
           const float light = unshadowed(p, c);
           *a.at(c, x, y) = light > kNoLight ? rgba[p * 4 + static_cast<std::size_t>(c)] / light : luma_visibility;
         }
         *a.at(kA, x, y) = rgba[p * 4 + 3];
-        *luma_a.at(kLuma, x, y) = 0.2126f * *a.at(kR, x, y) + 0.7152f * *a.at(kG, x, y) + 0.0722f * *a.at(kB, x, y) +
-                                  (transparent ? *a.at(kA, x, y) : 0.0f);
+        *luma_a.at(kLuma, x, y) = luminance(*a.at(kR, x, y), *a.at(kG, x, y), *a.at(kB, x, y)) + (transparent ? *a.at(kA, x, y) : 0.0f);
         const float mean = g.moments[p * 2] * inv_n, second = g.moments[p * 2 + 1] * inv_n;
         *a.at(kVar, x, y) = std::max(0.0f, second - mean * mean) * inv_n;
         const float inv = 1.0f / std::sqrt(len2);

@@ -144,6 +144,31 @@ MESHTOUR_SIMD_INLINE int popcount(I16 mask) {
   return n;
 }
 
+// The sums over one pixel's 16 samples (a packet) of wx[i] wy[j] (values, 1) for every tap, taps
+// in rows (Values + 1 floats each), 16 sums per lane-sum tree; then the lanes' sums of `Extras`
+// more values in the last tree's spare slots.
+template <int Reach, int Values, int Extras>
+struct PixelPacketSums {
+  static constexpr int kTaps = 2 * Reach + 1, kFloats = Values + 1, kSums = kTaps * kTaps * kFloats,
+                       kTrees = (kSums + simd::kLanes - 1) / simd::kLanes;
+  static_assert(kSums + Extras <= kTrees * simd::kLanes, "the extras must fit the last tree's spare slots");
+  alignas(64) float totals[kTrees * simd::kLanes];
+
+  MESHTOUR_SIMD_INLINE PixelPacketSums(const F16 (&values)[Values], const F16* wx, const F16* wy, const F16* extras) {
+    F16 products[kTrees * simd::kLanes];
+    for (int j = 0; j < kTaps; ++j) {
+      F16 weighted[kFloats];
+      for (int c = 0; c < Values; ++c) weighted[c] = wy[j] * values[c];
+      weighted[Values] = wy[j];
+      for (int i = 0; i < kTaps; ++i)
+        for (int c = 0; c < kFloats; ++c) products[(j * kTaps + i) * kFloats + c] = wx[i] * weighted[c];
+    }
+    for (int e = 0; e < Extras; ++e) products[kSums + e] = extras[e];
+    for (int k = kSums + Extras; k < kTrees * simd::kLanes; ++k) products[k] = simd::broadcast(0.0f);
+    for (int t = 0; t < kTrees; ++t) simd::store(totals + t * simd::kLanes, simd::sum_lanes(products + t * simd::kLanes));
+  }
+};
+
 // Splats one packet's samples (`Values` floats per lane: premultiplied RGBA, and for the
 // denoiser the unshadowed light's RGB) onto the tile's buffer (Values + 1 floats per pixel, the
 // weight last): lanes of the same pixel are summed first, then added to the pixels around it.
@@ -156,23 +181,10 @@ MESHTOUR_SIMD_INLINE bool splat_packet(const F16 (&values)[Values], const F16* w
                                        float* sums, int stride, const F16* extras = nullptr, float* extra_sums = nullptr) {
   constexpr int kTaps = 2 * Reach + 1, kFloats = Values + 1;
   if (lanes == simd::kLanes && buffer_pixel[0] == buffer_pixel[simd::kLanes - 1]) {
-    // All 16 samples in one pixel (lanes are in sample order, so first = last means all): the
-    // sums over the samples of wx[i] wy[j] (values, 1) for every tap, 16 sums per tree.
-    constexpr int kSums = kTaps * kTaps * kFloats, kTrees = (kSums + simd::kLanes - 1) / simd::kLanes;
-    F16 products[kTrees * simd::kLanes];
-    for (int j = 0; j < kTaps; ++j) {
-      F16 weighted[kFloats];
-      for (int c = 0; c < Values; ++c) weighted[c] = wy[j] * values[c];
-      weighted[Values] = wy[j];
-      for (int i = 0; i < kTaps; ++i)
-        for (int c = 0; c < kFloats; ++c) products[(j * kTaps + i) * kFloats + c] = wx[i] * weighted[c];
-    }
-    static_assert(kSums + Extras <= kTrees * simd::kLanes, "the extras must fit the last tree's spare slots");
-    for (int e = 0; e < Extras; ++e) products[kSums + e] = extras[e];
-    for (int k = kSums + Extras; k < kTrees * simd::kLanes; ++k) products[k] = simd::broadcast(0.0f);
-    alignas(64) float totals[kTrees * simd::kLanes];
-    for (int t = 0; t < kTrees; ++t) simd::store(totals + t * simd::kLanes, simd::sum_lanes(products + t * simd::kLanes));
-    for (int e = 0; e < Extras; ++e) extra_sums[e] = totals[kSums + e];
+    // All 16 samples in one pixel (lanes are in sample order, so first = last means all).
+    const PixelPacketSums<Reach, Values, Extras> packet(values, wx, wy, extras);
+    const float* totals = packet.totals;
+    for (int e = 0; e < Extras; ++e) extra_sums[e] = totals[packet.kSums + e];
     // A row of taps is contiguous both here and in the buffer (kFloats per pixel).
     const int x = buffer_pixel[0] % stride, y = buffer_pixel[0] / stride;
     for (int j = 0; j < kTaps; ++j) {
@@ -207,18 +219,8 @@ template <int Reach>
 MESHTOUR_SIMD_INLINE void splat_background_packet(const F16 (&rgba)[4], const F16* wx, const F16* wy, int buffer_pixel, float* sums,
                                                   int stride, bool transparent) {
   constexpr int kTaps = 2 * Reach + 1, kIn = 5, kOut = 8;
-  constexpr int kSums = kTaps * kTaps * kIn, kTrees = (kSums + simd::kLanes - 1) / simd::kLanes;
-  F16 products[kTrees * simd::kLanes];
-  for (int j = 0; j < kTaps; ++j) {
-    F16 weighted[kIn];
-    for (int c = 0; c < 4; ++c) weighted[c] = wy[j] * rgba[c];
-    weighted[4] = wy[j];
-    for (int i = 0; i < kTaps; ++i)
-      for (int c = 0; c < kIn; ++c) products[(j * kTaps + i) * kIn + c] = wx[i] * weighted[c];
-  }
-  for (int k = kSums; k < kTrees * simd::kLanes; ++k) products[k] = simd::broadcast(0.0f);
-  alignas(64) float totals[kTrees * simd::kLanes];
-  for (int t = 0; t < kTrees; ++t) simd::store(totals + t * simd::kLanes, simd::sum_lanes(products + t * simd::kLanes));
+  const PixelPacketSums<Reach, 4, 0> packet(rgba, wx, wy, nullptr);
+  const float* totals = packet.totals;
   const int x = buffer_pixel % stride, y = buffer_pixel / stride;
   for (int j = 0; j < kTaps; ++j)
     for (int i = 0; i < kTaps; ++i) {
