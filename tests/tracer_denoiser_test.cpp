@@ -226,6 +226,9 @@ TEST(Denoiser, SameBitsWithEveryInstructionSetAndOddSizes) {
   if (__builtin_cpu_supports("x86-64-v3")) sets.push_back(Set::x86_64_v3);
   if (__builtin_cpu_supports("x86-64-v4")) sets.push_back(Set::x86_64_v4);
 #endif
+  // Bumpy: the left part's normals differ from pixel to pixel, so that vectors of every width
+  // mix pixels whose window is one normal (fitted by the plane alone) with pixels whose is not.
+  for (const bool bumpy : {false, true})
   for (const int w : {1, 3, 17, 33})
     for (const int h : {1, 19}) {
       DenoiseGuides g;
@@ -234,6 +237,7 @@ TEST(Denoiser, SameBitsWithEveryInstructionSetAndOddSizes) {
       for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = static_cast<float>(i * 7919 % 97) / 97.0f;
       for (std::size_t p = 0; p < static_cast<std::size_t>(w) * h; ++p) {
         g.normal[p * 3 + 2] = 4;
+        if (bumpy && static_cast<int>(p % static_cast<std::size_t>(w)) < w / 3) g.normal[p * 3] = 0.3f * static_cast<float>(p % 4);
         g.depth[p] = 3.0f + static_cast<float>(p % 5);
         g.moments[p * 2] = 2;
         g.moments[p * 2 + 1] = 1.5f + static_cast<float>(p % 3);
@@ -241,7 +245,7 @@ TEST(Denoiser, SameBitsWithEveryInstructionSetAndOddSizes) {
       }
       std::vector<float> baseline;
       for (const Set set : sets) {
-        SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + ", copy " + std::to_string(static_cast<int>(set)));
+        SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + (bumpy ? " bumpy" : "") + ", copy " + std::to_string(static_cast<int>(set)));
         DenoiseSettings s;
         s.instruction_set = set;
         DenoiseWorkspace workspace;

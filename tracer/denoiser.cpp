@@ -80,7 +80,12 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   // holds the ground's shadow), which the a-trous passes filter into the fit's guide.
   const float inv_n = 1.0f / static_cast<float>(std::max(1, g.samples_per_pixel));
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
-    for (int y = range.begin(); y != range.end(); ++y)
+    for (int y = range.begin(); y != range.end(); ++y) {
+      float* __restrict planes[kPlanesPerImage];
+      float* __restrict guide[kGuides];
+      for (int k = 0; k < kPlanesPerImage; ++k) planes[k] = a.at(k, 0, y);
+      for (int k = 0; k < kGuides; ++k) guide[k] = guides.at(k, 0, y);
+      float* __restrict luma = luma_a.at(kLuma, 0, y);
       for (int x = 0; x < width; ++x) {
         const std::size_t p = static_cast<std::size_t>(y) * width + x;
         const float* nrm = &g.normal[p * 3];
@@ -89,25 +94,26 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
           // Nothing hit (the sky, the background: most of a frame): no neighbour gives the pixel
           // any weight (it has no normal) and it is never filtered, so the result takes its raw
           // value (below) and its planes need only be finite and the same every time.
-          for (int k = 0; k < kPlanesPerImage; ++k) *a.at(k, x, y) = 0.0f;
-          *luma_a.at(kLuma, x, y) = 0.0f;
-          for (int k = 0; k < kGuides; ++k) *guides.at(k, x, y) = 0.0f;
+          for (int k = 0; k < kPlanesPerImage; ++k) planes[k][x] = 0.0f;
+          luma[x] = 0.0f;
+          for (int k = 0; k < kGuides; ++k) guide[k][x] = 0.0f;
           continue;
         }
         const float light_luma = luminance(unshadowed(p, 0), unshadowed(p, 1), unshadowed(p, 2));
         const float luma_visibility = light_luma > kNoLight ? luminance(rgba[p * 4], rgba[p * 4 + 1], rgba[p * 4 + 2]) / light_luma : 1.0f;
         for (int c = 0; c < 3; ++c) {
           const float light = unshadowed(p, c);
-          *a.at(c, x, y) = light > kNoLight ? rgba[p * 4 + static_cast<std::size_t>(c)] / light : luma_visibility;
+          planes[c][x] = light > kNoLight ? rgba[p * 4 + static_cast<std::size_t>(c)] / light : luma_visibility;
         }
-        *a.at(kA, x, y) = rgba[p * 4 + 3];
-        *luma_a.at(kLuma, x, y) = luminance(*a.at(kR, x, y), *a.at(kG, x, y), *a.at(kB, x, y)) + (transparent ? *a.at(kA, x, y) : 0.0f);
+        planes[kA][x] = rgba[p * 4 + 3];
+        luma[x] = luminance(planes[kR][x], planes[kG][x], planes[kB][x]) + (transparent ? planes[kA][x] : 0.0f);
         const float mean = g.moments[p * 2] * inv_n, second = g.moments[p * 2 + 1] * inv_n;
-        *a.at(kVar, x, y) = std::max(0.0f, second - mean * mean) * inv_n;
+        planes[kVar][x] = std::max(0.0f, second - mean * mean) * inv_n;
         const float inv = 1.0f / std::sqrt(len2);
-        for (int c = 0; c < 3; ++c) *guides.at(kNx + c, x, y) = nrm[c] * inv;
-        *guides.at(kDepth, x, y) = std::isfinite(g.depth[p]) ? g.depth[p] : 0.0f;
+        for (int c = 0; c < 3; ++c) guide[kNx + c][x] = nrm[c] * inv;
+        guide[kDepth][x] = std::isfinite(g.depth[p]) ? g.depth[p] : 0.0f;
       }
+    }
   });
   const auto hit = [&](int x, int y) {
     return *guides.at(kNx, x, y) != 0.0f || *guides.at(kNy, x, y) != 0.0f || *guides.at(kNz, x, y) != 0.0f;
@@ -133,6 +139,55 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
         const float gx = std::min(one_sided(-1, 0), one_sided(1, 0)), gy = std::min(one_sided(0, -1), one_sided(0, 1));
         *guides.at(kDepthGradient, x, y) = (std::isfinite(gx) ? gx : 0.0f) + (std::isfinite(gy) ? gy : 0.0f);
       }
+  });
+  // Windows of one normal (denoiser_impl.h): the fit solves for the plane alone there. A pixel
+  // whose normal equals its right and lower neighbours' is "joined"; a window whose pixels are all
+  // joined is one normal (a connected square, one pixel wider at its right and bottom edges: a
+  // few windows are missed, none is wrongly taken). Counted by box sums: along the row, then over
+  // the window's rows. Exact comparisons and small integer counts: the same flags on every CPU.
+  const int radius = std::clamp(settings.fit_radius, 1, 8);
+  const float window_pixels = static_cast<float>((2 * radius + 1) * (2 * radius + 1));
+  Planes& counts = b;  // the fit's output, not written yet: scratch for the counts
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    std::vector<float> joined(static_cast<std::size_t>(width) + 2 * radius + 1, 0.0f);  // radius zeros, the row, radius + 1 zeros
+    for (int y = range.begin(); y != range.end(); ++y) {
+      const float *nx = guides.at(kNx, 0, y), *ny = guides.at(kNy, 0, y), *nz = guides.at(kNz, 0, y);
+      if (y + 1 < height) {
+        const float *dx = guides.at(kNx, 0, y + 1), *dy = guides.at(kNy, 0, y + 1), *dz = guides.at(kNz, 0, y + 1);
+        // The padding right of the row has no normal: the last pixel is never joined.
+        for (int x = 0; x < width; ++x)
+          joined[x + radius] = (nx[x] != 0.0f || ny[x] != 0.0f || nz[x] != 0.0f) && nx[x] == nx[x + 1] && ny[x] == ny[x + 1] &&
+                                       nz[x] == nz[x + 1] && nx[x] == dx[x] && ny[x] == dy[x] && nz[x] == dz[x]
+                                   ? 1.0f
+                                   : 0.0f;
+      } else {
+        std::fill(joined.begin(), joined.end(), 0.0f);
+      }
+      float* row_count = counts.at(kR, 0, y);
+      float sum = 0.0f;
+      for (int i = 0; i < 2 * radius; ++i) sum += joined[i];
+      for (int x = 0; x < width; ++x) {
+        sum += joined[x + 2 * radius];
+        row_count[x] = sum;
+        sum -= joined[x];
+      }
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
+    for (int y = range.begin(); y != range.end(); ++y) {
+      float* flag = guides.at(kFlatWindow, 0, y);
+      if (y < radius || y + radius >= height) {
+        std::fill(flag, flag + width, 0.0f);
+        continue;
+      }
+      float* total = counts.at(kG, 0, y);
+      std::fill(total, total + width, 0.0f);
+      for (int dy = -radius; dy <= radius; ++dy) {
+        const float* row_count = counts.at(kR, 0, y + dy);
+        for (int x = 0; x < width; ++x) total[x] += row_count[x];
+      }
+      for (int x = 0; x < width; ++x) flag[x] = total[x] == window_pixels ? 1.0f : 0.0f;
+    }
   });
   // SVGF's variance prefilter: a 3x3 blur, so that the luminance weights of the first pass do
   // not follow the variance estimate's own noise.
@@ -171,7 +226,7 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
     stages.atrous(*in, *out, guides, 1 << pass);
     std::swap(in, out);
   }
-  stages.fit(a, *in, b, guides, std::clamp(settings.fit_radius, 1, 8), transparent);
+  stages.fit(a, *in, b, guides, radius, transparent);
 
   std::vector<float> result(npix * 4);
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {

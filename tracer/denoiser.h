@@ -26,9 +26,9 @@ struct DenoiseGuides {
   int width = 0, height = 0;
   int samples_per_pixel = 1;
   /// The light the samples would reflect if no shadow or occlusion ray were blocked (albedo times
-  /// the lights and the sky, with highlights; the background's colour where the ground and the
-  /// background are seen), through the reconstruction filter with the beauty's own sample
-  /// weights: the frame is divided by it, filtered and multiplied back, so only the visibility is
+  /// the lights and the sky, with highlights; the background's colour at the pixel's centre row
+  /// where the ground and the background are seen), through the reconstruction filter with the
+  /// beauty's own sample weights: the frame is divided by it, filtered and multiplied back, so only the visibility is
   /// filtered, and the shading's detail, colour edges and silhouettes stay as the raw frame has them.
   std::vector<float> unshadowed;  ///< 3 per pixel
   std::vector<float> normal;  ///< 3 per pixel: sum of the hit samples' shading normals (0: none hit)

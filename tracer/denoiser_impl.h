@@ -44,7 +44,9 @@ struct Planes {
 enum Plane { kR, kG, kB, kA, kVar, kPlanesPerImage };
 // The guide's planes: the visibility's luminance (plus alpha in transparent frames) and its variance.
 enum LumaPlane { kLuma, kLumaVar, kLumaPlanes };
-enum Guide { kNx, kNy, kNz, kDepth, kDepthGradient, kGuides };
+// kFlatWindow: 1 where every pixel of the fit's window (the square around it, inside the frame)
+// has the pixel's own normal (the ground, a flat face): the normal's tilt is no feature there.
+enum Guide { kNx, kNy, kNz, kDepth, kDepthGradient, kFlatWindow, kGuides };
 
 // One a-trous pass with step `step` from `in` to `out` (both kLumaPlanes planes), one copy per
 // instruction set (the same bits: per-pixel IEEE operations only, no FMA contraction).

@@ -163,7 +163,7 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
       if (dx * dx + dy * dy <= radius * radius + radius)
         taps.push_back({dy * stride + dx, static_cast<float>(dx) * inv_radius, static_cast<float>(dy) * inv_radius,
                         dx == 0 && dy == 0 ? 1.0f : 1.0f / __builtin_sqrtf(static_cast<float>(dx * dx + dy * dy))});
-  constexpr int kFeatures = 5;
+  constexpr int kFeatures = 5, kPlaneFeatures = 3;
   // The rows, with the number of channels known to the compiler (the sums stay in registers).
   const auto fit_rows = [&](auto channel_count) {
   constexpr int channels = decltype(channel_count)::value;
@@ -201,82 +201,124 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
         const Lanes inv = -1.0f / (sign + nz), cross = nx * ny * inv;
         const Lanes t1x = 1.0f + sign * nx * nx * inv, t1y = sign * cross, t1z = -sign * nx;
         const Lanes t2x = cross, t2y = sign + ny * ny * inv, t2z = -ny;
-        // The normal equations' lower triangle (m[i][j], j <= i) and right-hand sides.
-        Lanes m[kFeatures][kFeatures] = {};
-        Lanes r[kFeatures][4] = {};
-        // Two sweeps over the taps, so that fewer sums are live at once (no spills): the weights
-        // and the normal equations first, keeping each tap's weighted tilts; then the right-hand sides.
-        for (std::size_t t = 0; t < taps.size(); ++t) {
-          const Tap& tap = taps[t];
-          const std::ptrdiff_t o = x + tap.offset;
-          // (n.n')^s ~ exp(-s (1 - n.n')) near 1: one exponent, one falloff. A neighbour
-          // without a surface (n' = 0) gets exponent s, beyond the falloff's reach.
-          const Lanes qx = load(gd[kNx] + o), qy = load(gd[kNy] + o), qz = load(gd[kNz] + o);
-          const Lanes cos_n = nx * qx + ny * qy + nz * qz;
-          const Lanes l = (load(guide_luma + o) - luma) * inv_l;
-          const Lanes w = falloff_compact(abs_lanes(z - load(gd[kDepth] + o)) * (inv_z * tap.inv_distance) + 0.5f * (l * l) +
-                                          kFitNormalScale * (1.0f - cos_n));
-          // The tilt: (n' - n) . t = n' . t, since n . t = 0.
-          const Lanes f[kFeatures] = {splat(1.0f), splat(tap.fx), splat(tap.fy), qx * t1x + qy * t1y + qz * t1z, qx * t2x + qy * t2y + qz * t2z};
-          Lanes wf[kFeatures];
-          wf[0] = w;
-          for (int i = 1; i < kFeatures; ++i) wf[i] = w * f[i];
-          for (int i = 0; i < kFeatures; ++i)
-            for (int j = 0; j <= i; ++j) m[i][j] += j == 0 ? wf[i] : wf[i] * f[j];
-          Lanes* kept = &weighted[t * 3];
-          kept[0] = w, kept[1] = wf[3], kept[2] = wf[4];
-        }
-        for (std::size_t t = 0; t < taps.size(); ++t) {
-          const std::ptrdiff_t o = x + taps[t].offset;
-          const Lanes* kept = &weighted[t * 3];
-          const Lanes wf[kFeatures] = {kept[0], kept[0] * taps[t].fx, kept[0] * taps[t].fy, kept[1], kept[2]};
-          for (int k = 0; k < channels; ++k) {
-            const Lanes v = load(src[k] + o);
-            for (int i = 0; i < kFeatures; ++i) r[i][k] += wf[i] * v;
+        // Pixels whose window is one normal (the ground, a flat face; kFlatWindow) fit the plane
+        // alone: the tilts are no feature there. The plane's normal equations are the first
+        // three rows of the full ones, summed in the same order, and its weights are the same
+        // (the same normal term), so such a pixel gets the same bits whether or not its
+        // neighbours in the vector are flat too: a group of only flat pixels skips the normals.
+        const Mask flat = busy & (load(gd[kFlatWindow] + x) != 0.0f);
+        int all_flat = 1, any_flat = 0;
+        for (int i = 0; i < kWidth; ++i) all_flat &= (busy[i] == 0) | (flat[i] != 0), any_flat |= flat[i] != 0;
+        Lanes m[kFeatures][kFeatures] = {};  // the normal equations' lower triangle (m[i][j], j <= i)
+        // First the weights and the normal equations, keeping each tap's weight and weighted
+        // tilts; then the solution's weight for every tap (below), so that the values are read
+        // and summed once per channel instead of once per feature and channel.
+        if (all_flat) {
+          const Lanes normal_term = kFitNormalScale * (1.0f - (nx * nx + ny * ny + nz * nz));
+          for (std::size_t t = 0; t < taps.size(); ++t) {
+            const Tap& tap = taps[t];
+            const std::ptrdiff_t o = x + tap.offset;
+            const Lanes l = (load(guide_luma + o) - luma) * inv_l;
+            const Lanes w = falloff_compact(abs_lanes(z - load(gd[kDepth] + o)) * (inv_z * tap.inv_distance) + 0.5f * (l * l) + normal_term);
+            const Lanes wx = w * tap.fx, wy = w * tap.fy;
+            m[0][0] += w;
+            m[1][0] += wx;
+            m[1][1] += wx * tap.fx;
+            m[2][0] += wy;
+            m[2][1] += wy * tap.fx;
+            m[2][2] += wy * tap.fy;
+            weighted[t * 3] = w;
+          }
+        } else {
+          for (std::size_t t = 0; t < taps.size(); ++t) {
+            const Tap& tap = taps[t];
+            const std::ptrdiff_t o = x + tap.offset;
+            // (n.n')^s ~ exp(-s (1 - n.n')) near 1: one exponent, one falloff. A neighbour
+            // without a surface (n' = 0) gets exponent s, beyond the falloff's reach.
+            const Lanes qx = load(gd[kNx] + o), qy = load(gd[kNy] + o), qz = load(gd[kNz] + o);
+            const Lanes cos_n = nx * qx + ny * qy + nz * qz;
+            const Lanes l = (load(guide_luma + o) - luma) * inv_l;
+            const Lanes w = falloff_compact(abs_lanes(z - load(gd[kDepth] + o)) * (inv_z * tap.inv_distance) + 0.5f * (l * l) +
+                                            kFitNormalScale * (1.0f - cos_n));
+            // The tilt: (n' - n) . t = n' . t, since n . t = 0.
+            const Lanes f[kFeatures] = {splat(1.0f), splat(tap.fx), splat(tap.fy), qx * t1x + qy * t1y + qz * t1z, qx * t2x + qy * t2y + qz * t2z};
+            Lanes wf[kFeatures];
+            wf[0] = w;
+            for (int i = 1; i < kFeatures; ++i) wf[i] = w * f[i];
+            for (int i = 0; i < kFeatures; ++i)
+              for (int j = 0; j <= i; ++j) m[i][j] += j == 0 ? wf[i] : wf[i] * f[j];
+            Lanes* kept = &weighted[t * 3];
+            kept[0] = w, kept[1] = wf[3], kept[2] = wf[4];
           }
         }
-        // Damped slopes (relative to the sum of weights), then the fit's value at the pixel:
-        // s = M^-1 e0 by an LDL^T factorisation, the value is s . r.
+        // Damped slopes (relative to the sum of weights), then s = M^-1 e0 by an LDL^T
+        // factorisation: the fit's value at the pixel is s . (sum of w f v) = sum of (s . w f) v.
+        // The plane's system is the leading 3x3 block, whose factors are the first three columns.
+        const int features = all_flat ? kPlaneFeatures : kFeatures;
         const Lanes m00 = m[0][0];
         m[1][1] += kFitRidge * m00;
         m[2][2] += kFitRidge * m00;
         m[3][3] += kFitNormalRidge * m00;
         m[4][4] += kFitNormalRidge * m00;
         Lanes d[kFeatures], inv_d[kFeatures], lower[kFeatures][kFeatures] = {};
-        Mask solvable = busy & (m00 > 0.0f);
-        for (int j = 0; j < kFeatures; ++j) {
+        Mask solvable = busy & (m00 > 0.0f), plane_solvable = solvable;
+        for (int j = 0; j < features; ++j) {
           Lanes dj = m[j][j];
           for (int k = 0; k < j; ++k) dj -= lower[j][k] * lower[j][k] * d[k];
           solvable &= dj > 1e-6f * m00;
+          if (j == kPlaneFeatures - 1) plane_solvable = solvable;
           d[j] = dj;
           inv_d[j] = 1.0f / (solvable ? dj : splat(1.0f));
-          for (int i = j + 1; i < kFeatures; ++i) {
+          for (int i = j + 1; i < features; ++i) {
             Lanes v = m[i][j];
             for (int k = 0; k < j; ++k) v -= lower[i][k] * lower[j][k] * d[k];
             lower[i][j] = v * inv_d[j];
           }
         }
-        Lanes s[kFeatures];
-        for (int i = 0; i < kFeatures; ++i) {  // L y = e0, then y / d
-          Lanes v = i == 0 ? splat(1.0f) : Lanes{};
-          for (int k = 0; k < i; ++k) v -= lower[i][k] * s[k];
-          s[i] = v;
+        const auto solve = [&](int n, Lanes* s) {
+          for (int i = 0; i < n; ++i) {  // L y = e0, then y / d
+            Lanes v = i == 0 ? splat(1.0f) : Lanes{};
+            for (int k = 0; k < i; ++k) v -= lower[i][k] * s[k];
+            s[i] = v;
+          }
+          for (int i = 0; i < n; ++i) s[i] = s[i] * inv_d[i];
+          for (int i = n - 1; i >= 0; --i)  // L^T s = y / d
+            for (int k = i + 1; k < n; ++k) s[i] -= lower[k][i] * s[k];
+        };
+        Lanes s[kFeatures] = {};
+        solve(features, s);
+        Mask fitted_ok = all_flat ? plane_solvable : solvable;
+        if (!all_flat && any_flat) {
+          Lanes plane[kPlaneFeatures];
+          solve(kPlaneFeatures, plane);
+          for (int i = 0; i < kPlaneFeatures; ++i) s[i] = flat ? plane[i] : s[i];
+          for (int i = kPlaneFeatures; i < kFeatures; ++i) s[i] = flat ? Lanes{} : s[i];
+          fitted_ok = flat ? plane_solvable : solvable;
         }
-        for (int i = 0; i < kFeatures; ++i) s[i] = s[i] * inv_d[i];
-        for (int i = kFeatures - 1; i >= 0; --i)  // L^T s = y / d
-          for (int k = i + 1; k < kFeatures; ++k) s[i] -= lower[k][i] * s[k];
-        // Where the fit is not determined, the weighted mean; with no weight at all, the pixel itself.
+        // Where the fit is not determined, the weighted mean (s = e0 / sum of weights); with no
+        // weight at all, the pixel itself.
         const Mask averaged = busy & (m00 > 0.0f);
         const Lanes safe_m00 = averaged ? m00 : splat(1.0f);
+        s[0] = fitted_ok ? s[0] : 1.0f / safe_m00;
+        for (int i = 1; i < kFeatures; ++i) s[i] = fitted_ok ? s[i] : Lanes{};
+        Lanes fitted[4] = {};
+        for (std::size_t t = 0; t < taps.size(); ++t) {
+          const std::ptrdiff_t o = x + taps[t].offset;
+          const Lanes* kept = &weighted[t * 3];
+          const Lanes plane_weight = kept[0] * (s[0] + s[1] * taps[t].fx + s[2] * taps[t].fy);
+          Lanes k = plane_weight;
+          if (!all_flat) {
+            k = plane_weight + s[3] * kept[1] + s[4] * kept[2];
+            if (any_flat) k = flat ? plane_weight : k;
+          }
+          for (int ch = 0; ch < channels; ++ch) fitted[ch] += k * load(src[ch] + o);
+        }
         // RGB, and alpha where it carries the ground's shadow; in opaque frames alpha is coverage, not noise.
         if (channels == 3) store(dst[kA] + x, c[kA]);
-        for (int k = 0; k < channels; ++k) {
-          Lanes fitted = s[0] * r[0][k];
-          for (int i = 1; i < kFeatures; ++i) fitted += s[i] * r[i][k];
-          Lanes v = solvable ? fitted : r[0][k] / safe_m00;
-          v = max_lanes(v, Lanes{});  // visibility and alpha are never negative
-          if (k == kA) v = v > 1.0f ? splat(1.0f) : v;
-          store(dst[k] + x, averaged ? v : c[k]);
+        for (int ch = 0; ch < channels; ++ch) {
+          Lanes v = max_lanes(fitted[ch], Lanes{});  // visibility and alpha are never negative
+          if (ch == kA) v = v > 1.0f ? splat(1.0f) : v;
+          store(dst[ch] + x, averaged ? v : c[ch]);
         }
       }
     }

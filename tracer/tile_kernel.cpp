@@ -211,23 +211,26 @@ MESHTOUR_SIMD_INLINE bool splat_packet(const F16 (&values)[Values], const F16* w
 }
 
 // The denoiser's splat (RGBA, unshadowed RGB, weight per buffer pixel) of a packet whose 16
-// samples are all one pixel's and all see the background: there the unshadowed light is the
-// background's colour, the beauty's own RGB (white in transparent frames: the weight), so its sums
-// are the beauty's, the same products summed the same way (the same bits as splat_packet<Reach, 7>),
-// and are not formed a second time. Most packets of a catalogue frame are background.
-template <int Reach>
-MESHTOUR_SIMD_INLINE void splat_background_packet(const F16 (&rgba)[4], const F16* wx, const F16* wy, int buffer_pixel, float* sums,
-                                                  int stride, bool transparent) {
+// samples are all one pixel's and none sees the model: their unshadowed light is then one colour
+// (the background's at the pixel's centre row, white in transparent frames), so its sums are that
+// colour times the sums of the weights, and only the beauty's products are formed (5 floats a tap
+// instead of 8). Most packets of a frame are background or ground. With `extras`, their lanes'
+// sums go to `extra_sums` as in splat_packet.
+template <int Reach, int Extras>
+MESHTOUR_SIMD_INLINE void splat_uniform_light_packet(const F16 (&rgba)[4], const float (&light)[3], const F16* wx, const F16* wy,
+                                                     int buffer_pixel, float* sums, int stride, const F16* extras = nullptr,
+                                                     float* extra_sums = nullptr) {
   constexpr int kTaps = 2 * Reach + 1, kIn = 5, kOut = 8;
-  const PixelPacketSums<Reach, 4, 0> packet(rgba, wx, wy, nullptr);
+  const PixelPacketSums<Reach, 4, Extras> packet(rgba, wx, wy, extras);
   const float* totals = packet.totals;
+  for (int e = 0; e < Extras; ++e) extra_sums[e] = totals[packet.kSums + e];
   const int x = buffer_pixel % stride, y = buffer_pixel / stride;
   for (int j = 0; j < kTaps; ++j)
     for (int i = 0; i < kTaps; ++i) {
       float* dst = sums + (static_cast<std::size_t>(y + j - Reach) * stride + (x + i - Reach)) * kOut;
       const float* t = totals + (j * kTaps + i) * kIn;
       for (int c = 0; c < 4; ++c) dst[c] += t[c];
-      for (int c = 0; c < 3; ++c) dst[4 + c] += transparent ? t[4] : t[c];
+      for (int c = 0; c < 3; ++c) dst[4 + c] += light[c] * t[4];
       dst[7] += t[4];
     }
 }
@@ -637,18 +640,52 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     F16 wx[5], wy[5];
     filter.weights(offset_x, wx);
     filter.weights(offset_y, wy);
-    if (f.guides && !any_hit && lanes == simd::kLanes && buffer_pixel[0] == buffer_pixel[simd::kLanes - 1]) {
+    const bool one_pixel = lanes == simd::kLanes && buffer_pixel[0] == buffer_pixel[simd::kLanes - 1];
+    // The unshadowed light splatted off the model: the background's colour at the pixel's centre
+    // row rather than each sample's own (they differ by a thousandth at most), one colour for
+    // all of a pixel's samples, so that a pixel of ground and background needs no sums of its own
+    // for it (splat_uniform_light_packet). The moments keep each sample's own: there the far
+    // ground's visibility is exactly 1, without noise, and is not filtered.
+    V3 splat_light = guide_unshadowed;
+    if (f.guides && !f.transparent) {
+      const F16 t_centre = simd::min(one, simd::max(zero, (simd::load(py) + 0.5f) * f.inv_height));
+      const V3 centre{(1.0f - t_centre) * f.background_top.x() + t_centre * f.background_bottom.x(),
+                      (1.0f - t_centre) * f.background_top.y() + t_centre * f.background_bottom.y(),
+                      (1.0f - t_centre) * f.background_top.z() + t_centre * f.background_bottom.z()};
+      splat_light = select(on_model, guide_unshadowed, centre);
+    }
+    if (f.guides && one_pixel && !any_hit) {
       // One pixel's samples, all on the background: its guides stay as the tile cleared them (no
       // normal, no depth: the denoiser passes the pixel through).
+      const float light[3] = {splat_light.x[0], splat_light.y[0], splat_light.z[0]};
       switch (filter.reach()) {
-        case 0: splat_background_packet<0>(rgba, wx, wy, buffer_pixel[0], sums, f.buf_w, f.transparent); break;
-        case 1: splat_background_packet<1>(rgba, wx, wy, buffer_pixel[0], sums, f.buf_w, f.transparent); break;
-        default: splat_background_packet<2>(rgba, wx, wy, buffer_pixel[0], sums, f.buf_w, f.transparent); break;
+        case 0: splat_uniform_light_packet<0, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w); break;
+        case 1: splat_uniform_light_packet<1, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w); break;
+        default: splat_uniform_light_packet<2, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w); break;
       }
+    } else if (f.guides && one_pixel && !simd::any(on_model)) {
+      // One pixel's samples on the ground and the background: the normal is the ground's for
+      // every sample on it, and only the visibility's moments are summed.
+      const float light[3] = {splat_light.x[0], splat_light.y[0], splat_light.z[0]};
+      F16 values[kGuideSums];
+      guide_values(f.transparent, rgba, guide_unshadowed, guide_normal, values);
+      const F16 moments[2] = {values[3], values[4]};
+      float moment_sums[2];
+      switch (filter.reach()) {
+        case 0: splat_uniform_light_packet<0, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w, moments, moment_sums); break;
+        case 1: splat_uniform_light_packet<1, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w, moments, moment_sums); break;
+        default: splat_uniform_light_packet<2, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w, moments, moment_sums); break;
+      }
+      const float on_ground_samples = static_cast<float>(popcount(on_ground));
+      const float pixel_sums[kGuideSums] = {f.up.x() * on_ground_samples, f.up.y() * on_ground_samples, f.up.z() * on_ground_samples,
+                                            moment_sums[0], moment_sums[1]};
+      float nearest = guide_depth[0];
+      for (int l = 1; l < simd::kLanes; ++l) nearest = std::min(nearest, guide_depth[l]);
+      add_pixel_guides(*f.guides, static_cast<std::size_t>(image_pixel[0]), pixel_sums, nearest);
     } else if (f.guides) {
       // The denoiser divides the frame by the unshadowed light: splatted with the very same
       // weights, so that the ratio is the visibility also at silhouettes and colour edges.
-      const F16 values[7] = {rgba[0], rgba[1], rgba[2], rgba[3], guide_unshadowed.x, guide_unshadowed.y, guide_unshadowed.z};
+      const F16 values[7] = {rgba[0], rgba[1], rgba[2], rgba[3], splat_light.x, splat_light.y, splat_light.z};
       F16 extras[kGuideSums];
       guide_values(f.transparent, rgba, guide_unshadowed, guide_normal, extras);
       float extra_sums[kGuideSums];
