@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -202,6 +203,45 @@ TEST(Denoiser, AChannelWithoutLightStaysDarkBesideOneWithLight) {
   EXPECT_LT(brightest, 1e-6);
   // The lit side is still filtered: its blue is the visibility times its light, near 0.3.
   EXPECT_NEAR(out[(static_cast<std::size_t>(kHeight / 2) * kWidth + kWidth * 3 / 4) * 4 + 2], 0.3f, 0.03f);
+}
+
+// A lit model in front of the backdrop, with a column of silhouette pixels half model, half
+// backdrop (alpha 0.5). The backdrop is never shadowed, so its half of such a pixel keeps its
+// light; the fit, which takes the model's visibility (0.4 here) from the neighbours on the model,
+// used to darken it too: 0.5 x 0.6 x (1 - 0.4) = 0.18 too dark, a dark fringe.
+TEST(Denoiser, ASilhouetteKeepsTheBackdropsShareOfItsLight) {
+  Synthetic s;
+  s.fill(constant(0.8f), constant(10.0f), constant(0.4f), 0.0f);  // the model: albedo 0.8, visibility 0.4
+  const float backdrop = 0.6f;
+  const int edge = kWidth / 2;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = edge; x < kWidth; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * kWidth + x;
+      const float model = x == edge ? 0.5f : 0.0f;  // the model's share of the pixel
+      for (int c = 0; c < 3; ++c) {
+        s.rgba[p * 4 + c] = model * 0.8f * 0.4f + (1.0f - model) * backdrop;
+        s.guides.unshadowed[p * 3 + c] = model * 0.8f + (1.0f - model) * backdrop;
+      }
+      s.rgba[p * 4 + 3] = model;
+      if (x > edge) {  // only the backdrop: no surface
+        for (int c = 0; c < 3; ++c) s.guides.normal[p * 3 + c] = 0.0f;
+        s.guides.depth[p] = std::numeric_limits<float>::infinity();
+        s.guides.moments[p * 2] = s.guides.moments[p * 2 + 1] = 0.0f;
+      } else {  // its samples' visibility: half 0.4, half 1
+        s.guides.moments[p * 2] = kSpp * 0.7f;
+        s.guides.moments[p * 2 + 1] = kSpp * 0.58f;
+      }
+    }
+  const std::vector<float> out = denoise(s.rgba, s.guides, DenoiseSettings{});
+  double worst = 0;
+  for (int y = 8; y < kHeight - 8; ++y) {
+    const std::size_t p = static_cast<std::size_t>(y) * kWidth + edge;
+    worst = std::max(worst, std::abs(double(out[p * 4]) - s.rgba[p * 4]));
+  }
+  std::printf("silhouette pixels: largest departure %.3g (0.5 x 0.8 x 0.4 + 0.5 x 0.6 = %.3g)\n", worst, 0.5 * 0.8 * 0.4 + 0.5 * 0.6);
+  EXPECT_LT(worst, 1e-3);
+  // The model's side is untouched by it.
+  EXPECT_NEAR(out[(static_cast<std::size_t>(kHeight / 2) * kWidth + edge / 2) * 4], 0.32f, 1e-4f);
 }
 
 TEST(Denoiser, SameBitsWithOneOrTwoThreads) {
