@@ -83,7 +83,7 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   // the backdrop's is the share of the neighbours behind the model that have no surface (the
   // ground, also behind the model, is shadowed and stays in the fit); its colour is that of the
   // nearest pixel of the row that sees only the backdrop (a vertical gradient). Measured on the
-  // bunny's frame (bench/denoise_quality.cpp): relative RMSE 0.700 -> 0.693 %, the silhouettes'
+  // bunny's frame (bench/denoise_quality.cpp): relative RMSE 0.700 -> 0.694 %, the silhouettes'
   // bias energy a fifth lower; frames without a backdrop behind the model are unchanged.
   constexpr float kModelShareMin = 0.02f;  // below it the pixel is backdrop with a speck of model: left as it is
   constexpr int kBackdropSearch = 8;       // how far along the row the backdrop's colour is looked for
