@@ -74,7 +74,13 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
   constexpr float kNoLight = 1e-3f;
   const auto luminance = [](float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; };
   const auto unshadowed = [&](std::size_t p, int c) { return g.unshadowed[p * 3 + static_cast<std::size_t>(c)]; };
-  const auto no_surface = [&](std::size_t p) { return g.normal[p * 3] == 0.0f && g.normal[p * 3 + 1] == 0.0f && g.normal[p * 3 + 2] == 0.0f; };
+  // Whether any of the pixel's samples hit a surface (their normals' sum is not nothing): the
+  // criterion of the set-up below, also asked of neighbours before their planes are written.
+  const auto normal_length2 = [&](std::size_t p) {
+    const float* n = &g.normal[p * 3];
+    return n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  };
+  const auto no_surface = [&](std::size_t p) { return !(normal_length2(p) > 0.0f); };
   // A silhouette pixel mixes the model with what is behind it. Where that is the backdrop, whose
   // share of the pixel's light is never shadowed, that share is taken out before the fit and
   // added back after it: otherwise the fit, which takes the model's visibility from the pixel's
@@ -109,13 +115,13 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
         backdrop += none ? 1.0f : 0.0f;
       }
     if (!(backdrop > 0.0f)) return share;
+    const float weight = backdrop / behind * (1.0f - model);  // the backdrop's share of the pixel
     // The backdrop's colour: the nearest pixel of the row that sees nothing else.
     for (int d = 1; d <= kBackdropSearch; ++d)
       for (const int qx : {x - d, x + d}) {
         if (qx < 0 || qx >= width) continue;
         const std::size_t q = static_cast<std::size_t>(y) * width + qx;
         if (!no_surface(q) || rgba[q * 4 + 3] != 0.0f) continue;
-        const float weight = backdrop / behind * (1.0f - model);
         for (int c = 0; c < 3; ++c) share.beauty[c] = weight * rgba[q * 4 + static_cast<std::size_t>(c)], share.light[c] = weight * unshadowed(q, c);
         return share;
       }
@@ -143,7 +149,7 @@ std::vector<float> denoise(const std::vector<float>& rgba, const DenoiseGuides& 
       for (int x = 0; x < width; ++x) {
         const std::size_t p = static_cast<std::size_t>(y) * width + x;
         const float* nrm = &g.normal[p * 3];
-        const float len2 = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
+        const float len2 = normal_length2(p);
         if (!(len2 > 0.0f)) {
           // Nothing hit (the sky, the background: most of a frame): no neighbour gives the pixel
           // any weight (it has no normal) and it is never filtered, so the result takes its raw

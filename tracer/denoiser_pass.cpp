@@ -210,6 +210,12 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
         int all_flat = 1, any_flat = 0;
         for (int i = 0; i < kWidth; ++i) all_flat &= (busy[i] == 0) | (flat[i] != 0), any_flat |= flat[i] != 0;
         Lanes m[kFeatures][kFeatures] = {};  // the normal equations' lower triangle (m[i][j], j <= i)
+        // A tap's weight, given its normal term: one expression for both sweeps below, so that a
+        // flat pixel's weights are the same bits in either.
+        const auto tap_weight = [&](const Tap& tap, std::ptrdiff_t o, Lanes normal_term) __attribute__((always_inline)) {
+          const Lanes l = (load(guide_luma + o) - luma) * inv_l;
+          return falloff_compact(abs_lanes(z - load(gd[kDepth] + o)) * (inv_z * tap.inv_distance) + 0.5f * (l * l) + normal_term);
+        };
         // First the weights and the normal equations, keeping each tap's weight and weighted
         // tilts; then the solution's weight for every tap (below), so that the values are read
         // and summed once per channel instead of once per feature and channel.
@@ -218,8 +224,7 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
           for (std::size_t t = 0; t < taps.size(); ++t) {
             const Tap& tap = taps[t];
             const std::ptrdiff_t o = x + tap.offset;
-            const Lanes l = (load(guide_luma + o) - luma) * inv_l;
-            const Lanes w = falloff_compact(abs_lanes(z - load(gd[kDepth] + o)) * (inv_z * tap.inv_distance) + 0.5f * (l * l) + normal_term);
+            const Lanes w = tap_weight(tap, o, normal_term);
             const Lanes wx = w * tap.fx, wy = w * tap.fy;
             m[0][0] += w;
             m[1][0] += wx;
@@ -237,9 +242,7 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
             // without a surface (n' = 0) gets exponent s, beyond the falloff's reach.
             const Lanes qx = load(gd[kNx] + o), qy = load(gd[kNy] + o), qz = load(gd[kNz] + o);
             const Lanes cos_n = nx * qx + ny * qy + nz * qz;
-            const Lanes l = (load(guide_luma + o) - luma) * inv_l;
-            const Lanes w = falloff_compact(abs_lanes(z - load(gd[kDepth] + o)) * (inv_z * tap.inv_distance) + 0.5f * (l * l) +
-                                            kFitNormalScale * (1.0f - cos_n));
+            const Lanes w = tap_weight(tap, o, kFitNormalScale * (1.0f - cos_n));
             // The tilt: (n' - n) . t = n' . t, since n . t = 0.
             const Lanes f[kFeatures] = {splat(1.0f), splat(tap.fx), splat(tap.fy), qx * t1x + qy * t1y + qz * t1z, qx * t2x + qy * t2y + qz * t2z};
             Lanes wf[kFeatures];

@@ -235,6 +235,18 @@ MESHTOUR_SIMD_INLINE void splat_uniform_light_packet(const F16 (&rgba)[4], const
     }
 }
 
+// The backdrop's colour at height t (0 at the frame's top row, 1 at its bottom): a vertical gradient.
+MESHTOUR_SIMD_INLINE V3 backdrop_colour(const Eigen::Vector3f& top, const Eigen::Vector3f& bottom, F16 t) {
+  return {(1.0f - t) * top.x() + t * bottom.x(), (1.0f - t) * top.y() + t * bottom.y(), (1.0f - t) * top.z() + t * bottom.z()};
+}
+
+// The nearest of a one-pixel packet's depths.
+MESHTOUR_SIMD_INLINE float nearest_depth(F16 depth) {
+  float nearest = depth[0];
+  for (int l = 1; l < simd::kLanes; ++l) nearest = std::min(nearest, depth[l]);
+  return nearest;
+}
+
 MESHTOUR_SIMD_INLINE F16 luminance(F16 r, F16 g, F16 b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
 // What the denoiser gathers per pixel besides the splatted unshadowed light (denoiser.h): normal
@@ -372,9 +384,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     const F16 t_bg = simd::min(one, simd::max(zero, fy * f.inv_height));
     V3 bg{zero, zero, zero};
     if (!f.transparent)
-      bg = {(1.0f - t_bg) * f.background_top.x() + t_bg * f.background_bottom.x(),
-            (1.0f - t_bg) * f.background_top.y() + t_bg * f.background_bottom.y(),
-            (1.0f - t_bg) * f.background_top.z() + t_bg * f.background_bottom.z()};
+      bg = backdrop_colour(f.background_top, f.background_bottom, t_bg);
     // What a sample contributes: base + (shadow ray unblocked ? with_light : 0) +
     // (occlusion ray unblocked ? with_sky : 0); RGBA each.
     F16 base[4] = {bg.x, bg.y, bg.z, zero}, with_light[4] = {zero, zero, zero, zero}, with_sky[4] = {zero, zero, zero, zero};
@@ -649,10 +659,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     V3 splat_light = guide_unshadowed;
     if (f.guides && !f.transparent) {
       const F16 t_centre = simd::min(one, simd::max(zero, (simd::load(py) + 0.5f) * f.inv_height));
-      const V3 centre{(1.0f - t_centre) * f.background_top.x() + t_centre * f.background_bottom.x(),
-                      (1.0f - t_centre) * f.background_top.y() + t_centre * f.background_bottom.y(),
-                      (1.0f - t_centre) * f.background_top.z() + t_centre * f.background_bottom.z()};
-      splat_light = select(on_model, guide_unshadowed, centre);
+      splat_light = select(on_model, guide_unshadowed, backdrop_colour(f.background_top, f.background_bottom, t_centre));
     }
     if (f.guides && one_pixel && !any_hit) {
       // One pixel's samples, all on the background: its guides stay as the tile cleared them (no
@@ -679,9 +686,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
       const float on_ground_samples = static_cast<float>(popcount(on_ground));
       const float pixel_sums[kGuideSums] = {f.up.x() * on_ground_samples, f.up.y() * on_ground_samples, f.up.z() * on_ground_samples,
                                             moment_sums[0], moment_sums[1]};
-      float nearest = guide_depth[0];
-      for (int l = 1; l < simd::kLanes; ++l) nearest = std::min(nearest, guide_depth[l]);
-      add_pixel_guides(*f.guides, static_cast<std::size_t>(image_pixel[0]), pixel_sums, nearest);
+      add_pixel_guides(*f.guides, static_cast<std::size_t>(image_pixel[0]), pixel_sums, nearest_depth(guide_depth));
     } else if (f.guides) {
       // The denoiser divides the frame by the unshadowed light: splatted with the very same
       // weights, so that the ratio is the visibility also at silhouettes and colour edges.
@@ -696,9 +701,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
         default: summed = splat_packet<2, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, f.buf_w, extras, extra_sums); break;
       }
       if (summed) {
-        float nearest = guide_depth[0];
-        for (int l = 1; l < simd::kLanes; ++l) nearest = std::min(nearest, guide_depth[l]);
-        add_pixel_guides(*f.guides, static_cast<std::size_t>(image_pixel[0]), extra_sums, nearest);
+        add_pixel_guides(*f.guides, static_cast<std::size_t>(image_pixel[0]), extra_sums, nearest_depth(guide_depth));
       } else {
         add_lane_guides(*f.guides, image_pixel, lanes, extras, guide_depth);
       }
