@@ -324,7 +324,19 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
   std::vector<std::string> material_warnings;
   if (obj) {
     obj_detail::ObjFaces faces = obj_detail::read_obj_faces(file);
+    // A material library left behind when the OBJ was copied is the commonest way its textures go
+    // missing: the same choice as for a missing texture (mesh/textures.h), an error by default.
+    std::vector<std::string> library_warnings;
+    for (const std::string& library : faces.missing_libraries) {
+      const std::string what = "the material library '" + library + "' that its mtllib line names is missing or unreadable (looked for " +
+                               std::filesystem::absolute(file.parent_path() / library).lexically_normal().string() + ")";
+      if (!load_options.check_textures) continue;  // a command that does not render (path) needs no materials
+      if (!load_options.missing_textures_grey)
+        throw IoError(name + ": " + what + "; put it beside the OBJ, or pass --missing-textures grey to render the model untextured");
+      library_warnings.push_back(what + "; its materials' faces are rendered untextured (--missing-textures grey)");
+    }
     material_warnings = std::move(faces.warnings);
+    material_warnings.insert(material_warnings.begin(), library_warnings.begin(), library_warnings.end());
     assign_obj_materials(om, faces, options.check(OpenMesh::IO::Options::FaceTexCoord), mesh);
   }
   check_material_textures(mesh, name, load_options, material_warnings);

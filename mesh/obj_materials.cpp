@@ -54,9 +54,12 @@ int add_material(ObjFaces& faces, std::map<std::string, int>& by_name, const std
   return index;
 }
 
-void read_mtl(const std::filesystem::path& mtl_file, ObjFaces& faces, std::map<std::string, int>& by_name) {
+// Returns false when the file cannot be opened (missing, unreadable, a directory).
+bool read_mtl(const std::filesystem::path& mtl_file, ObjFaces& faces, std::map<std::string, int>& by_name) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(mtl_file, ec)) return false;
   std::ifstream in(mtl_file, std::ios::binary);
-  if (!in) throw IoError(mtl_file.string() + ": cannot read the material library the OBJ names in its mtllib line");
+  if (!in) return false;
   int current = -1;
   for (std::string line; std::getline(in, line);) {
     const auto [key, rest] = split_statement(line);
@@ -76,6 +79,7 @@ void read_mtl(const std::filesystem::path& mtl_file, ObjFaces& faces, std::map<s
       faces.uv_transforms[static_cast<std::size_t>(current)] = map.uv_transform;
     }
   }
+  return true;
 }
 
 }  // namespace
@@ -161,10 +165,11 @@ ObjFaces read_obj_faces(const std::filesystem::path& file) {
       const std::filesystem::path whole = file.parent_path() / portable_path(rest);
       std::error_code ec;
       if (std::filesystem::is_regular_file(whole, ec)) {
-        read_mtl(whole, faces, by_name);
+        if (!read_mtl(whole, faces, by_name)) faces.missing_libraries.push_back(rest);
       } else {
         std::istringstream names(rest);
-        for (std::string name; names >> name;) read_mtl(file.parent_path() / portable_path(name), faces, by_name);
+        for (std::string name; names >> name;)
+          if (!read_mtl(file.parent_path() / portable_path(name), faces, by_name)) faces.missing_libraries.push_back(name);
       }
     } else if (key == "usemtl") {
       const auto it = by_name.find(rest);

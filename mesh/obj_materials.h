@@ -25,10 +25,13 @@ struct ObjFaces {
   /// Per material: the map_Kd's -s (scale u, v) and -o (offset u, v) options.
   std::vector<std::array<float, 4>> uv_transforms;
   std::vector<std::string> warnings;
+  /// The MTL files the OBJ names (mtllib) that are missing or unreadable, as the OBJ names them.
+  /// Their materials' faces are untextured; load_mesh() decides whether that is an error.
+  std::vector<std::string> missing_libraries;
 };
 
 /// Reads the faces and the materials of an OBJ whose structure check_mesh_file() has verified.
-/// \throw IoError if an MTL file it names is missing or unreadable.
+/// An MTL file it names that is missing or unreadable is listed in `missing_libraries`.
 ObjFaces read_obj_faces(const std::filesystem::path& obj_file);
 
 /// Parses the argument of an MTL map statement ("-clamp on -s 2 2 1 my texture.jpg"): the file

@@ -66,6 +66,40 @@ TEST(MeshLoader, ObjPolygonsKeepEveryCornersUv) {
     }
 }
 
+// An OBJ copied without its MTL file: an error naming the library, the OBJ and the way out, as
+// for a missing texture; with --missing-textures grey the model loads untextured with a warning;
+// commands that do not render (path) do not need it.
+TEST(MeshLoader, ObjWithAMissingMaterialLibrary) {
+  const auto dir = test::scratch_dir();
+  const std::string body = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl skin\nf 1/1 2/2 3/3\n";
+  const auto file = write_text(dir / "copied.obj", "mtllib gone.mtl\n" + body);
+  try {
+    load_mesh(file);
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("copied.obj"), std::string::npos) << what;
+    EXPECT_NE(what.find("gone.mtl"), std::string::npos) << what;
+    EXPECT_NE(what.find("--missing-textures grey"), std::string::npos) << what;
+  }
+  LoadReport report;
+  const TriangleMesh mesh = load_mesh(file, &report, LoadOptions{.missing_textures_grey = true});
+  EXPECT_EQ(mesh.face_count(), 1u);
+  EXPECT_FALSE(mesh.has_texture());
+  ASSERT_FALSE(report.warnings.empty());
+  EXPECT_NE(report.warnings.front().find("gone.mtl"), std::string::npos) << report.warnings.front();
+  EXPECT_NO_THROW(load_mesh(file, nullptr, LoadOptions{.check_textures = false}));
+  // Of two libraries on one line the present one still gives its texture; a directory of that
+  // name is not a library.
+  write_text(dir / "here.mtl", "newmtl skin\nmap_Kd skin.png\n");
+  std::filesystem::create_directories(dir / "folder.mtl");
+  const auto two = write_text(dir / "two.obj", "mtllib here.mtl folder.mtl\n" + body);
+  EXPECT_THROW(load_mesh(two, nullptr), IoError);
+  LoadReport two_report;
+  const TriangleMesh textured = load_mesh(two, &two_report, LoadOptions{.missing_textures_grey = true, .check_textures = false});
+  EXPECT_TRUE(textured.has_texture());
+}
+
 // MeshLab's per-vertex texture coordinates (texture_u/texture_v) and the image its header
 // comment names, in a binary PLY with a quad (fan-triangulated: every triangle keeps its UVs).
 TEST(MeshLoader, PlyVertexTexcoordsAndTextureFileComment) {
