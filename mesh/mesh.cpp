@@ -183,19 +183,22 @@ namespace {
 
 namespace {
 
-// A textured PLY, built from what its check collected: positions, colours, faces (fan-
-// triangulated) with their corners' texture coordinates, and one material: the image of its
-// TextureFile comment, relative to the PLY.
+// A textured PLY or one with triangle strips, built from what its check collected: positions,
+// colours, faces (fan-triangulated) and strips' triangles, with their corners' texture coordinates
+// and one material when textured: the image of its TextureFile comment, relative to the PLY.
 TriangleMesh textured_ply(const std::filesystem::path& file, ply_detail::PlyTexture texture) {
   TriangleMesh mesh;
-  MeshMaterial material;
-  material.name = "TextureFile";
-  std::string name = texture.texture_file;
-  std::replace(name.begin(), name.end(), '\\', '/');
-  const std::filesystem::path image(name);
-  material.texture_file = image.is_absolute() ? image : file.parent_path() / image;
-  material.wrap_s = material.wrap_t = TextureWrap::image_default;  // as OBJ
-  mesh.materials.push_back(material);
+  const bool textured = texture.per_vertex || texture.per_corner;  // else only strips brought it here
+  if (textured) {
+    MeshMaterial material;
+    material.name = "TextureFile";
+    std::string name = texture.texture_file;
+    std::replace(name.begin(), name.end(), '\\', '/');
+    const std::filesystem::path image(name);
+    material.texture_file = image.is_absolute() ? image : file.parent_path() / image;
+    material.wrap_s = material.wrap_t = TextureWrap::image_default;  // as OBJ
+    mesh.materials.push_back(material);
+  }
   mesh.positions = std::move(texture.positions);
   mesh.colors = std::move(texture.colors);
   for (const auto& f : texture.faces) {
@@ -206,8 +209,14 @@ TriangleMesh textured_ply(const std::filesystem::path& file, ply_detail::PlyText
     };
     for (std::size_t k = 1; k + 1 < f.vertices.size(); ++k) {
       mesh.triangles.push_back({f.vertices[0], f.vertices[k], f.vertices[k + 1]});
-      for (const std::size_t c : {std::size_t{0}, k, k + 1}) mesh.corner_uvs.push_back(uv(c));
+      if (textured)
+        for (const std::size_t c : {std::size_t{0}, k, k + 1}) mesh.corner_uvs.push_back(uv(c));
     }
+  }
+  for (const auto& t : texture.strip_triangles) {
+    mesh.triangles.push_back(t);
+    if (textured)
+      for (const std::uint32_t v : t) mesh.corner_uvs.push_back(texture.per_vertex ? texture.vertex_uvs[v] : Eigen::Vector2f::Zero());
   }
   if (mesh.triangles.empty()) throw InputError(file.string() + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
   return mesh;
@@ -255,7 +264,7 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
   ply_detail::PlyTexture ply_texture;
   if (ext == ".ply") ply_detail::check_ply_with_texture(file, ply_texture);
   else check_mesh_file(file);
-  if (ply_texture.per_vertex || ply_texture.per_corner) {
+  if (ply_texture.per_vertex || ply_texture.per_corner || ply_texture.strips) {
     std::vector<std::string> warnings;
     TriangleMesh mesh = textured_ply(file, std::move(ply_texture));
     check_geometry(mesh, name);

@@ -441,7 +441,14 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
         if (e.name == "vertex" && is_u_property(p.name) && !p.count_size) texture->per_vertex = true;
         if (e.name == "face" && p.name == "texcoord" && p.count_size) texture->per_corner = true;
       }
-  if (texture && (texture->per_vertex || texture->per_corner)) {
+  const auto is_strip_list = [](const PlyElement& e, const PlyProperty& p) {
+    return e.name == "tristrips" && p.count_size && (p.name == "vertex_indices" || p.name == "vertex_index");
+  };
+  if (texture)
+    for (const auto& e : elements)
+      for (const auto& p : e.properties)
+        if (is_strip_list(e, p)) texture->strips = true;
+  if (texture && (texture->per_vertex || texture->per_corner || texture->strips)) {
     collect = true;
     if (texture->per_vertex) texture->vertex_uvs.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector2f::Zero());
     texture->positions.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector3d::Zero());
@@ -480,6 +487,35 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
         const double n = reader.value(p.count_size, false, p.count_signed, where);
         if (!(n >= 0) || n > static_cast<double>(body))
           throw InputError(name + ": " + where + ": the list '" + p.name + "' has an invalid length " + std::to_string(n));
+        if (is_strip_list(e, p)) {
+          // One strip: vertex indices, -1 between strips; every index after the first two makes a triangle.
+          std::uint32_t window[2] = {0, 0};
+          long long in_strip = 0;
+          for (double k = 0; k < n; ++k) {
+            const double v = reader.value(p.size, p.is_float, p.is_signed, where);
+            if (v == -1) {
+              in_strip = 0;
+              continue;
+            }
+            if (!(v >= 0 && v < static_cast<double>(vertex_count)))
+              throw InputError(name + ": triangle strip " + std::to_string(i) + " refers to vertex " + std::to_string(static_cast<long long>(v)) +
+                               " but the file has " + std::to_string(vertex_count) + " vertices (-1 ends a strip)");
+            const auto index = static_cast<std::uint32_t>(v);
+            if (in_strip >= 2) {
+              std::array<std::uint32_t, 3> t = in_strip % 2 == 0 ? std::array<std::uint32_t, 3>{window[0], window[1], index}
+                                                                 : std::array<std::uint32_t, 3>{window[1], window[0], index};
+              if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) {
+                ++s.faces;
+                s.corners += 3;
+                if (collect) texture->strip_triangles.push_back(t);
+              }
+            }
+            window[0] = window[1];
+            window[1] = index;
+            ++in_strip;
+          }
+          continue;
+        }
         const bool indices = e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
         const bool corner_uvs = collect && e.name == "face" && p.name == "texcoord";
         if (collect && e.name == "face" && (indices || corner_uvs) && texture->faces.size() <= i) texture->faces.resize(static_cast<std::size_t>(i) + 1);

@@ -4,6 +4,7 @@
 // 2 values per corner), and name the image in a header comment 'comment TextureFile x.jpg'.
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -27,6 +28,13 @@ struct PlyTexture {
     std::vector<Eigen::Vector2f> uvs;  ///< per corner, when per_corner
   };
   std::vector<Face> faces;  ///< kept only when the file has a texture and coordinates
+  /// Triangle strips (an element 'tristrips' with a list 'vertex_indices', -1 ending a strip, as
+  /// Cyberware and some Stanford scans are stored): OpenMesh reads no faces from them, so a PLY
+  /// that has them is built from what the check collected, like a textured one. Alternate
+  /// triangles of a strip are turned so that all keep the strip's winding; degenerate ones (a
+  /// repeated index, which joins strips) are dropped.
+  bool strips = false;
+  std::vector<std::array<std::uint32_t, 3>> strip_triangles;
 };
 
 /// check_mesh_file() for a PLY, also collecting its texture coordinates into `texture`.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 
 #include "core/error.h"
@@ -129,6 +130,53 @@ TEST(MeshLoader, PlyVertexTexcoordsAndTextureFileComment) {
     FAIL() << "loaded without its texture";
   } catch (const IoError& e) {
     EXPECT_NE(std::string(e.what()).find("my texture.png"), std::string::npos) << e.what();
+  }
+}
+
+// Cyberware and some Stanford scans store triangle strips (element 'tristrips', -1 between
+// strips) instead of faces. A unit cube, each face one strip a b d c of its outward counter-
+// clockwise quad a b c d, plus a strip with a repeated index (degenerate joins, dropped): 12
+// triangles, all outward (signed volume +1), in ASCII and binary. A bad index names the strip.
+TEST(MeshLoader, PlyTriangleStrips) {
+  const auto dir = test::scratch_dir();
+  const double corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+  std::vector<int> strip;
+  for (const auto& q : quads) {
+    for (const int k : {q[0], q[1], q[3], q[2]}) strip.push_back(k);
+    strip.push_back(-1);
+  }
+  for (const int k : {0, 0, 1, 1}) strip.push_back(k);  // only degenerate triangles
+  const std::string header_end = "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+  std::string ascii = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n" + header_end;
+  for (const auto& c : corners) ascii += std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]) + "\n";
+  ascii += std::to_string(strip.size());
+  for (const int k : strip) ascii += " " + std::to_string(k);
+  ascii += "\n";
+  std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n" + header_end;
+  const auto put = [&](auto v) { binary.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  for (const auto& c : corners)
+    for (const double x : c) put(static_cast<float>(x));
+  put(static_cast<std::int32_t>(strip.size()));
+  for (const int k : strip) put(static_cast<std::int32_t>(k));
+  for (const auto& [file, text] : {std::pair{"strips_ascii.ply", ascii}, std::pair{"strips_binary.ply", binary}}) {
+    SCOPED_TRACE(file);
+    LoadReport report;
+    const TriangleMesh mesh = load_mesh(write_text(dir / file, text), &report);
+    ASSERT_EQ(mesh.face_count(), 12u);
+    EXPECT_EQ(mesh.vertex_count(), 8u);
+    double volume6 = 0.0;
+    for (const auto& t : mesh.triangles) volume6 += mesh.positions[t[0]].dot(mesh.positions[t[1]].cross(mesh.positions[t[2]]));
+    EXPECT_NEAR(volume6 / 6.0, 1.0, 1e-12);
+    EXPECT_EQ(mesh.bounds().hi, Eigen::Vector3d(1, 1, 1));
+  }
+  std::string bad = ascii;
+  bad.replace(bad.rfind(" 1\n"), 3, " 8\n");  // the last index: past the 8 vertices
+  try {
+    load_mesh(write_text(dir / "bad_strip.ply", bad));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("triangle strip 0 refers to vertex 8"), std::string::npos) << e.what();
   }
 }
 
