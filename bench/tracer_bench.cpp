@@ -17,7 +17,10 @@
 // how close the renderer gets to what Embree alone delivers on the same rays. A ratio of 100 %
 // would mean the renderer spends no time outside Embree.
 //
+// Also BM_CreaseNormals and BM_SceneSetup: the set-up's cost from 70k to 17.8M faces (below).
+//
 // Run from the repository root:  build/bench/tracer_bench
+// (the set-up alone: build/bench/tracer_bench --benchmark_filter='Crease|Setup')
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -28,6 +31,7 @@
 #include <memory>
 #include <numbers>
 
+#include "bench_common.h"
 #include "mesh/mesh.h"
 #include "tracer/renderer_internal.h"
 #include "tracer/tracer.h"
@@ -138,6 +142,52 @@ void BM_BareEmbree(benchmark::State& state) {
                                                 benchmark::Counter::kIsRate);
   state.counters["rays/iteration"] = static_cast<double>(f->recorded_rays);
 }
+
+// The scene set-up's cost as the mesh grows (the bunny split 1-to-4 at edge midpoints 0, 2, 3 and
+// 4 times: 70k, 1.1M, 4.5M, 17.8M faces): BM_CreaseNormals, the shading normals with their
+// creases alone; BM_SceneSetup, a whole Renderer (those normals, the BVH build). Their ratio is the
+// normals' share of the set-up.
+const TriangleMesh& split_bunny(int levels) {
+  return bench::split_mesh(std::filesystem::path(MESHTOUR_SOURCE_DIR) / ".." / "shared" / "meshes" / "bunny.ply", levels);
+}
+
+// range(1): the crease angle; 180 smooths every edge, which is the first of the function's
+// passes alone (what the renderer computed before creases): the ratio is the creases' cost.
+void BM_CreaseNormals(benchmark::State& state) {
+  const TriangleMesh& mesh = split_bunny(static_cast<int>(state.range(0)));
+  const auto crease = static_cast<float>(state.range(1));
+  std::vector<Eigen::Vector3f> source;
+  for (const auto& p : mesh.positions) source.push_back(p.cast<float>());
+  std::size_t copies = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::vector<Eigen::Vector3f> positions = source;
+    std::vector<std::array<std::uint32_t, 3>> triangles = mesh.triangles;
+    std::vector<std::uint32_t> copied_from;
+    state.ResumeTiming();
+    const std::vector<Eigen::Vector3f> normals = crease_normals(positions, triangles, crease, copied_from);
+    benchmark::DoNotOptimize(normals.data());
+    copies = copied_from.size();
+  }
+  state.counters["faces"] = static_cast<double>(mesh.triangles.size());
+  state.counters["vertex_copies"] = static_cast<double>(copies);
+  state.counters["ns/face"] = benchmark::Counter(static_cast<double>(mesh.triangles.size()) * static_cast<double>(state.iterations()),
+                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void BM_SceneSetup(benchmark::State& state) {
+  const TriangleMesh& mesh = split_bunny(static_cast<int>(state.range(0)));
+  RenderOptions options;
+  options.shading = look_preset("studio");
+  for (auto _ : state) {
+    Renderer renderer(mesh, options);
+    benchmark::DoNotOptimize(&renderer);
+  }
+  state.counters["faces"] = static_cast<double>(mesh.triangles.size());
+}
+
+BENCHMARK(BM_CreaseNormals)->ArgsProduct({{0, 2, 3, 4}, {60, 180}})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_SceneSetup)->Arg(0)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 
 BENCHMARK(BM_RenderFrame)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()->MinTime(6.0);
 BENCHMARK(BM_BareEmbree)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()->MinTime(3.0);

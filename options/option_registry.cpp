@@ -88,6 +88,10 @@ std::vector<Option> make_registry() {
                "gradient) or plain (even light, no shadows, for catalogues); the scene file's own look values still apply "
                "(default: the scene's, else studio)",
        .scene_key = "look.preset", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "crease-angle", .flag = "--crease-angle", .kind = Kind::number, .lo = 0, .hi = 180, .default_text = "60",
+       .help = "Edges where faces meet at more than this angle (degrees) are shaded sharp, smaller ones smooth\n"
+               "(default 60: a box, a plinth or a CAD part keeps flat faces, a scan stays smooth; 180 smooths every edge)",
+       .scene_key = "look.crease_angle", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "spp", .flag = "--spp", .kind = Kind::integer, .lo = 1, .hi = 4096, .default_text = "16",
        .help = "Samples per pixel: Owen-scrambled Sobol points in Z order (neighbouring pixels' samples fill each\n"
                "other's gaps). The raw frame's error falls faster than 1/sqrt(spp) (bunny: 2.4x from 4 to 16, 2.2x\n"

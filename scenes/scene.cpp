@@ -81,10 +81,12 @@ void read_registered_keys(JsonReader& r, std::string_view section, Scene& scene,
   }
 }
 
-// The look values that are also command-line options (registry rows "background", "exposure").
+// The look values that are also command-line options (registry rows "background", "exposure",
+// "crease-angle").
 void apply_look_value(Shading& sh, std::string_view id, const std::string& text) {
   if (id == "background") sh.background = text == "transparent" ? BackgroundKind::transparent : BackgroundKind::gradient;
   if (id == "exposure") sh.exposure = std::stof(text);
+  if (id == "crease-angle") sh.material.crease_angle_deg = std::stof(text);
 }
 
 // The "look" object: a preset, then any of its values overridden. `preset_override`, when not
@@ -100,6 +102,7 @@ void apply_look(const json& look_json, const std::string& source, Shading& sh, c
   look.read("specular", m.specular, 0.0, 10.0);
   look.read("vertex_colors", m.use_vertex_colors);
   look.read("texture", m.use_texture);
+  if (auto crease = read_registered(look, "crease_angle", options::option("crease-angle"))) apply_look_value(sh, "crease-angle", *crease);
   if (look.has("lights")) {
     const json& lights = look.raw("lights");
     if (!lights.is_array() || lights.size() > 8)
@@ -223,7 +226,7 @@ void apply_option(Scene& scene, const options::Option& o, const std::string& tex
     scene.render.samples_per_pixel = integer();
   } else if (id == "denoise") {
     scene.render.denoise = text == "on";
-  } else if (id == "background" || id == "exposure") {
+  } else if (id == "background" || id == "exposure" || id == "crease-angle") {
     apply_look_value(scene.render.shading, id, text);
   } else if (id == "exr-layers") {
     for (std::size_t begin = 0; begin <= text.size();) {

@@ -108,7 +108,8 @@ std::string scene_fingerprint(const Scene& s) {
   nlohmann::json j = {{"w", s.render.width}, {"h", s.render.height}, {"fps", s.fps}, {"frames", s.frames},
                       {"up", s.up_auto ? std::string("auto") : s.up.name()}, {"path", s.path_mode}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
                       {"elev", s.elevation_deg}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
-                      {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"denoise", s.render.denoise},
+                      {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"crease", s.render.shading.material.crease_angle_deg},
+                      {"denoise", s.render.denoise},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},
                       {"file", s.path_file ? s.path_file->string() : ""}, {"grey", s.missing_textures_grey}};
   for (const auto& [id, text] : s.path_search) j["search"][id] = text;

@@ -15,6 +15,7 @@
 #include "mesh/convex_hull.h"
 #include "test_meshes.h"
 #include "tracer/color.h"
+#include "tracer/renderer_internal.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
@@ -251,6 +252,129 @@ TEST(Renderer, FitFovOnTheHullIsTheFitOnEveryVertex) {
   const std::vector<Camera> front{Camera{{0.3, 2.5, 5.0}, {0.3, 2.0, -1.0}, {0, 1, 0}, 40.0}};
   EXPECT_EQ(fit_vertical_fov(front, with_behind, convex_hull_vertices(with_behind), 1.5, 0.0),
             fit_vertical_fov(front, model.positions, 1.5, 0.0));
+}
+
+// A unit cube of 12 triangles (two per face, outward).
+TriangleMesh unit_cube() {
+  TriangleMesh cube;
+  for (int i = 0; i < 8; ++i) cube.positions.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    cube.triangles.push_back({static_cast<std::uint32_t>(q[0]), static_cast<std::uint32_t>(q[1]), static_cast<std::uint32_t>(q[2])});
+    cube.triangles.push_back({static_cast<std::uint32_t>(q[0]), static_cast<std::uint32_t>(q[2]), static_cast<std::uint32_t>(q[3])});
+  }
+  return cube;
+}
+
+struct Shaded {
+  std::vector<Eigen::Vector3f> positions, normals;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<std::uint32_t> copied_from;
+};
+Shaded shade(const TriangleMesh& mesh, float crease_deg) {
+  Shaded s;
+  for (const auto& p : mesh.positions) s.positions.push_back(p.cast<float>());
+  s.triangles = mesh.triangles;
+  s.normals = crease_normals(s.positions, s.triangles, crease_deg, s.copied_from);
+  return s;
+}
+
+// Hard edges stay hard, smooth surfaces stay smooth: on a cube every corner's normal is its
+// face's (8 vertices become 24, at the same places); with the crease at 180 degrees every edge is
+// smoothed (no copies, the corners' normals point along the diagonals); a 12-sided prism with caps
+// keeps its sides smooth (30 degrees apart) and splits only at the caps' rims (90 degrees).
+TEST(ShadingNormals, CreasesSplitHardEdgesOnly) {
+  const TriangleMesh cube = unit_cube();
+  const Shaded hard = shade(cube, 60.0f);
+  EXPECT_EQ(hard.positions.size(), 24u);
+  ASSERT_EQ(hard.copied_from.size(), 16u);
+  for (std::size_t i = 0; i < hard.copied_from.size(); ++i) EXPECT_EQ(hard.positions[8 + i], hard.positions[hard.copied_from[i]]);
+  for (std::size_t t = 0; t < hard.triangles.size(); ++t) {
+    const auto& tri = hard.triangles[t];
+    const Eigen::Vector3f face = (hard.positions[tri[1]] - hard.positions[tri[0]]).cross(hard.positions[tri[2]] - hard.positions[tri[0]]).normalized();
+    for (const std::uint32_t v : tri) EXPECT_LT((hard.normals[v] - face).norm(), 1e-6f) << "triangle " << t;
+  }
+  const Shaded soft = shade(cube, 180.0f);
+  EXPECT_EQ(soft.positions.size(), 8u);
+  EXPECT_TRUE(soft.copied_from.empty());
+  for (std::size_t v = 0; v < 8; ++v) {
+    const Eigen::Vector3f outward = (soft.positions[v] - Eigen::Vector3f::Constant(0.5f)).normalized();
+    EXPECT_LT((soft.normals[v] - outward).norm(), 1e-6f) << "vertex " << v;
+  }
+  // The prism: 12 side quads, a fan cap at each end around a centre vertex.
+  TriangleMesh prism;
+  const int sides = 12;
+  for (int ring = 0; ring < 2; ++ring)
+    for (int k = 0; k < sides; ++k) {
+      const double a = 2.0 * std::numbers::pi * k / sides;
+      prism.positions.emplace_back(std::cos(a), ring, -std::sin(a));
+    }
+  prism.positions.emplace_back(0, 0, 0);
+  prism.positions.emplace_back(0, 1, 0);
+  const auto at = [&](int ring, int k) { return static_cast<std::uint32_t>(ring * sides + (k % sides)); };
+  for (int k = 0; k < sides; ++k) {
+    prism.triangles.push_back({at(0, k), at(0, k + 1), at(1, k + 1)});
+    prism.triangles.push_back({at(0, k), at(1, k + 1), at(1, k)});
+    prism.triangles.push_back({static_cast<std::uint32_t>(2 * sides), at(0, k + 1), at(0, k)});
+    prism.triangles.push_back({static_cast<std::uint32_t>(2 * sides + 1), at(1, k), at(1, k + 1)});
+  }
+  const Shaded p = shade(prism, 60.0f);
+  EXPECT_EQ(p.copied_from.size(), static_cast<std::size_t>(2 * sides));  // each rim vertex: one side normal, one cap normal
+  for (std::size_t t = 0; t < p.triangles.size(); t += 4)                  // the sides' corners: horizontal, radial
+    for (const std::uint32_t v : p.triangles[t]) {
+      EXPECT_NEAR(p.normals[v].y(), 0.0f, 1e-6f);
+      const Eigen::Vector3f radial(p.positions[v].x(), 0.0f, p.positions[v].z());
+      EXPECT_LT((p.normals[v] - radial.normalized()).norm(), 1e-6f);
+    }
+  // A smooth, finely tessellated sphere gets no copies.
+  EXPECT_TRUE(shade(test_meshes::icosphere(4), 60.0f).copied_from.empty());
+}
+
+// What a viewer sees: in the plain look (even light, no shadows) without highlights a cube's faces
+// are flat, one colour each; smoothing every edge (crease 180) shades them with gradients.
+TEST(ShadingNormals, ACubesFacesRenderFlat) {
+  RenderOptions options;
+  options.width = options.height = 96;
+  options.samples_per_pixel = 4;
+  options.shading = look_preset("plain");
+  options.shading.material.specular = 0.0f;
+  const Camera camera{{2.6, 2.1, 3.1}, {0.5, 0.5, 0.5}, {0, 1, 0}, 30.0};
+  const auto face_spread = [&](float crease) {
+    RenderOptions o = options;
+    o.shading.material.crease_angle_deg = crease;
+    o.layers.normal = true;
+    const Image img = Renderer(unit_cube(), o).render(camera);
+    // Each pixel's face: the dominant axis and sign of its shading normal. Per face, the spread
+    // of the pixels whose 7x7 neighbourhood is all on the model and on that face (away from the
+    // edges, where the filter mixes two faces).
+    const auto face = [&](int x, int y) {
+      const float* n = &img.normal[(static_cast<std::size_t>(y) * img.width + x) * 3];
+      int axis = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs(n[k]) > std::abs(n[axis])) axis = k;
+      return pixel(img, x, y)[3] < 1.0f ? -1 : 2 * axis + (n[axis] < 0.0f ? 1 : 0);
+    };
+    float worst = 0.0f;
+    for (int f = 0; f < 6; ++f) {
+      float lo = 1e9f, hi = 0.0f;
+      int count = 0;
+      for (int y = 3; y < img.height - 3; ++y)
+        for (int x = 3; x < img.width - 3; ++x) {
+          bool inside = true;
+          for (int dy = -3; dy <= 3; ++dy)
+            for (int dx = -3; dx <= 3; ++dx) inside = inside && face(x + dx, y + dy) == f;
+          if (!inside) continue;
+          const float g = pixel(img, x, y)[1];
+          lo = std::min(lo, g), hi = std::max(hi, g), ++count;
+        }
+      if (count > 50) worst = std::max(worst, (hi - lo) / hi);
+    }
+    return worst;
+  };
+  const float hard = face_spread(60.0f), smooth = face_spread(180.0f);
+  std::printf("largest spread within a face: crease 60: %.4f, 180: %.4f\n", hard, smooth);
+  EXPECT_LT(hard, 0.01f);
+  EXPECT_GT(smooth, 0.05f);
 }
 
 TEST(Renderer, RejectsBadOptions) {

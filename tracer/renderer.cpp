@@ -49,28 +49,22 @@ void basis(const Eigen::Vector3f& n, Eigen::Vector3f& t, Eigen::Vector3f& b) {
   b = Eigen::Vector3f(c, sign + n.y() * n.y() * a, -n.y());
 }
 
-std::vector<Eigen::Vector3f> angle_weighted_normals(const std::vector<Eigen::Vector3f>& p,
-                                                    const std::vector<std::array<std::uint32_t, 3>>& tris) {
-  std::vector<Eigen::Vector3d> acc(p.size(), Eigen::Vector3d::Zero());
-  for (const auto& t : tris) {
-    const Eigen::Vector3d a = p[t[0]].cast<double>(), b = p[t[1]].cast<double>(), c = p[t[2]].cast<double>();
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const double len = n.norm();
-    if (!(len > 0.0)) continue;
-    const Eigen::Vector3d unit = n / len;
-    const Eigen::Vector3d corners[3] = {a, b, c};
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d e1 = corners[(k + 1) % 3] - corners[k], e2 = corners[(k + 2) % 3] - corners[k];
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      acc[t[k]] += angle * unit;
-    }
-  }
-  std::vector<Eigen::Vector3f> out(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double len = acc[i].norm();
-    out[i] = len > 0.0 ? Eigen::Vector3f((acc[i] / len).cast<float>()) : Eigen::Vector3f::UnitY();
-  }
-  return out;
+// atan2(y, x) for y >= 0 from IEEE-exact operations only: glibc picks its atan2 by the CPU's
+// features, and the normals must be the same bits on every machine. Two half-angle steps bring the
+// argument under 0.2, where 7 terms of the series leave an error below 1e-12 (weights only need
+// a few digits).
+double portable_atan2(double y, double x) {
+  const double ax = std::abs(x);
+  if (!(y > 0.0)) return x < 0.0 ? std::numbers::pi : 0.0;
+  const bool steep = y > ax;
+  double t = steep ? ax / y : y / ax;  // in [0, 1]
+  for (int k = 0; k < 2; ++k) t = t / (1.0 + std::sqrt(1.0 + t * t));
+  const double t2 = t * t;
+  double series = 1.0 / 13.0;
+  for (const double c : {-1.0 / 11.0, 1.0 / 9.0, -1.0 / 7.0, 1.0 / 5.0, -1.0 / 3.0, 1.0}) series = c + t2 * series;
+  double angle = 4.0 * t * series;
+  if (steep) angle = 0.5 * std::numbers::pi - angle;
+  return x < 0.0 ? std::numbers::pi - angle : angle;
 }
 
 // The widest copy of the tile kernel this CPU runs (all give the same pixels). The variable
@@ -172,6 +166,121 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
 
 }  // namespace
 
+// Shading normals with creases (renderer_internal.h). Each corner's normal is the average of the
+// normals of the faces around its vertex that meet its own face at less than the crease angle,
+// weighted by their angles at the vertex (Thürmer and Wüthrich 1998). Where a vertex's corners get
+// different normals (the edge of a box), each normal after the first gets its own copy of the
+// vertex, appended to `positions` (bit-identical coordinates: Embree's robust traversal leaves no
+// crack), and the corners are re-pointed: the tile kernel keeps one normal per vertex.
+// Two linear passes do almost all of it: the smooth normal of every vertex (all its faces), and
+// each vertex's widest angle between one of its faces and that normal. Where every face is within
+// half the crease angle of the smooth normal, any two faces are within the crease angle, so the
+// smooth normal is the answer (a scan's surface: nearly every vertex). Only the other vertices
+// are gathered with their corners and solved face by face. Deterministic: sums in triangle order.
+std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positions, std::vector<std::array<std::uint32_t, 3>>& tris,
+                                            float crease_angle_deg, std::vector<std::uint32_t>& copied_from) {
+  const std::size_t vertex_count = positions.size();
+  if (tris.size() > (std::numeric_limits<std::uint32_t>::max() - 2) / 3)
+    throw InputError("the mesh has more triangles than meshtour can shade (over 1.4 billion)");
+  // A corner's face normal (zero for a degenerate face) and its angle at the corner's vertex.
+  const auto corner_of = [&](const std::array<std::uint32_t, 3>& t, int k, Eigen::Vector3d& unit) {
+    const Eigen::Vector3d a = positions[t[k]].cast<double>(), b = positions[t[(k + 1) % 3]].cast<double>(),
+                          c = positions[t[(k + 2) % 3]].cast<double>();
+    const Eigen::Vector3d e1 = b - a, e2 = c - a, cross = e1.cross(e2);
+    const double len = cross.norm();
+    if (!(len > 0.0)) {
+      unit.setZero();
+      return 0.0;
+    }
+    unit = cross / len;
+    return portable_atan2(len, e1.dot(e2));
+  };
+  const auto normalised = [](const Eigen::Vector3d& sum) {
+    const double len = sum.norm();
+    return len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f::UnitY();
+  };
+  // 1. Smooth normals (corner_of()'s numbers, with the cross product formed once per face).
+  std::vector<Eigen::Vector3d> sums(vertex_count, Eigen::Vector3d::Zero());
+  for (const auto& t : tris) {
+    const Eigen::Vector3d p[3] = {positions[t[0]].cast<double>(), positions[t[1]].cast<double>(), positions[t[2]].cast<double>()};
+    const Eigen::Vector3d cross = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double len = cross.norm();
+    if (!(len > 0.0)) continue;
+    const Eigen::Vector3d unit = cross / len;
+    for (int k = 0; k < 3; ++k) {
+      const double angle = portable_atan2(len, (p[(k + 1) % 3] - p[k]).dot(p[(k + 2) % 3] - p[k]));
+      sums[t[k]] += angle * unit;
+    }
+  }
+  std::vector<Eigen::Vector3f> normals(vertex_count);
+  for (std::size_t v = 0; v < vertex_count; ++v) normals[v] = normalised(sums[v]);
+  sums = {};
+  if (crease_angle_deg >= 180.0f) return normals;
+  const double cos_crease = std::cos(static_cast<double>(crease_angle_deg) * std::numbers::pi / 180.0);
+  const double cos_half = std::cos(0.5 * static_cast<double>(crease_angle_deg) * std::numbers::pi / 180.0);
+  // 2. The vertices some face of which is further than half the angle from their smooth normal.
+  std::vector<char> suspect(vertex_count, 0);
+  for (const auto& t : tris) {
+    const Eigen::Vector3d a = positions[t[0]].cast<double>(), b = positions[t[1]].cast<double>(), c = positions[t[2]].cast<double>();
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const double len = cross.norm();
+    if (!(len > 0.0)) continue;
+    for (const std::uint32_t v : t)
+      if (cross.dot(normals[v].cast<double>()) < cos_half * len) suspect[v] = 1;
+  }
+  // 3. Those vertices' corners (3 * triangle + k), grouped by vertex in triangle order, solved exactly.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> gathered;
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (suspect[tris[t][k]]) gathered.emplace_back(tris[t][k], static_cast<std::uint32_t>(3 * t + k));
+  std::stable_sort(gathered.begin(), gathered.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<Eigen::Vector3d> unit;    // per corner of the vertex: its face's unit normal (zero: degenerate)
+  std::vector<double> angle;            // its angle at the vertex
+  std::vector<Eigen::Vector3f> result;  // its normal
+  std::vector<std::uint32_t> assigned;  // the vertex it is re-pointed to
+  for (std::size_t begin = 0; begin < gathered.size();) {
+    const std::uint32_t v = gathered[begin].first;
+    std::size_t end = begin;
+    while (end < gathered.size() && gathered[end].first == v) ++end;
+    const std::size_t n = end - begin;
+    unit.resize(n);
+    angle.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t c = gathered[begin + i].second;
+      angle[i] = corner_of(tris[c / 3], static_cast<int>(c % 3), unit[i]);
+    }
+    const auto average = [&](std::size_t i) {  // corner i's normal: the faces within the angle of its face
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (std::size_t j = 0; j < n; ++j)
+        if (unit[i].isZero() || unit[j].dot(unit[i]) >= cos_crease) sum += angle[j] * unit[j];
+      return normalised(sum);
+    };
+    result.resize(n);
+    assigned.assign(n, v);
+    for (std::size_t i = 0; i < n; ++i) result[i] = average(i);
+    normals[v] = result[0];
+    for (std::size_t i = 1; i < n; ++i) {
+      std::size_t same = i;
+      for (std::size_t j = 0; j < i && same == i; ++j)
+        if (result[j] == result[i]) same = j;
+      if (same < i) {
+        assigned[i] = assigned[same];
+        continue;
+      }
+      assigned[i] = static_cast<std::uint32_t>(positions.size());
+      positions.push_back(positions[v]);
+      normals.push_back(result[i]);
+      copied_from.push_back(v);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t c = gathered[begin + i].second;
+      tris[c / 3][c % 3] = assigned[i];
+    }
+    begin = end;
+  }
+  return normals;
+}
+
 Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : impl_(std::make_unique<Impl>()) {
   if (options.width <= 0 || options.height <= 0 || options.width > 16384 || options.height > 16384)
     throw InputError("image size must be between 1x1 and 16384x16384, got " + std::to_string(options.width) + "x" +
@@ -197,11 +306,13 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
   for (const auto& t : s.triangles)
     for (auto v : t)
       if (v >= mesh.positions.size()) throw InputError("the mesh has a triangle that refers to a missing vertex");
-  s.normals = angle_weighted_normals(s.positions, s.triangles);
   const Material& material = options.shading.material;
+  std::vector<std::uint32_t> copied_from;  // the vertices crease_normals() copied, in order
+  s.normals = crease_normals(s.positions, s.triangles, material.crease_angle_deg, copied_from);
   if (mesh.has_colors() && material.use_vertex_colors) {
-    s.colors.reserve(mesh.colors.size());
+    s.colors.reserve(mesh.colors.size() + copied_from.size());
     for (const auto& c : mesh.colors) s.colors.push_back(srgb_to_linear(c));
+    for (const std::uint32_t v : copied_from) s.colors.push_back(s.colors[v]);
   }
   set_up_surfaces(s, mesh, material.use_texture);
 

@@ -1,9 +1,12 @@
 #pragma once
 // Access to the renderer's Embree scene and rays, for the benchmark that compares the renderer's
-// ray throughput with bare Embree calls on the very same rays. Not part of the public API.
+// ray throughput with bare Embree calls on the very same rays, and to its shading normals, for
+// their test and benchmark. Not part of the public API.
+#include <Eigen/Core>
 #include <embree3/rtcore.h>
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "tracer/tracer.h"
@@ -34,6 +37,16 @@ struct RayRecording {
   };
   std::vector<Tile> tiles;  ///< one entry per recorded tile
 };
+
+/// The renderer's shading normals, one per vertex, with creases (Material::crease_angle_deg): each
+/// corner's normal averages the faces around its vertex that meet its own face at less than the
+/// angle, weighted by their angles there. Where a vertex's corners get different normals, each one
+/// after the first gets a copy of the vertex appended to `positions` (the same coordinates) and
+/// its corners in `triangles` are re-pointed; `copied_from` receives each copy's source vertex.
+/// A smooth surface gets no copies. Deterministic (the same bits on every CPU: no libm beyond
+/// sqrt). Linear in the corners: bench/tracer_bench BM_CreaseNormals.
+std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positions, std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                            float crease_angle_deg, std::vector<std::uint32_t>& copied_from);
 
 struct RendererAccess {
   static RTCScene scene(const Renderer& renderer);

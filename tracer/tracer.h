@@ -35,6 +35,10 @@ struct Material {
   float specular = 0.5f;    ///< highlight strength; 0.5 is a dielectric's 4 % reflectance
   bool use_vertex_colors = true;
   bool use_texture = true;  ///< the mesh's diffuse texture (OBJ map_Kd), when it has one
+  /// Shading normals are smoothed across edges where the faces meet at less than this angle
+  /// (degrees) and kept apart where they meet at more: a box, a plinth or a CAD part keeps flat
+  /// faces and sharp edges, a scan's curved surface stays smooth. 180 smooths every edge.
+  float crease_angle_deg = 60.0f;
 };
 
 enum class BackgroundKind { gradient, transparent };
