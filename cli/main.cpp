@@ -8,6 +8,7 @@
 #include "tour/batch_job.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "options/option_registry.h"
 
 namespace {
 
@@ -27,6 +28,31 @@ Examples:
   meshtour evaluate bunny.ply --compare          # coverage and smoothness of turntable, paper, feature-orbit
   meshtour info scan.glb --json                  # what a file holds: counts, materials, textures, memory
 Run 'meshtour <command> --help' for the options of a command.)";
+
+// For flags the chosen command does not take but another one does (or takes under another
+// name: tour's --frames is render's --frame-count): "; hint: ..." per flag, from the registry.
+std::string misplaced_flag_hints(const CLI::App& app, int argc, char** argv) {
+  const CLI::App* command = nullptr;
+  std::string hints;
+  for (int i = 1; i < argc; ++i) {
+    const std::string token = argv[i];
+    const CLI::App* parent = command ? command : &app;
+    const CLI::App* sub = nullptr;
+    for (const CLI::App* s : parent->get_subcommands([](const CLI::App*) { return true; }))
+      if (s->get_name() == token) sub = s;
+    if (sub) {  // the command, or a command's command (farm slurm)
+      command = sub;
+      continue;
+    }
+    if (!command) continue;
+    if (token.rfind("--", 0) != 0 || token.size() < 3) continue;
+    const std::string flag = token.substr(0, token.find('='));
+    if (command->get_option_no_throw(flag)) continue;
+    if (const std::string hint = meshtour::options::misplaced_flag_hint(command->get_name(), flag); !hint.empty())
+      hints += "; " + hint;
+  }
+  return hints;
+}
 
 }  // namespace
 
@@ -56,7 +82,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "meshtour: " << e.what() << " (see 'meshtour --help')\n";
+    std::cerr << "meshtour: " << e.what() << " (see 'meshtour --help')" << misplaced_flag_hints(app, argc, argv) << "\n";
     return 2;
   } catch (const meshtour::InputError& e) {
     std::cerr << "meshtour: error: " << e.what() << "\n";

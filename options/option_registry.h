@@ -132,4 +132,9 @@ std::string options_markdown();
 /// The name of a command bit ("tour").
 std::string_view command_name(Command c);
 
+/// For a flag that the command `command` (its name, e.g. "tour") does not take: what the registry
+/// knows about it, e.g. "tour takes the frame count as --frames (--frame-count is render's name)"
+/// or "--out-dir is an option of render, batch and farm, not of tour"; "" when no row has it.
+std::string misplaced_flag_hint(std::string_view command, std::string_view flag);
+
 }  // namespace meshtour::options

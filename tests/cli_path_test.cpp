@@ -238,6 +238,16 @@ TEST(CliPath, BadOptionsAreOneLineErrorsAndNoOutput) {
     EXPECT_EQ(count_lines(result.output), 1) << bad << ": " << result.output;
     EXPECT_FALSE(fs::exists(dir / "out.json")) << bad;
   }
+  // A flag of another command, or another command's name for the same setting, says where it belongs.
+  const std::pair<std::string, std::string> misplaced[] = {
+      {"tour '" + mesh.string() + "' --frame-count 12 -o '" + (dir / "t.mp4").string() + "'", "tour takes it as --frames"},
+      {"path '" + mesh.string() + "' --crf 18" + out, "--crf is an option of tour, batch, farm slurm and encode, not of path"}};
+  for (const auto& [command, hint] : misplaced) {
+    const auto result = run_meshtour(command);
+    EXPECT_EQ(result.exit_code, 2) << result.output;
+    EXPECT_EQ(count_lines(result.output), 1) << result.output;
+    EXPECT_NE(result.output.find(hint), std::string::npos) << result.output;
+  }
   // A model that is flat across the chosen up axis cannot get a cylinder.
   {
     std::ofstream flat(dir / "flat.obj");
