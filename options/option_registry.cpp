@@ -522,25 +522,18 @@ std::string misplaced_flag_hint(std::string_view command, std::string_view flag)
   for (const Command c : all)
     if (command_name(c) == command || (c == farm && command == "slurm")) bit = c;
   for (const Option& o : registry()) {
-    const bool named = o.flag == flag || (!o.alt_flag.empty() && o.alt_flag == flag);
-    if (!named) continue;
-    if (o.commands & bit) {  // the concept is there under its other name
-      const auto here = static_cast<Command>(bit);
-      if (o.flag_in(here) != flag) {
-        std::string owners;
-        for (const Command c : all)
-          if ((o.commands & c) && o.flag_in(c) == flag) owners += (owners.empty() ? "" : ", ") + std::string(command_name(c));
-        return std::string(command) + " takes it as " + std::string(o.flag_in(here)) + " (" + std::string(flag) + " is " + owners + "'s name)";
-      }
-      continue;
-    }
-    std::vector<std::string> owners;
+    if (o.flag != flag && (o.alt_flag.empty() || o.alt_flag != flag)) continue;
+    // The commands that take the row under this name, as "a, b and c".
+    std::vector<std::string_view> owners;
     for (const Command c : all)
-      if ((o.commands & c) && o.flag_in(c) == flag) owners.emplace_back(command_name(c));
+      if ((o.commands & c) && o.flag_in(c) == flag) owners.push_back(command_name(c));
     std::string list;
     for (std::size_t k = 0; k < owners.size(); ++k)
-      list += (k == 0 ? "" : k + 1 == owners.size() ? " and " : ", ") + owners[k];
-    if (!list.empty()) return std::string(flag) + " is an option of " + list + ", not of " + std::string(command);
+      list += std::string(k == 0 ? "" : k + 1 == owners.size() ? " and " : ", ") + std::string(owners[k]);
+    if (!(o.commands & bit)) return list.empty() ? "" : std::string(flag) + " is an option of " + list + ", not of " + std::string(command);
+    const std::string_view here = o.flag_in(static_cast<Command>(bit));
+    if (here != flag)  // the same setting under this command's own name
+      return std::string(command) + " takes it as " + std::string(here) + " (" + std::string(flag) + " is " + list + "'s name)";
   }
   return "";
 }
