@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -335,6 +336,15 @@ private:
   bool ascii_, big_endian_;
 };
 
+// A vertex index read from the file, for a message: as an integer where it is one that fits, else
+// as written (a float list may hold 1e30, whose conversion to an integer is undefined).
+std::string index_text(double v) {
+  if (v == std::floor(v) && std::abs(v) < 9e15) return std::to_string(static_cast<long long>(v));
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 bool is_u_property(const std::string& n) { return n == "texture_u" || n == "s" || n == "u"; }
 bool is_v_property(const std::string& n) { return n == "texture_v" || n == "t" || n == "v"; }
 
@@ -498,7 +508,7 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
               continue;
             }
             if (!(v >= 0 && v < static_cast<double>(vertex_count)))
-              throw InputError(name + ": triangle strip " + std::to_string(i) + " refers to vertex " + std::to_string(static_cast<long long>(v)) +
+              throw InputError(name + ": triangle strip " + std::to_string(i) + " refers to vertex " + index_text(v) +
                                " but the file has " + std::to_string(vertex_count) + " vertices (-1 ends a strip)");
             const auto index = static_cast<std::uint32_t>(v);
             if (in_strip >= 2) {
@@ -526,7 +536,7 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
         for (double k = 0; k < n; ++k) {
           const double v = reader.value(p.size, p.is_float, p.is_signed, where);
           if (indices && !(v >= 0 && v < static_cast<double>(vertex_count)))
-            throw InputError(name + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(static_cast<long long>(v)) +
+            throw InputError(name + ": face " + std::to_string(i) + " refers to vertex " + index_text(v) +
                              " but the file has " + std::to_string(vertex_count) + " vertices");
           if (collect && indices) texture->faces[static_cast<std::size_t>(i)].vertices.push_back(static_cast<std::uint32_t>(v));
           if (corner_uvs) {
