@@ -151,8 +151,8 @@ const TriangleMesh& split_bunny(int levels) {
   return bench::split_mesh(std::filesystem::path(MESHTOUR_SOURCE_DIR) / ".." / "shared" / "meshes" / "bunny.ply", levels);
 }
 
-// range(1): the crease angle; 180 smooths every edge, which is the first of the function's
-// passes alone (what the renderer computed before creases): the ratio is the creases' cost.
+// range(1): the crease angle; 180 smooths every edge, which is the welding of coincident
+// vertices and the smoothing pass alone: the ratio is the creases' own cost.
 void BM_CreaseNormals(benchmark::State& state) {
   const TriangleMesh& mesh = split_bunny(static_cast<int>(state.range(0)));
   const auto crease = static_cast<float>(state.range(1));

@@ -327,7 +327,19 @@ TEST(ShadingNormals, CreasesSplitHardEdgesOnly) {
       EXPECT_LT((p.normals[v] - radial.normalized()).norm(), 1e-6f);
     }
   // A smooth, finely tessellated sphere gets no copies.
-  EXPECT_TRUE(shade(test_meshes::icosphere(4), 60.0f).copied_from.empty());
+  const TriangleMesh sphere = test_meshes::icosphere(4);
+  const Shaded welded = shade(sphere, 60.0f);
+  EXPECT_TRUE(welded.copied_from.empty());
+  // The same sphere as a triangle soup (every triangle its own three vertices, as STL converters
+  // write, and as a PLY splits vertices at texture seams) is shaded as smoothly: the normals are
+  // taken over the vertices at the same coordinates, not over the file's vertex indices.
+  const Shaded soup = shade(test_meshes::soup(sphere), 60.0f);
+  EXPECT_TRUE(soup.copied_from.empty());
+  double worst = 0.0;
+  for (std::size_t t = 0; t < sphere.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, static_cast<double>((soup.normals[soup.triangles[t][k]] - welded.normals[welded.triangles[t][k]]).norm()));
+  EXPECT_LT(worst, 1e-6) << "a soup's normal differs from the welded mesh's";
 }
 
 // What a viewer sees: in the plain look (even light, no shadows) without highlights a cube's faces

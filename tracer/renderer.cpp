@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -166,22 +167,73 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
 
 }  // namespace
 
+// For each vertex, the smallest index of a vertex at bit-identical coordinates (itself when
+// alone): the vertices that are one point of the surface. Files split vertices where their
+// attributes differ (a PLY's per-vertex UVs at a texture seam) or not at all (triangle soups from
+// STL converters); without this the normals would see a seam, or every triangle alone (a faceted
+// model). Sorted by a hash of the coordinates, then by index, and compared exactly within equal
+// hashes.
+std::vector<std::uint32_t> coincident_representatives(const std::vector<Eigen::Vector3f>& positions) {
+  const std::size_t n = positions.size();
+  const auto bits = [&](std::size_t v, int k) {
+    std::uint32_t b = 0;
+    const float x = positions[v][k] == 0.0f ? 0.0f : positions[v][k];  // -0 and +0 are one place
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    std::uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (int k = 0; k < 3; ++k) h = (h ^ bits(v, k)) * 0xff51afd7ed558ccdull, h ^= h >> 29;
+    keys[v] = {h, static_cast<std::uint32_t>(v)};
+  }
+  // Least-significant-digit radix sort by the hash, 16 bits a pass: stable, so equal hashes stay
+  // in index order (4 linear passes; std::sort took 2 s on 8.9M vertices).
+  {
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> other(n);
+    std::vector<std::size_t> start(65537);
+    for (int shift = 0; shift < 64; shift += 16) {
+      std::fill(start.begin(), start.end(), 0);
+      for (const auto& k : keys) ++start[((k.first >> shift) & 0xffff) + 1];
+      for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
+      for (const auto& k : keys) other[start[(k.first >> shift) & 0xffff]++] = k;
+      keys.swap(other);
+    }
+  }
+  std::vector<std::uint32_t> representative(n);
+  for (std::size_t v = 0; v < n; ++v) representative[v] = static_cast<std::uint32_t>(v);
+  for (std::size_t begin = 0; begin < n;) {
+    std::size_t end = begin + 1;
+    while (end < n && keys[end].first == keys[begin].first) ++end;
+    for (std::size_t i = begin + 1; i < end; ++i)  // usually one earlier entry; collisions compare each
+      for (std::size_t j = begin; j < i; ++j)
+        if (positions[keys[i].second] == positions[keys[j].second]) {
+          representative[keys[i].second] = representative[keys[j].second];
+          break;
+        }
+    begin = end;
+  }
+  return representative;
+}
+
 // Shading normals with creases (renderer_internal.h). Each corner's normal is the average of the
-// normals of the faces around its vertex that meet its own face at less than the crease angle,
-// weighted by their angles at the vertex (Thürmer and Wüthrich 1998). Where a vertex's corners get
-// different normals (the edge of a box), each normal after the first gets its own copy of the
-// vertex, appended to `positions` (bit-identical coordinates: Embree's robust traversal leaves no
-// crack), and the corners are re-pointed: the tile kernel keeps one normal per vertex.
-// Two linear passes do almost all of it: the smooth normal of every vertex (all its faces), and
-// each vertex's widest angle between one of its faces and that normal. Where every face is within
+// normals of the faces around its point (the vertices at its coordinates) that meet its own face
+// at less than the crease angle, weighted by their angles there (Thürmer and Wüthrich 1998). Where
+// a vertex's corners get different normals (the edge of a box), each normal after the first gets
+// its own copy of the vertex, appended to `positions` (bit-identical coordinates: Embree's robust
+// traversal leaves no crack), and the corners are re-pointed: the tile kernel keeps one normal
+// per vertex.
+// Two linear passes do almost all of it: the smooth normal of every point (all its faces), and
+// each point's widest angle between one of its faces and that normal. Where every face is within
 // half the crease angle of the smooth normal, any two faces are within the crease angle, so the
-// smooth normal is the answer (a scan's surface: nearly every vertex). Only the other vertices
-// are gathered with their corners and solved face by face. Deterministic: sums in triangle order.
+// smooth normal is the answer (a scan's surface: nearly every point). Only the other points are
+// gathered with their corners and solved face by face. Deterministic: sums in triangle order.
 std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positions, std::vector<std::array<std::uint32_t, 3>>& tris,
                                             float crease_angle_deg, std::vector<std::uint32_t>& copied_from) {
   const std::size_t vertex_count = positions.size();
   if (tris.size() > (std::numeric_limits<std::uint32_t>::max() - 2) / 3)
     throw InputError("the mesh has more triangles than meshtour can shade (over 1.4 billion)");
+  const std::vector<std::uint32_t> point = coincident_representatives(positions);
   // A corner's face normal (zero for a degenerate face) and its angle at the corner's vertex.
   const auto corner_of = [&](const std::array<std::uint32_t, 3>& t, int k, Eigen::Vector3d& unit) {
     const Eigen::Vector3d a = positions[t[k]].cast<double>(), b = positions[t[(k + 1) % 3]].cast<double>(),
@@ -199,7 +251,7 @@ std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positi
     const double len = sum.norm();
     return len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f::UnitY();
   };
-  // 1. Smooth normals (corner_of()'s numbers, with the cross product formed once per face).
+  // 1. Smooth normals per point (corner_of()'s numbers, with the cross product formed once per face).
   std::vector<Eigen::Vector3d> sums(vertex_count, Eigen::Vector3d::Zero());
   for (const auto& t : tris) {
     const Eigen::Vector3d p[3] = {positions[t[0]].cast<double>(), positions[t[1]].cast<double>(), positions[t[2]].cast<double>()};
@@ -209,16 +261,17 @@ std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positi
     const Eigen::Vector3d unit = cross / len;
     for (int k = 0; k < 3; ++k) {
       const double angle = portable_atan2(len, (p[(k + 1) % 3] - p[k]).dot(p[(k + 2) % 3] - p[k]));
-      sums[t[k]] += angle * unit;
+      sums[point[t[k]]] += angle * unit;
     }
   }
   std::vector<Eigen::Vector3f> normals(vertex_count);
-  for (std::size_t v = 0; v < vertex_count; ++v) normals[v] = normalised(sums[v]);
+  for (std::size_t v = 0; v < vertex_count; ++v) normals[v] = point[v] == v ? normalised(sums[v]) : Eigen::Vector3f::Zero();
+  for (std::size_t v = 0; v < vertex_count; ++v) normals[v] = normals[point[v]];
   sums = {};
   if (crease_angle_deg >= 180.0f) return normals;
   const double cos_crease = std::cos(static_cast<double>(crease_angle_deg) * std::numbers::pi / 180.0);
   const double cos_half = std::cos(0.5 * static_cast<double>(crease_angle_deg) * std::numbers::pi / 180.0);
-  // 2. The vertices some face of which is further than half the angle from their smooth normal.
+  // 2. The points some face of which is further than half the angle from their smooth normal.
   std::vector<char> suspect(vertex_count, 0);
   for (const auto& t : tris) {
     const Eigen::Vector3d a = positions[t[0]].cast<double>(), b = positions[t[1]].cast<double>(), c = positions[t[2]].cast<double>();
@@ -226,28 +279,30 @@ std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positi
     const double len = cross.norm();
     if (!(len > 0.0)) continue;
     for (const std::uint32_t v : t)
-      if (cross.dot(normals[v].cast<double>()) < cos_half * len) suspect[v] = 1;
+      if (cross.dot(normals[v].cast<double>()) < cos_half * len) suspect[point[v]] = 1;
   }
-  // 3. Those vertices' corners (3 * triangle + k), grouped by vertex in triangle order, solved exactly.
+  // 3. Those points' corners (3 * triangle + k), grouped by point in triangle order, solved exactly.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> gathered;
   for (std::size_t t = 0; t < tris.size(); ++t)
     for (int k = 0; k < 3; ++k)
-      if (suspect[tris[t][k]]) gathered.emplace_back(tris[t][k], static_cast<std::uint32_t>(3 * t + k));
+      if (suspect[point[tris[t][k]]]) gathered.emplace_back(point[tris[t][k]], static_cast<std::uint32_t>(3 * t + k));
   std::stable_sort(gathered.begin(), gathered.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  std::vector<Eigen::Vector3d> unit;    // per corner of the vertex: its face's unit normal (zero: degenerate)
-  std::vector<double> angle;            // its angle at the vertex
+  std::vector<Eigen::Vector3d> unit;    // per corner of the point: its face's unit normal (zero: degenerate)
+  std::vector<double> angle;            // its angle at the point
   std::vector<Eigen::Vector3f> result;  // its normal
+  std::vector<std::uint32_t> vertex;    // its vertex in the file
   std::vector<std::uint32_t> assigned;  // the vertex it is re-pointed to
   for (std::size_t begin = 0; begin < gathered.size();) {
-    const std::uint32_t v = gathered[begin].first;
     std::size_t end = begin;
-    while (end < gathered.size() && gathered[end].first == v) ++end;
+    while (end < gathered.size() && gathered[end].first == gathered[begin].first) ++end;
     const std::size_t n = end - begin;
     unit.resize(n);
     angle.resize(n);
+    vertex.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t c = gathered[begin + i].second;
       angle[i] = corner_of(tris[c / 3], static_cast<int>(c % 3), unit[i]);
+      vertex[i] = tris[c / 3][c % 3];
     }
     const auto average = [&](std::size_t i) {  // corner i's normal: the faces within the angle of its face
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -256,21 +311,27 @@ std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positi
       return normalised(sum);
     };
     result.resize(n);
-    assigned.assign(n, v);
+    assigned.resize(n);
     for (std::size_t i = 0; i < n; ++i) result[i] = average(i);
-    normals[v] = result[0];
-    for (std::size_t i = 1; i < n; ++i) {
-      std::size_t same = i;
-      for (std::size_t j = 0; j < i && same == i; ++j)
-        if (result[j] == result[i]) same = j;
-      if (same < i) {
+    // Per vertex of the file: its first corner's normal is its own, another normal a copy of it.
+    for (std::size_t i = 0; i < n; ++i) {
+      std::size_t first = i, same = i;
+      for (std::size_t j = 0; j < i; ++j)
+        if (vertex[j] == vertex[i]) {
+          if (first == i) first = j;
+          if (same == i && result[j] == result[i]) same = j;
+        }
+      if (first == i) {
+        assigned[i] = vertex[i];
+        normals[vertex[i]] = result[i];
+      } else if (same < i) {
         assigned[i] = assigned[same];
-        continue;
+      } else {
+        assigned[i] = static_cast<std::uint32_t>(positions.size());
+        positions.push_back(positions[vertex[i]]);
+        normals.push_back(result[i]);
+        copied_from.push_back(vertex[i]);
       }
-      assigned[i] = static_cast<std::uint32_t>(positions.size());
-      positions.push_back(positions[v]);
-      normals.push_back(result[i]);
-      copied_from.push_back(v);
     }
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t c = gathered[begin + i].second;
