@@ -22,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using meshtour::test::run_meshtour;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) { return meshtour::test::shell_quoted(p); }
 
 fs::path write(const fs::path& file, const std::string& bytes) {
   std::ofstream(file, std::ios::binary) << bytes;

@@ -16,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using meshtour::test::run_meshtour;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) { return meshtour::test::shell_quoted(p); }
 
 fs::path small_mesh(const fs::path& dir) {
   const fs::path file = dir / "bumpy.ply";

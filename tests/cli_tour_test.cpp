@@ -15,7 +15,7 @@ namespace {
 
 using test::run_meshtour;
 
-std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+std::string q(const std::filesystem::path& p) { return test::shell_quoted(p); }
 
 std::size_t count_files(const std::filesystem::path& dir) {
   std::size_t n = 0;
