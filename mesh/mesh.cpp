@@ -201,12 +201,12 @@ TriangleMesh textured_ply(const std::filesystem::path& file, ply_detail::PlyText
   }
   mesh.positions = std::move(texture.positions);
   mesh.colors = std::move(texture.colors);
+  const auto vertex_uv = [&](std::uint32_t v) -> Eigen::Vector2f {
+    return texture.per_vertex ? texture.vertex_uvs[v] : Eigen::Vector2f::Zero();
+  };
   for (const auto& f : texture.faces) {
     const bool corners = texture.per_corner && f.uvs.size() == f.vertices.size();
-    const auto uv = [&](std::size_t k) -> Eigen::Vector2f {
-      if (corners) return f.uvs[k];
-      return texture.per_vertex ? texture.vertex_uvs[f.vertices[k]] : Eigen::Vector2f::Zero();
-    };
+    const auto uv = [&](std::size_t k) -> Eigen::Vector2f { return corners ? f.uvs[k] : vertex_uv(f.vertices[k]); };
     for (std::size_t k = 1; k + 1 < f.vertices.size(); ++k) {
       mesh.triangles.push_back({f.vertices[0], f.vertices[k], f.vertices[k + 1]});
       if (textured)
@@ -216,7 +216,7 @@ TriangleMesh textured_ply(const std::filesystem::path& file, ply_detail::PlyText
   for (const auto& t : texture.strip_triangles) {
     mesh.triangles.push_back(t);
     if (textured)
-      for (const std::uint32_t v : t) mesh.corner_uvs.push_back(texture.per_vertex ? texture.vertex_uvs[v] : Eigen::Vector2f::Zero());
+      for (const std::uint32_t v : t) mesh.corner_uvs.push_back(vertex_uv(v));
   }
   if (mesh.triangles.empty()) throw InputError(file.string() + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
   return mesh;

@@ -17,7 +17,6 @@ namespace meshtour::options {
 namespace {
 
 constexpr unsigned kRendering = tour | render | batch | farm;  // commands that render a tour
-constexpr unsigned kAll = tour | render | batch | farm | path | evaluate | encode;
 constexpr unsigned kToTasks = render_tasks | batch_tasks;
 
 const std::string_view kPatches = "Toroidal patches (ALGORITHM.md §3-§8)";

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdint>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -34,6 +35,21 @@ struct Stopped {
   double seconds_after_signal = 0.0;
 };
 
+// Waits for `pid` to end, at most `limit` from `since` (then kills it): its exit status, or
+// nothing when it had to be killed.
+std::optional<int> wait_for(pid_t pid, Clock::time_point since, std::chrono::seconds limit) {
+  int status = 0;
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (Clock::now() - since > limit) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      return std::nullopt;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return status;
+}
+
 // Starts `args`, sends `signal` after `delay`, and waits (at most 20 s) for the process to end.
 Stopped interrupt_after(const std::vector<std::string>& args, std::chrono::milliseconds delay, int signal,
                         const fs::path& log) {
@@ -42,18 +58,11 @@ Stopped interrupt_after(const std::vector<std::string>& args, std::chrono::milli
   std::this_thread::sleep_for(delay);
   const auto sent = Clock::now();
   ::kill(pid, signal);
-  int status = 0;
-  while (::waitpid(pid, &status, WNOHANG) == 0) {
-    if (Clock::now() - sent > std::chrono::seconds(20)) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
-      return {-1, 20.0};
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  const std::optional<int> status = wait_for(pid, sent, std::chrono::seconds(20));
+  if (!status) return {-1, 20.0};
   // Killed by the signal itself (before main() installed its handler, while the dynamic loader
   // still runs): what a shell reports then, 128 + the signal.
-  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
+  const int code = WIFEXITED(*status) ? WEXITSTATUS(*status) : WIFSIGNALED(*status) ? 128 + WTERMSIG(*status) : -1;
   return {code, std::chrono::duration<double>(Clock::now() - sent).count()};
 }
 
@@ -90,15 +99,7 @@ std::chrono::milliseconds uninterrupted_run(const std::vector<std::string>& args
   const auto start = Clock::now();
   const pid_t pid = test::spawn_meshtour(args, log);
   if (pid <= 0) return {};
-  int status = 0;
-  while (::waitpid(pid, &status, WNOHANG) == 0) {
-    if (Clock::now() - start > std::chrono::seconds(60)) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  (void)wait_for(pid, start, std::chrono::seconds(60));
   return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
 }
 

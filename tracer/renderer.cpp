@@ -234,35 +234,30 @@ std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positi
   if (tris.size() > (std::numeric_limits<std::uint32_t>::max() - 2) / 3)
     throw InputError("the mesh has more triangles than meshtour can shade (over 1.4 billion)");
   const std::vector<std::uint32_t> point = coincident_representatives(positions);
-  // A corner's face normal (zero for a degenerate face) and its angle at the corner's vertex.
-  const auto corner_of = [&](const std::array<std::uint32_t, 3>& t, int k, Eigen::Vector3d& unit) {
-    const Eigen::Vector3d a = positions[t[k]].cast<double>(), b = positions[t[(k + 1) % 3]].cast<double>(),
-                          c = positions[t[(k + 2) % 3]].cast<double>();
-    const Eigen::Vector3d e1 = b - a, e2 = c - a, cross = e1.cross(e2);
-    const double len = cross.norm();
-    if (!(len > 0.0)) {
-      unit.setZero();
-      return 0.0;
-    }
-    unit = cross / len;
-    return portable_atan2(len, e1.dot(e2));
+  // One face's corners and cross product (twice its area along its normal; zero when degenerate),
+  // and the angle at its corner k: every pass measures faces through these two.
+  struct Face {
+    Eigen::Vector3d p[3], cross;
+    double len;
+    double angle(int k) const { return portable_atan2(len, (p[(k + 1) % 3] - p[k]).dot(p[(k + 2) % 3] - p[k])); }
+  };
+  const auto face_of = [&](const std::array<std::uint32_t, 3>& t) {
+    Face f{{positions[t[0]].cast<double>(), positions[t[1]].cast<double>(), positions[t[2]].cast<double>()}, {}, 0.0};
+    f.cross = (f.p[1] - f.p[0]).cross(f.p[2] - f.p[0]);
+    f.len = f.cross.norm();
+    return f;
   };
   const auto normalised = [](const Eigen::Vector3d& sum) {
     const double len = sum.norm();
     return len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f::UnitY();
   };
-  // 1. Smooth normals per point (corner_of()'s numbers, with the cross product formed once per face).
+  // 1. Smooth normals per point.
   std::vector<Eigen::Vector3d> sums(vertex_count, Eigen::Vector3d::Zero());
   for (const auto& t : tris) {
-    const Eigen::Vector3d p[3] = {positions[t[0]].cast<double>(), positions[t[1]].cast<double>(), positions[t[2]].cast<double>()};
-    const Eigen::Vector3d cross = (p[1] - p[0]).cross(p[2] - p[0]);
-    const double len = cross.norm();
-    if (!(len > 0.0)) continue;
-    const Eigen::Vector3d unit = cross / len;
-    for (int k = 0; k < 3; ++k) {
-      const double angle = portable_atan2(len, (p[(k + 1) % 3] - p[k]).dot(p[(k + 2) % 3] - p[k]));
-      sums[point[t[k]]] += angle * unit;
-    }
+    const Face f = face_of(t);
+    if (!(f.len > 0.0)) continue;
+    const Eigen::Vector3d unit = f.cross / f.len;
+    for (int k = 0; k < 3; ++k) sums[point[t[k]]] += f.angle(k) * unit;
   }
   std::vector<Eigen::Vector3f> normals(vertex_count);
   for (std::size_t v = 0; v < vertex_count; ++v) normals[v] = point[v] == v ? normalised(sums[v]) : Eigen::Vector3f::Zero();
@@ -274,12 +269,10 @@ std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positi
   // 2. The points some face of which is further than half the angle from their smooth normal.
   std::vector<char> suspect(vertex_count, 0);
   for (const auto& t : tris) {
-    const Eigen::Vector3d a = positions[t[0]].cast<double>(), b = positions[t[1]].cast<double>(), c = positions[t[2]].cast<double>();
-    const Eigen::Vector3d cross = (b - a).cross(c - a);
-    const double len = cross.norm();
-    if (!(len > 0.0)) continue;
+    const Face f = face_of(t);
+    if (!(f.len > 0.0)) continue;
     for (const std::uint32_t v : t)
-      if (cross.dot(normals[v].cast<double>()) < cos_half * len) suspect[point[v]] = 1;
+      if (f.cross.dot(normals[v].cast<double>()) < cos_half * f.len) suspect[point[v]] = 1;
   }
   // 3. Those points' corners (3 * triangle + k), grouped by point in triangle order, solved exactly.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> gathered;
@@ -301,7 +294,10 @@ std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positi
     vertex.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t c = gathered[begin + i].second;
-      angle[i] = corner_of(tris[c / 3], static_cast<int>(c % 3), unit[i]);
+      const Face f = face_of(tris[c / 3]);
+      const bool proper = f.len > 0.0;
+      unit[i] = proper ? Eigen::Vector3d(f.cross / f.len) : Eigen::Vector3d::Zero();
+      angle[i] = proper ? f.angle(static_cast<int>(c % 3)) : 0.0;
       vertex[i] = tris[c / 3][c % 3];
     }
     const auto average = [&](std::size_t i) {  // corner i's normal: the faces within the angle of its face
