@@ -93,9 +93,10 @@ std::vector<Option> make_registry() {
        .scene_key = "look.crease_angle", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "spp", .flag = "--spp", .kind = Kind::integer, .lo = 1, .hi = 4096, .default_text = "16",
        .help = "Samples per pixel: Owen-scrambled Sobol points in Z order (neighbouring pixels' samples fill each\n"
-               "other's gaps). The raw frame's error falls faster than 1/sqrt(spp) (bunny: 2.4x from 4 to 16, 2.2x\n"
-               "from 16 to 64); the denoised default at 16 is about as close to the converged frame as raw 128.\n"
-               "Powers of two work best (default 16)",
+               "other's gaps). The raw frame's error falls faster than 1/sqrt(spp) (bunny at 1280x720: 2.4x from 4\n"
+               "to 16, 2.3x from 16 to 64); denoised, 16 is closer to the converged frame than raw 128 (relative\n"
+               "error: bunny 0.49 against 0.66 %, default scene 0.26 against 0.36 %). Powers of two work best\n"
+               "(default 16)",
        .scene_key = "output.spp", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "denoise", .flag = "--denoise", .kind = Kind::choice, .choices = {"on", "off"}, .ignore_case = true,
        .default_text = "on",
