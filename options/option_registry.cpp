@@ -31,13 +31,13 @@ std::vector<Option> make_registry() {
   // ---- Tour: size, timing, camera
   add({.id = "width", .flag = "--width", .kind = Kind::integer, .lo = 2, .hi = 16384, .default_text = "1280",
        .help = "Frame width in pixels, even (default 1280)", .scene_key = "output.width", .manifest_column = true,
-       .commands = kRendering | evaluate, .farm = kToTasks});
+       .commands = kRendering | path | evaluate, .farm = kToTasks});
   add({.id = "height", .flag = "--height", .kind = Kind::integer, .lo = 2, .hi = 16384, .default_text = "720",
        .help = "Frame height in pixels, even (default 720)", .scene_key = "output.height", .manifest_column = true,
-       .commands = kRendering | evaluate, .farm = kToTasks});
+       .commands = kRendering | path | evaluate, .farm = kToTasks});
   add({.id = "fps", .flag = "--fps", .kind = Kind::integer, .lo = 1, .hi = 240, .default_text = "30",
        .help = "Frames per second (default 30; encode: the manifest's, else 30)", .scene_key = "timing.fps",
-       .manifest_column = true, .commands = kRendering | encode, .farm = kToTasks | encode_job});
+       .manifest_column = true, .commands = kRendering | path | encode, .farm = kToTasks | encode_job});
   add({.id = "frame-count", .flag = "--frames", .kind = Kind::integer, .lo = 1, .hi = 1000000, .default_text = "120",
        .help = "Frames in one loop of the path (default 120)",
        .long_help = "The tour's length. `render` spells it --frame-count, because its --frames selects frames.",
@@ -77,10 +77,10 @@ std::vector<Option> make_registry() {
                "distances for a long 10-degree lens (about 135 mm: it sees the surface more squarely than a wide one);\n"
                "the turntable uses 35 degrees and fits its radius. A fixed fov moves the paper path's camera back\n"
                "where needed instead, and the feature orbit plans for it.",
-       .scene_key = "camera.fov", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
+       .scene_key = "camera.fov", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks});
   add({.id = "elevation", .flag = "--elevation", .kind = Kind::number, .lo = -80, .hi = 80, .default_text = "18",
        .help = "Turntable: camera elevation above the model's centre, degrees (default 18)",
-       .scene_key = "camera.elevation", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+       .scene_key = "camera.elevation", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks});
   // ---- Look and samples
   add({.id = "preset", .flag = "--preset", .kind = Kind::choice, .choices = {"studio", "plain"},
        .help = "Look: studio (key, fill and rim lights, soft shadows, ambient occlusion, shadow-catching ground, "

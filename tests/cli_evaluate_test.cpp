@@ -116,9 +116,12 @@ TEST(CliEvaluate, GltfFromPathAndTourIsValidAndIdentical) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // The same cameras whichever command exports them (the tour's 64x36 has the default 16:9 aspect).
   EXPECT_EQ(read_file(dir / "path.bin"), read_file(dir / "tour.bin"));
-  std::string tour_text = read_file(dir / "tour.gltf");
-  tour_text.replace(tour_text.find("tour.bin"), 8, "path.bin");  // each names its own buffer
-  EXPECT_EQ(read_file(dir / "path.gltf"), tour_text);
+  // Each names its own buffer: compare the texts with the two buffer names taken out.
+  const auto without_buffer_name = [](std::string text, const std::string& name) {
+    const std::size_t at = text.find(name);
+    return at == std::string::npos ? text : text.erase(at, name.size());
+  };
+  EXPECT_EQ(without_buffer_name(read_file(dir / "path.gltf"), "path.bin"), without_buffer_name(read_file(dir / "tour.gltf"), "tour.bin"));
   for (const char* name : {"path.gltf", "tour.gltf"}) {
     const auto v = validate_gltf(dir / name);
     EXPECT_EQ(v.exit_code, 0) << name << ": " << v.output;
@@ -129,11 +132,49 @@ TEST(CliEvaluate, GltfFromPathAndTourIsValidAndIdentical) {
   const std::string key = "\"byteLength\": ";
   const auto at = text.find(key);
   ASSERT_NE(at, std::string::npos);
-  text.insert(at + key.size(), "9");
+  text.insert(at + key.size(), 1, '9');
   std::ofstream(dir / "broken.gltf") << text;
   fs::copy_file(dir / "path.bin", dir / "broken.bin");
   const auto broken = validate_gltf(dir / "broken.gltf");
   EXPECT_EQ(broken.exit_code, 1) << broken.output;
+}
+
+// `path` describes the turntable a tour renders with its camera options (--elevation, --fov, the
+// frame size and rate), not only the default one.
+TEST(CliEvaluate, PathTakesTheTurntablesCameraOptionsAsTourDoes) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  const fs::path mesh = small_mesh(dir);
+  const std::string camera = q(mesh) + " --path turntable --elevation 35 --fov 25 --frames 6 --fps 24";
+  std::string path_command = "path ", tour_command = "tour ";
+  path_command += camera;
+  path_command += " --width 640 --height 480 -q --gltf " + q(dir / "path.gltf");
+  path_command += " --camera-frames " + q(dir / "frames.json");
+  tour_command += camera;
+  tour_command += " --width 64 --height 48 --spp 1 -q -o " + q(dir / "t.mp4");
+  tour_command += " --gltf " + q(dir / "tour.gltf");
+  auto r = run_meshtour(path_command);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour(tour_command);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_file(dir / "path.bin"), read_file(dir / "tour.bin"));  // the same cameras (both 4:3)
+  std::ifstream in(dir / "frames.json");
+  const nlohmann::json frames = nlohmann::json::parse(in);  // one object per frame
+  ASSERT_EQ(frames.size(), 6u);
+  for (const auto& f : frames) {
+    Eigen::Vector3d d;
+    for (int k = 0; k < 3; ++k) d[k] = f["eye"][k].get<double>() - f["target"][k].get<double>();
+    EXPECT_NEAR(std::asin(d.normalized().y()) * 180.0 / EIGEN_PI, 35.0, 1e-6);
+    EXPECT_NEAR(f["vertical_fov_deg"].get<double>(), 25.0, 1e-9);
+  }
+  // The elevation changes what evaluate measures of the turntable.
+  r = run_meshtour("evaluate " + q(mesh) + " --path turntable --frames 12 --samples 16384 -q --json " + q(dir / "e18.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_meshtour("evaluate " + q(mesh) + " --path turntable --elevation 70 --frames 12 --samples 16384 -q --json " +
+                   q(dir / "e70.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream a(dir / "e18.json"), b(dir / "e70.json");
+  EXPECT_NE(nlohmann::json::parse(a)["modes"]["turntable"]["surface_coverage"],
+            nlohmann::json::parse(b)["modes"]["turntable"]["surface_coverage"]);
 }
 
 TEST(CliEvaluate, OverviewShowsTheModelAndThePath) {
