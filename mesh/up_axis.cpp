@@ -104,10 +104,10 @@ constexpr double kOverrideThickness = 0.1;
 // and 8,000 cells (the cut is found at creases of 15-25 degrees in the native orientation): the
 // Venus head's neck cut, 4-5 % of the surface, 17-23 degrees off -z, 3 % of the size beyond its
 // plane; the Igea head (a 268k-face scan of another marble head) 4-5 %, 18-22 degrees off -y;
-// both in all six orientations. The bear, the only model the rule is not confident on without it,
-// keeps +y: its largest flat region is 2.2 % of its surface and 39 degrees off every axis. Only
-// consulted when the rests and flat ends leave the choice open, so it moves no confident choice
-// (Nefertiti's flat cap, 13 %, faces up).
+// both in all six orientations. The bear, the only shared model the rule is not confident on
+// without it, keeps +y: its largest flat region is 2.2 % of its surface and 39 degrees off every
+// axis. Only consulted when the rests and flat ends leave the choice open, so it moves no
+// confident choice (Nefertiti's flat cap, 13 %, faces up).
 constexpr std::size_t kCutProxyCells = 2000;
 constexpr double kCutCreaseDeg[] = {15.0, 20.0, 25.0, 30.0};
 constexpr double kCutMinArea = 0.03;
