@@ -8,26 +8,22 @@
 #include <utility>
 #include <vector>
 
+#include "core/disjoint_sets.h"
+
 namespace meshtour {
 
 MeshStatistics mesh_statistics(const TriangleMesh& mesh) {
   MeshStatistics s;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
   edges.reserve(3 * mesh.triangles.size());
-  std::vector<std::uint32_t> parent(mesh.positions.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  const auto root = [&parent](std::uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
+  DisjointSets components(mesh.positions.size());
   std::vector<bool> used(mesh.positions.size(), false);
   for (const auto& t : mesh.triangles) {
     for (int c = 0; c < 3; ++c) {
       const std::uint32_t a = t[c], b = t[(c + 1) % 3];
       edges.emplace_back(std::min(a, b), std::max(a, b));
       used[a] = true;
-      const std::uint32_t ra = root(a), rb = root(b);
-      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+      components.join(a, b);
     }
     const Eigen::Vector3d& p0 = mesh.positions[t[0]];
     s.surface_area += 0.5 * (mesh.positions[t[1]] - p0).cross(mesh.positions[t[2]] - p0).norm();
@@ -41,9 +37,9 @@ MeshStatistics mesh_statistics(const TriangleMesh& mesh) {
     if (j - i > 2) ++s.non_manifold_edges;
     i = j;
   }
-  for (std::uint32_t v = 0; v < parent.size(); ++v) {
+  for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
     if (!used[v]) ++s.unreferenced_vertices;
-    else if (root(v) == v) ++s.components;
+    else if (components.root(v) == v) ++s.components;
   }
   return s;
 }

@@ -29,6 +29,7 @@
 #include <numeric>
 #include <numbers>
 
+#include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "mesh/convex_hull.h"
 #include "mesh/vertex_clustering.h"
@@ -149,27 +150,20 @@ std::optional<FlatCut> flat_cut(const TriangleMesh& mesh, const std::vector<Eige
   std::optional<FlatCut> best;
   for (const double crease_deg : kCutCreaseDeg) {
     // Regions: faces joined across every edge two faces share that turns by less than the crease.
-    std::vector<std::uint32_t> parent(faces);
-    std::iota(parent.begin(), parent.end(), 0u);
-    const auto root = [&](std::uint32_t f) {
-      while (parent[f] != f) f = parent[f] = parent[parent[f]];
-      return f;
-    };
+    DisjointSets regions(faces);
     const double cos_crease = std::cos(crease_deg * std::numbers::pi / 180.0);
     for (std::size_t i = 0; i + 1 < edges.size();) {
       std::size_t j = i + 1;
       while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
       const std::uint32_t f = edges[i][2], g = edges[i + 1][2];
-      if (j == i + 2 && area[f] > 0.0 && area[g] > 0.0 && area_normal[f].dot(area_normal[g]) >= cos_crease * area[f] * area[g]) {
-        const std::uint32_t rf = root(f), rg = root(g);
-        parent[std::max(rf, rg)] = std::min(rf, rg);  // the lower index roots: the same regions in any order
-      }
+      if (j == i + 2 && area[f] > 0.0 && area[g] > 0.0 && area_normal[f].dot(area_normal[g]) >= cos_crease * area[f] * area[g])
+        regions.join(f, g);
       i = j;
     }
     std::vector<double> region_area(faces, 0.0);
     std::vector<Eigen::Vector3d> region_normal(faces, Eigen::Vector3d::Zero()), region_centre(faces, Eigen::Vector3d::Zero());
     for (std::size_t f = 0; f < faces; ++f) {
-      const std::uint32_t r = root(static_cast<std::uint32_t>(f));
+      const std::uint32_t r = regions.root(static_cast<std::uint32_t>(f));
       const auto& t = proxy.triangles[f];
       region_area[r] += area[f];
       region_normal[r] += area_normal[f];

@@ -9,6 +9,7 @@
 #include <limits>
 #include <numeric>
 
+#include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "mesh/vertex_clustering.h"
@@ -238,24 +239,18 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
     std::vector<std::uint8_t> feature_cluster(clusters, 0);
     for (std::size_t i = 0; i < n; ++i)
       if (s.feature[m][i]) feature_cluster[nearest_cluster[i]] = 1;
-    std::vector<std::uint32_t> parent(clusters);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
+    DisjointSets regions(clusters);
     for (const auto& t : proxy.mesh.triangles)
       for (int e = 0; e < 3; ++e) {
         const std::uint32_t a = t[e], b = t[(e + 1) % 3];
         if (!feature_cluster[a] || !feature_cluster[b]) continue;
-        const std::uint32_t x = find(a), y = find(b);
-        if (x != y) parent[std::max(x, y)] = std::min(x, y);
+        regions.join(a, b);
       }
     std::vector<int> id(clusters, -1);
     s.region[m].assign(n, -1);
     for (std::size_t i = 0; i < n; ++i) {
       if (!s.feature[m][i]) continue;
-      const std::uint32_t root = find(nearest_cluster[i]);
+      const std::uint32_t root = regions.root(nearest_cluster[i]);
       if (id[root] < 0) id[root] = s.regions[m]++;
       s.region[m][i] = id[root];
     }

@@ -19,6 +19,7 @@
 #include <mutex>
 #include <numeric>
 
+#include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "pathgen/surface_mesh.h"
 
@@ -80,14 +81,6 @@ Csr build_csr(std::size_t rows, std::size_t pairs, const RowOf& row_of, std::vec
     if (source) (*source)[slot] = static_cast<std::uint32_t>(k);
   }
   return csr;
-}
-
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t v) {
-  while (parent[v] != v) {
-    parent[v] = parent[parent[v]];
-    v = parent[v];
-  }
-  return v;
 }
 
 // Keeps the vertices `faces` use, in ascending index order, and renumbers `faces` to match.
@@ -414,14 +407,10 @@ void finish_cleanup(SurfaceMesh& out, CleanupCounts& counts, std::vector<std::st
   for (const auto& edge : out.edges) counts.boundary_edges += edge.face[1] < 0 ? 1 : 0;
 
   // Connected components (faces sharing a vertex), for the report only.
-  std::vector<std::uint32_t> parent(V);
-  std::iota(parent.begin(), parent.end(), 0u);
-  for (const auto& edge : out.edges) {
-    const auto a = find_root(parent, edge.vertex[0]), b = find_root(parent, edge.vertex[1]);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
+  DisjointSets components(V);
+  for (const auto& edge : out.edges) components.join(edge.vertex[0], edge.vertex[1]);
   for (std::uint32_t v = 0; v < V; ++v)
-    if (find_root(parent, v) == v) ++counts.components;
+    if (components.root(v) == v) ++counts.components;
 
   if (counts.non_finite_faces)
     notes.push_back("dropped " + count_text(counts.non_finite_faces, "face", "faces") +
