@@ -36,14 +36,17 @@ void add_evaluate_command(CLI::App& app) {
       "box; view.spd / view.acc = the same for the view direction; out = frames in which some vertex is "
       "outside the image. A sample is seen well in a frame when it is inside the image, not hidden by the "
       "surface, and the angle between its normal and the direction to the camera is below the seen-well "
-      "angle (either side of the surface). Features are judged four ways, so no path wins by one yardstick: "
+      "angle (either side of the surface). Features are judged eight ways, so no path wins by one yardstick: "
       "two measures computed on a fixed-resolution proxy of the mesh (patch density = w(f) of ALGORITHM.md "
-      "§8; saliency = mesh saliency of Lee, Varshney & Jacobs 2005), each at two seen-well angles "
-      "(--seen-angle, --strict-angle); the samples at or above the --feature-quantile of a measure are its "
-      "features. The first table uses the default (patch density at --seen-angle); the second gives the "
-      "feature coverage under every definition, the objective the feature orbit maximizes (the mean over "
-      "the definitions of features seen plus 0.3 x other surface seen, over the features) and the frame "
-      "whose view alone scores highest. A feature region is a connected part of the features; it is seen "
+      "§8; saliency = mesh saliency of Lee, Varshney & Jacobs 2005), each at four seen-well angles "
+      "(--seen-angle 75, --strict-angle 60, --stricter-angle 45, --strictest-angle 30); the samples at or "
+      "above the --feature-quantile of a measure are its features. Changing them here changes only the "
+      "yardstick, not the paths: the feature orbit's search always uses the defaults, so other angles and "
+      "quantiles test it on measures it was not tuned to. The first table uses the default (patch density "
+      "at --seen-angle); the second gives the feature coverage under every definition, the objective (the "
+      "mean over the definitions of features seen plus 0.3 x other surface seen, over the features: what "
+      "the feature orbit maximizes, among the curves that see under every definition at least as much as a "
+      "level circle and the turntable) and the frame whose view alone scores highest. A feature region is a connected part of the features; it is seen "
       "well in a frame when at least --region-share of it is. Motion is measured around the loop including "
       "the jump from the last frame back to the first.");
   cmd->option_defaults()->always_capture_default();
@@ -57,7 +60,9 @@ void add_evaluate_command(CLI::App& app) {
                   "\"view_max_angular_acceleration\": ..., \"frames_out_of_frame\": ..., \"objective\": ..., "
                   "\"frame_scores\": [...], \"definitions\": {\"patch-density-75deg\": {\"feature_coverage\": ..., "
                   "\"surface_coverage\": ..., \"feature_min_frames\": ..., \"feature_median_frames\": ...}, "
-                  "\"saliency-75deg\": {...}, \"patch-density-60deg\": {...}, \"saliency-60deg\": {...}}}}} "
+                  "\"saliency-75deg\": {...}, \"patch-density-60deg\": {...}, \"saliency-60deg\": {...}, "
+                  "\"patch-density-45deg\": {...}, \"saliency-45deg\": {...}, \"patch-density-30deg\": {...}, "
+                  "\"saliency-30deg\": {...}}}}} "
                   "(fractions, rad/frame, rad/frame^2; the top-level coverage keys are the first definition's)")
       ->type_name("FILE");
   cmd->add_option("--samples", args->evaluation.coverage.samples, "Surface samples the coverage is measured on")
@@ -68,7 +73,15 @@ void add_evaluate_command(CLI::App& app) {
       ->check(CLI::Range(1.0, 90.0))
       ->capture_default_str();
   cmd->add_option("--strict-angle", args->evaluation.coverage.seen_angle_deg[1],
-                  "The stricter seen-well angle of the second pair of feature definitions")
+                  "The seen-well angle of the second pair of feature definitions (stricter)")
+      ->check(CLI::Range(1.0, 90.0))
+      ->capture_default_str();
+  cmd->add_option("--stricter-angle", args->evaluation.coverage.seen_angle_deg[2],
+                  "The seen-well angle of the third pair of feature definitions (stricter still)")
+      ->check(CLI::Range(1.0, 90.0))
+      ->capture_default_str();
+  cmd->add_option("--strictest-angle", args->evaluation.coverage.seen_angle_deg[3],
+                  "The seen-well angle of the fourth pair of feature definitions (the strictest)")
       ->check(CLI::Range(1.0, 90.0))
       ->capture_default_str();
   cmd->add_option("--feature-quantile", args->evaluation.coverage.feature_quantile,

@@ -137,12 +137,15 @@ std::string CoverageOptions::key(const FeatureDefinition& d) const {
 }
 
 const std::array<FeatureDefinition, kFeatureDefinitions>& feature_definitions() {
-  static const std::array<FeatureDefinition, kDefinitions> definitions{{
-      {FeatureMeasure::patch_density, 0},
-      {FeatureMeasure::saliency, 0},
-      {FeatureMeasure::patch_density, 1},
-      {FeatureMeasure::saliency, 1},
-  }};
+  // Both measures at each angle, the angles in the order of CoverageOptions::seen_angle_deg.
+  static const std::array<FeatureDefinition, kDefinitions> definitions = [] {
+    std::array<FeatureDefinition, kDefinitions> all{};
+    for (int a = 0; a < kSeenAngles; ++a) {
+      all[static_cast<std::size_t>(2 * a)] = {FeatureMeasure::patch_density, a};
+      all[static_cast<std::size_t>(2 * a + 1)] = {FeatureMeasure::saliency, a};
+    }
+    return all;
+  }();
   return definitions;
 }
 
@@ -153,6 +156,16 @@ void CoverageOptions::validate() const {
   if (!(surface_weight >= 0.0)) throw InputError("coverage: the surface weight must not be negative");
   for (double a : seen_angle_deg)
     if (!(a > 0.0 && a <= 90.0)) throw InputError("coverage: the seen-well angles must be above 0 and at most 90 degrees");
+  for (std::size_t i = 0; i < seen_angle_deg.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (seen_angle_deg[i] == seen_angle_deg[j]) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "coverage: two seen-well angles are both %g degrees; --seen-angle, --strict-angle, --stricter-angle and "
+                      "--strictest-angle must differ (each names a pair of feature definitions)",
+                      seen_angle_deg[i]);
+        throw InputError(text);
+      }
 }
 
 std::size_t count_bits(const std::vector<std::uint64_t>& bits) {
@@ -268,7 +281,7 @@ ViewCoverage CoverageModel::coverage(const View& view, std::size_t stride) const
   const Impl& s = *impl_;
   if (stride < 1 || stride > 64 || !std::has_single_bit(stride)) throw InputError("coverage: the sample stride must be a power of two up to 64");
   // One pass at the widest angle; the stricter angles filter its cosines.
-  const double widest = std::max(s.options.seen_angle_deg[0], s.options.seen_angle_deg[1]);
+  const double widest = *std::max_element(s.options.seen_angle_deg.begin(), s.options.seen_angle_deg.end());
   const VisibleSamples visible = s.scene->visible(view, s.samples, widest, stride);
   ViewCoverage out;
   out.stride = stride;

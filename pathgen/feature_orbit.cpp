@@ -15,6 +15,7 @@
 #include "core/interrupt.h"
 #include "mesh/convex_hull.h"
 #include "pathgen/motion.h"
+#include "pathgen/turntable.h"
 
 namespace meshtour {
 namespace {
@@ -70,6 +71,9 @@ void FeatureOrbitOptions::validate() const {
   check(leaders >= 1, "at least one leading curve must be scored on every sample");
   check(frames >= 0, "frames must not be negative");
   check(tie_tolerance >= 0.0, "the tie tolerance must not be negative");
+  check(reference_slack >= 0.0, "the slack behind the reference paths must not be negative");
+  check(turntable_elevation_deg > -90.0 && turntable_elevation_deg < 90.0 && turntable_fov_deg >= 5.0 && turntable_fov_deg <= 120.0,
+        "the reference turntable needs an elevation within (-90, 90) and a field of view of 5 to 120 degrees");
   check(vertical_fov_deg >= 5.0 && vertical_fov_deg <= 120.0, "the field of view must be 5 to 120 degrees");
   check(aspect > 0.0, "the aspect ratio must be positive");
 }
@@ -185,15 +189,67 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   };
 
   // Search: mean elevation × swing × phase, then a ripple on top of the best. A level orbit at the
-  // lowest mean elevation is always a candidate, so there is always a feasible curve. The
-  // objective is the mean over the feature definitions (pathgen/coverage.h).
+  // lowest mean elevation is always a candidate, so there is always a feasible curve.
+  //
+  // Which curve wins: the best objective (the mean over the feature definitions of
+  // pathgen/coverage.h: two measures at four seen-well angles) among the curves that see, under
+  // every definition, at least as much as the two plain paths the orbit must beat, less
+  // reference_slack: the level circle (how the paper's path looks at the model, from its
+  // mid-height; the grid's row at 0 degrees) and the turntable (its own views: elevation, lens and
+  // framing). Where no curve does, the one that falls least behind them. Measured with `meshtour
+  // evaluate --compare` on 23 meshes (the shared ones and 16 public models) under the eight
+  // definitions: the mean over 75 and 60 degrees alone, as before, left the orbit more than a
+  // point behind the paper's path or the turntable on 10 meshes, under 26 definitions, by up to 8.5
+  // points (the elephant at 30 degrees; the rocker arm 5.0 at 45: a raised orbit sees 90 % of its
+  // features at 75 degrees and 63 % at 45, a level one 87 and 69 %); with the references, on 2
+  // meshes by 1.1 points, each under one definition. Only the turntable-like circle with the
+  // orbit's own lens as the second reference asked too much: no curve kept up with both it (at
+  // 75 degrees) and the level circle (at 45), and the compromise lost to both real paths.
   FeatureOrbitResult result;
-  std::vector<std::pair<ElevationCurve, double>> scored;  // every feasible curve, with its estimate
+  std::vector<std::pair<ElevationCurve, CoverageScores>> scored;  // every feasible curve, with its estimate
   auto consider = [&](const ElevationCurve& curve) {
     throw_if_interrupted();
     if (!feasible(curve)) return;
     ++result.candidates;
-    scored.emplace_back(curve, score(curve, estimates).objective);
+    scored.emplace_back(curve, score(curve, estimates));
+  };
+  // The turntable's views at the grid's azimuths, with its own lens and framing.
+  std::vector<View> turntable_views;
+  {
+    TurntableOptions turntable;
+    turntable.up = options.up;
+    turntable.elevation_deg = options.turntable_elevation_deg;
+    turntable.lens.vertical_fov_deg = options.turntable_fov_deg;
+    turntable.lens.aspect = options.aspect;
+    const TurntablePath path(points, turntable);
+    for (int j = 0; j < n; ++j) {
+      const CameraPose pose = path.pose(static_cast<double>(j) / n);
+      turntable_views.push_back(View{Camera::at(pose, options.turntable_fov_deg), options.aspect});
+    }
+  }
+  std::vector<ViewCoverage> turntable_estimate(static_cast<std::size_t>(n)), turntable_exact(static_cast<std::size_t>(n));
+  tbb::parallel_for(0, 2 * n, [&](int k) {
+    throw_if_interrupted();
+    if (k < n)
+      turntable_estimate[k] = coverage.coverage(turntable_views[k], stride);
+    else
+      turntable_exact[k - n] = coverage.coverage(turntable_views[k - n]);
+  });
+  // The better of the references under each definition: the level circle from the grid's `views`,
+  // the turntable from its own (estimates or exact alike).
+  const auto reference = [&](const std::vector<ViewCoverage>& views, const std::vector<ViewCoverage>& turntable) {
+    std::array<double, kFeatureDefinitions> best{};
+    std::vector<const ViewCoverage*> all;
+    for (const ViewCoverage& v : turntable) all.push_back(&v);
+    const CoverageScores level = score(ElevationCurve{}, views), turn = coverage.scores(all);
+    for (int d = 0; d < kFeatureDefinitions; ++d) best[d] = std::max(level.feature_share[d], turn.feature_share[d]);
+    return best;
+  };
+  // How far `s` falls behind the references under its worst definition (<= 0: nowhere).
+  const auto shortfall = [](const CoverageScores& s, const std::array<double, kFeatureDefinitions>& ref) {
+    double worst = -1.0;
+    for (int d = 0; d < kFeatureDefinitions; ++d) worst = std::max(worst, ref[d] - s.feature_share[d]);
+    return worst;
   };
   // The estimates rank the curves; the leaders are scored again on every sample, and among those
   // that score alike (within tie_tolerance of the best) the plainest wins: least swing and
@@ -201,34 +257,60 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   // noise, or a different tessellation of the same shape (which moves the scores by a little
   // noise too), could flip the choice between two equally good but very different curves.
   auto settle = [&] {
+    const std::array<double, kFeatureDefinitions> ref_estimate = reference(estimates, turntable_estimate);
+    const double slack = options.reference_slack;
+    // Rank: the curves that keep up with the references first, by objective; then the others, by
+    // how little they fall behind.
+    std::vector<double> behind(scored.size());
+    for (std::size_t c = 0; c < scored.size(); ++c) behind[c] = std::max(0.0, shortfall(scored[c].second, ref_estimate) - slack);
     std::vector<std::size_t> order(scored.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return scored[a].second > scored[b].second; });
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      if (behind[a] != behind[b]) return behind[a] < behind[b];
+      return scored[a].second.objective > scored[b].second.objective;
+    });
     order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(options.leaders)));
     std::vector<std::size_t> missing;
-    for (std::size_t c : order)
+    auto need = [&](const ElevationCurve& curve) {
       for (int j = 0; j < n; ++j)
-        if (const std::size_t k = grid_index(scored[c].first, j); !has_exact[k]) {
+        if (const std::size_t k = grid_index(curve, j); !has_exact[k]) {
           has_exact[k] = 1;
           missing.push_back(k);
         }
+    };
+    for (std::size_t c : order) need(scored[c].first);
+    need(ElevationCurve{});  // the level circle
     tbb::parallel_for(std::size_t{0}, missing.size(), [&](std::size_t i) {
       throw_if_interrupted();
       exact[missing[i]] = coverage.coverage(grid[missing[i]]);
     });
-    std::vector<std::pair<ElevationCurve, double>> leaders;
-    for (std::size_t c : order) leaders.emplace_back(scored[c].first, score(scored[c].first, exact).objective);
+    const std::array<double, kFeatureDefinitions> ref_exact = reference(exact, turntable_exact);
+    struct Leader {
+      ElevationCurve curve;
+      double behind, objective;
+    };
+    std::vector<Leader> leaders;
+    for (std::size_t c : order) {
+      const CoverageScores s = score(scored[c].first, exact);
+      leaders.push_back({scored[c].first, std::max(0.0, shortfall(s, ref_exact) - slack), s.objective});
+    }
+    double least_behind = std::numeric_limits<double>::infinity();
+    for (const Leader& l : leaders) least_behind = std::min(least_behind, l.behind);
     double top = -1.0;
-    for (const auto& [curve, value] : leaders) top = std::max(top, value);
+    for (const Leader& l : leaders)
+      if (l.behind <= least_behind + options.tie_tolerance) top = std::max(top, l.objective);
     auto plainness = [](const ElevationCurve& c) {
       return std::make_pair(std::round(1e6 * (std::abs(c.swing) + std::abs(c.ripple))), std::abs(c.base - 15.0 * kDegree));
     };
     const ElevationCurve* pick = nullptr;
-    for (const auto& [curve, value] : leaders)
-      if (value >= top - options.tie_tolerance && (!pick || plainness(curve) < plainness(*pick))) pick = &curve;
+    for (const Leader& l : leaders)
+      if (l.behind <= least_behind + options.tie_tolerance && l.objective >= top - options.tie_tolerance &&
+          (!pick || plainness(l.curve) < plainness(*pick)))
+        pick = &l.curve;
     const ElevationCurve picked = *pick;
-    std::stable_sort(leaders.begin(), leaders.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
-    result.leaders = std::move(leaders);
+    result.leaders.clear();
+    for (const Leader& l : leaders) result.leaders.emplace_back(l.curve, l.objective);
+    std::stable_sort(result.leaders.begin(), result.leaders.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
     return picked;
   };
   for (double base = options.base_min_deg; base <= options.base_max_deg + 1e-9; base += options.base_step_deg)

@@ -62,6 +62,13 @@ struct FeatureOrbitOptions {
   /// only absorb where the samples fall (the bunny's leaders move by under 0.1 points over three
   /// 1-to-4 splits); the former 0.01 let a plainer curve a whole point worse win.
   double tie_tolerance = 0.002;
+  /// The paths the chosen curve must keep up with under every feature definition, less
+  /// reference_slack (a share: half a point, so that the goal "within a point of the best mode"
+  /// keeps a margin for the paper's path, which the level circle only stands for): the level
+  /// circle (how the paper's path looks at the model, from its mid-height) and the turntable at
+  /// this elevation with this lens (the tour's defaults).
+  double turntable_elevation_deg = 18.0, turntable_fov_deg = 35.0;
+  double reference_slack = 0.005;
   /// When > 0, the score of each frame of a loop of this many frames is reported (frame_scores).
   int frames = 0;
   /// The lens the distances are planned for (the tour fits its fov to them). A long lens, as

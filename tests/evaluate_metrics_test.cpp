@@ -199,8 +199,9 @@ TEST(EvaluateMetrics, JsonHasExactlyTheDocumentedShape) {
     EXPECT_TRUE(m.at("objective").is_number());
     EXPECT_TRUE(m.at("frame_scores").is_array());
     const auto& d = m.at("definitions");
-    ASSERT_EQ(d.size(), 4u);
-    for (const char* key : {"patch-density-75deg", "saliency-75deg", "patch-density-60deg", "saliency-60deg"}) {
+    ASSERT_EQ(d.size(), 8u);
+    for (const char* key : {"patch-density-75deg", "saliency-75deg", "patch-density-60deg", "saliency-60deg", "patch-density-45deg",
+                            "saliency-45deg", "patch-density-30deg", "saliency-30deg"}) {
       ASSERT_TRUE(d.contains(key)) << key;
       for (const char* k : {"feature_coverage", "surface_coverage", "feature_min_frames", "feature_median_frames"})
         EXPECT_TRUE(d[key].contains(k) && d[key][k].is_number()) << key << " " << k;

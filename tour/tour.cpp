@@ -132,7 +132,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
       constexpr double deg = 180.0 / 3.14159265358979323846;
       std::fprintf(stderr, "camera path (feature orbit): elevation %.1f%+.1f cos(2pi(t-%.2f))%+.1f cos(4pi(t-%.2f)) degrees, "
                    "starting at the best view (%.0f degrees around); its views see %.1f %% of the feature area "
-                   "(objective %.3f over patch density and saliency at two angles)\n", e.base * deg, e.swing * deg,
+                   "(objective %.3f over patch density and saliency at four angles)\n", e.base * deg, e.swing * deg,
                    e.swing_phase, e.ripple * deg, e.ripple_phase, 360.0 * result.geometry.start,
                    100.0 * result.feature_share_seen, result.scores.objective);
     }
