@@ -1,7 +1,7 @@
 #pragma once
 // What a camera tour shows: every frame is asked what it sees of the surface through the
 // coverage module (pathgen/coverage.h, the same one the feature orbit's search uses): surface
-// samples, features under two independent measures (patch density, saliency) and two seen-well
+// samples, features under two independent measures (patch density, saliency) and four seen-well
 // angles. The camera's motion gives its smoothness. Used by `meshtour evaluate` to compare path
 // modes with numbers instead of by eye, under more than one yardstick.
 #include <array>
