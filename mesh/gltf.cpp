@@ -90,6 +90,39 @@ std::vector<unsigned char> glb_without_draco_indices(std::vector<unsigned char> 
   return out;
 }
 
+// The JSON text of a .gltf file or of a GLB's JSON chunk ("" when the container is malformed).
+std::string json_text_of(const std::vector<unsigned char>& bytes, bool glb) {
+  if (!glb) return std::string(bytes.begin(), bytes.end());
+  if (bytes.size() < 20 || read_u32(bytes, 0) != 0x46546C67u || read_u32(bytes, 16) != 0x4E4F534Au) return {};
+  const std::size_t json_length = read_u32(bytes, 12);
+  if (json_length > bytes.size() - 20) return {};
+  return std::string(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
+}
+
+// Refuses, by name, the extensions in `required` that meshtour does not read.
+void refuse_unsupported(const std::vector<std::string>& required, const std::string& name) {
+  std::vector<std::string> unsupported;
+  for (const auto& e : required)
+    if (!kSupported.count(e)) unsupported.push_back(e);
+  if (unsupported.empty()) return;
+  std::string list;
+  for (const auto& e : unsupported) list += (list.empty() ? "" : ", ") + e;
+  throw InputError(name + ": requires the glTF extension" + (unsupported.size() > 1 ? "s " : " ") + list +
+                   ", which meshtour does not read (it would change the model's geometry or colours); export the "
+                   "model without it (supported: KHR_draco_mesh_compression, KHR_mesh_quantization, "
+                   "KHR_texture_transform, KHR_materials_unlit)");
+}
+
+// extensionsRequired as the JSON lists it (strings only; nothing when the JSON does not parse).
+std::vector<std::string> required_extensions(const std::string& json_text) {
+  std::vector<std::string> out;
+  const nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("extensionsRequired") || !doc["extensionsRequired"].is_array()) return out;
+  for (const auto& e : doc["extensionsRequired"])
+    if (e.is_string()) out.push_back(e.get<std::string>());
+  return out;
+}
+
 tinygltf::Model read_model(const std::filesystem::path& file, const std::string& name) {
   tinygltf::TinyGLTF reader;
   reader.SetImageLoader(keep_encoded_image, nullptr);
@@ -103,6 +136,10 @@ tinygltf::Model read_model(const std::filesystem::path& file, const std::string&
     std::ifstream in(file, std::ios::binary);
     if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
     std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    // A required extension meshtour does not read is named before the reader sees the file: such
+    // files are often unreadable without it (EXT_meshopt_compression's fallback buffers have no
+    // data), and the reader's own complaint would not say why.
+    refuse_unsupported(required_extensions(json_text_of(bytes, ext == ".glb")), name);
     if (ext == ".glb") {
       bytes = glb_without_draco_indices(std::move(bytes));
       ok = reader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
@@ -122,17 +159,7 @@ tinygltf::Model read_model(const std::filesystem::path& file, const std::string&
     std::replace(error.begin(), error.end(), '\n', ';');
     throw InputError(name + ": cannot read glTF: " + (error.empty() ? std::string("not a valid glTF 2.0 file") : error));
   }
-  std::vector<std::string> unsupported;
-  for (const auto& e : model.extensionsRequired)
-    if (!kSupported.count(e)) unsupported.push_back(e);
-  if (!unsupported.empty()) {
-    std::string list;
-    for (const auto& e : unsupported) list += (list.empty() ? "" : ", ") + e;
-    throw InputError(name + ": requires the glTF extension" + (unsupported.size() > 1 ? "s " : " ") + list +
-                     ", which meshtour does not read (it would change the model's geometry or colours); export the "
-                     "model without it (supported: KHR_draco_mesh_compression, KHR_mesh_quantization, "
-                     "KHR_texture_transform, KHR_materials_unlit)");
-  }
+  refuse_unsupported(model.extensionsRequired, name);
   return model;
 }
 
