@@ -1,13 +1,15 @@
 // meshtour evaluate: what a tour shows. Builds the same cameras `meshtour tour` would render
-// (path mode, framing, field of view) and measures them with item buffers (evaluate/evaluate.h).
+// (path mode, framing, field of view) and measures them on surface samples (evaluate/evaluate.h).
 #include <tbb/global_control.h>
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "cli/commands.h"
 #include "tour/evaluate_job.h"
@@ -68,22 +70,17 @@ void add_evaluate_command(CLI::App& app) {
   cmd->add_option("--samples", args->evaluation.coverage.samples, "Surface samples the coverage is measured on")
       ->check(CLI::Range(1024, 1 << 24))
       ->capture_default_str();
-  cmd->add_option("--seen-angle", args->evaluation.coverage.seen_angle_deg[0],
-                  "A visible sample is seen well when its normal is within this many degrees of the direction to the camera")
-      ->check(CLI::Range(1.0, 90.0))
-      ->capture_default_str();
-  cmd->add_option("--strict-angle", args->evaluation.coverage.seen_angle_deg[1],
-                  "The seen-well angle of the second pair of feature definitions (stricter)")
-      ->check(CLI::Range(1.0, 90.0))
-      ->capture_default_str();
-  cmd->add_option("--stricter-angle", args->evaluation.coverage.seen_angle_deg[2],
-                  "The seen-well angle of the third pair of feature definitions (stricter still)")
-      ->check(CLI::Range(1.0, 90.0))
-      ->capture_default_str();
-  cmd->add_option("--strictest-angle", args->evaluation.coverage.seen_angle_deg[3],
-                  "The seen-well angle of the fourth pair of feature definitions (the strictest)")
-      ->check(CLI::Range(1.0, 90.0))
-      ->capture_default_str();
+  // One option per seen-well angle of CoverageOptions, in its order (each names a pair of definitions).
+  static constexpr std::array<std::pair<const char*, const char*>, kSeenAngles> angle_options{{
+      {"--seen-angle", "A visible sample is seen well when its normal is within this many degrees of the direction to the camera"},
+      {"--strict-angle", "The seen-well angle of the second pair of feature definitions (stricter)"},
+      {"--stricter-angle", "The seen-well angle of the third pair of feature definitions (stricter still)"},
+      {"--strictest-angle", "The seen-well angle of the fourth pair of feature definitions (the strictest)"},
+  }};
+  for (std::size_t i = 0; i < angle_options.size(); ++i)
+    cmd->add_option(angle_options[i].first, args->evaluation.coverage.seen_angle_deg[i], angle_options[i].second)
+        ->check(CLI::Range(1.0, 90.0))
+        ->capture_default_str();
   cmd->add_option("--feature-quantile", args->evaluation.coverage.feature_quantile,
                   "Features: the samples at or above this quantile of a measure")
       ->check(CLI::Range(0.0, 0.99))

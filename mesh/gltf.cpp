@@ -67,13 +67,21 @@ std::uint32_t read_u32(const std::vector<unsigned char>& bytes, std::size_t at) 
          static_cast<std::uint32_t>(bytes[at + 2]) << 16 | static_cast<std::uint32_t>(bytes[at + 3]) << 24;
 }
 
+// The JSON text of a .gltf file or of a GLB's JSON chunk ("" when the container is malformed).
+std::string json_text_of(const std::vector<unsigned char>& bytes, bool glb) {
+  if (!glb) return std::string(bytes.begin(), bytes.end());
+  if (bytes.size() < 20 || read_u32(bytes, 0) != 0x46546C67u || read_u32(bytes, 16) != 0x4E4F534Au) return {};
+  const std::size_t json_length = read_u32(bytes, 12);
+  if (json_length > bytes.size() - 20) return {};
+  return std::string(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
+}
+
 // A GLB with its JSON chunk passed through without_draco_indices() (the container is checked
 // first; a malformed one is left to tinygltf to refuse).
 std::vector<unsigned char> glb_without_draco_indices(std::vector<unsigned char> bytes) {
-  if (bytes.size() < 20 || read_u32(bytes, 0) != 0x46546C67u || read_u32(bytes, 16) != 0x4E4F534Au) return bytes;
-  const std::size_t json_length = read_u32(bytes, 12);
-  if (json_length > bytes.size() - 20) return bytes;
-  const std::string json(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
+  const std::string json = json_text_of(bytes, true);
+  if (json.empty()) return bytes;
+  const std::size_t json_length = json.size();
   std::string changed = without_draco_indices(json);
   if (changed == json) return bytes;
   while (changed.size() % 4) changed += ' ';
@@ -88,15 +96,6 @@ std::vector<unsigned char> glb_without_draco_indices(std::vector<unsigned char> 
   out.insert(out.end(), bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length), bytes.end());
   put(8, static_cast<std::uint32_t>(out.size()));
   return out;
-}
-
-// The JSON text of a .gltf file or of a GLB's JSON chunk ("" when the container is malformed).
-std::string json_text_of(const std::vector<unsigned char>& bytes, bool glb) {
-  if (!glb) return std::string(bytes.begin(), bytes.end());
-  if (bytes.size() < 20 || read_u32(bytes, 0) != 0x46546C67u || read_u32(bytes, 16) != 0x4E4F534Au) return {};
-  const std::size_t json_length = read_u32(bytes, 12);
-  if (json_length > bytes.size() - 20) return {};
-  return std::string(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
 }
 
 // Refuses, by name, the extensions in `required` that meshtour does not read.
