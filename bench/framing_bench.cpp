@@ -2,7 +2,8 @@
 // turntable framing, on bunny.ply subdivided 1-to-4 at edge midpoints 0, 2, 3 and 4 times (70k,
 // 1.1M, 4.5M and 17.8M faces). In one run: the hull alone, the framing on every vertex (as
 // before the hull) and the framing on the hull (the hull's time included), and whether the two
-// framings agree (counter same_path = 1 when radius and centre are bit-identical).
+// framings agree (counter same_path = 1 when radius and centre are bit-identical); and the
+// `--up auto` rule, which shares the hull (issue 15).
 //
 //   build/bench/framing_bench                                   # every size
 //   build/bench/framing_bench --benchmark_filter='/4$'          # the 17.8M-face mesh only
@@ -29,6 +30,7 @@
 #include "bench_common.h"
 #include "mesh/convex_hull.h"
 #include "mesh/mesh.h"
+#include "mesh/up_axis.h"
 #include "pathgen/turntable.h"
 
 namespace {
@@ -124,6 +126,16 @@ void BM_TurntableOnHull(benchmark::State& state) {
   state.counters["radius_rel_diff"] = std::abs(radius - reference_radius) / reference_radius;
 }
 
+// `--up auto` (mesh/up_axis.h): the hull, the six rests, the flat ends, the mirror test and the
+// air under each side (one pass over the triangles each); against BM_Hull of the same run.
+void BM_UpAxis(benchmark::State& state) {
+  const auto& mesh = bunny(static_cast<int>(state.range(0)));
+  meshtour::UpChoice choice;
+  for (auto _ : state) choice = meshtour::choose_up_axis(mesh);
+  size_counters(state, mesh);
+  state.counters["up_is_plus_y"] = choice.up == meshtour::Axis{1, false} ? 1.0 : 0.0;
+}
+
 // The big sizes run once: the old framing of the 17.8M-face mesh takes tens of seconds.
 void sizes(benchmark::internal::Benchmark* b) {
   for (int levels : {0, 2, 3, 4}) b->Arg(levels);
@@ -132,6 +144,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_Hull)->Apply(sizes)->Iterations(3);
 BENCHMARK(BM_TurntableEveryVertex)->Apply(sizes)->Iterations(1);
 BENCHMARK(BM_TurntableOnHull)->Apply(sizes)->Iterations(3);
+BENCHMARK(BM_UpAxis)->Apply(sizes)->Iterations(3);
 
 }  // namespace
 

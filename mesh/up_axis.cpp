@@ -29,6 +29,9 @@
 #include <numeric>
 #include <numbers>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "mesh/convex_hull.h"
@@ -193,6 +196,180 @@ std::optional<FlatCut> flat_cut(const TriangleMesh& mesh, const std::vector<Eige
   return best;
 }
 
+// Air trapped under the model: a vessel put down on its mouth. A bowl, cup or plate rests most
+// firmly upside down (its rim spans the whole footprint, its foot ring a small part), and the
+// rests and flat ends cannot tell it from a dome on its base. What tells them apart is the air
+// under it: upside down, the vessel's hollow is a pocket closed all round by the rim on the floor;
+// under an animal's belly, a table or a car the air runs out sideways, and a figure or a bust on
+// its base has none. Measured per side on a grid of columns over the bounding box (kPocketGrid
+// across each side): a column's roof is the first surface above the floor, and its air is trapped
+// up to the height at which it could not reach the open air around the model through columns
+// with higher roofs (the water-filling of a terrain, upside down: a max-min flood from outside).
+// A roof seen from behind (an open scan's shell seen from inside through its missing bottom) is
+// no air: the open-bottom scan of a statue keeps its hole as its base (the flat-base cue above).
+// Result per side: trapped air volume / (footprint area x height), in [0, 1).
+constexpr int kPocketGrid = 64;
+// A figure lying flat (see choose_up_axis): thickness along its firmest rest between these shares
+// of its length, and its arm span at least kFigureSpread of its height. Measured: T-posed human
+// models 0.17 thick, spans 0.95-1.0; the A-posed ogre 0.30, 0.97. The lower bound leaves truly
+// flat things lying (sprites, plaques, leaves, a pinned butterfly: under a tenth), the upper
+// bound figures that are not slabs (a car 0.34 thick is 0.41 as wide as long, and never spread).
+// Furniture on its legs (see choose_up_axis). Measured (the test's table, stool, bench and chair):
+// on their legs 0.46-0.94 of their box is open air under them, and the legs span 71-87% of the
+// footprint; lying on the top or seat, 0-0.02. Of the 72 shared and fetched models, six sides
+// have 0.4 or more open air under them; the only firm rest among them is a hammer standing on its
+// handle (0.71, support 15% of the footprint). The closest firm rests below: an upside-down pizza
+// (0.34, support 53%) and a car on its roof (0.33, support 10%).
+constexpr double kFlatClearance = 0.02;
+constexpr double kLegsClearance = 0.4;
+constexpr double kLegsSupport = 0.5;
+constexpr double kFigureThickness[2] = {0.1, 0.35};
+constexpr double kFigureSpread = 0.7;
+// Measured (tests/mesh_up_axis_test.cpp's lathe vessels; 72 shared and fetched models, all six
+// sides): upside down, a bowl traps 0.45 of its box, a bowl on a recessed foot ring 0.46, a cup
+// 0.45, a plate 0.22, a goblet 0.22; right side up, the goblet's hollow foot 0.02, the foot ring
+// 0.003. Of the 72 models the most is an upside-down pizza's crust, 0.083, then 0.014 (fertility);
+// 0.1 or more under a side that traps more than the other end is a vessel upside down.
+constexpr double kPocketShare = 0.1;
+
+struct AirUnder {
+  std::array<double, 6> trapped{};  // per side (as UpChoice::rests): air closed in under the model
+  std::array<double, 6> open{};     // air under the model that reaches the open air around it
+};
+
+AirUnder air_under(const TriangleMesh& mesh, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double outward) {
+  constexpr int G = kPocketGrid;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Per axis k, per column of the other two coordinates: the lowest surface point (and whether its
+  // triangle faces down, out of the solid) and the highest (whether it faces up).
+  struct Column {
+    double low = kInf, high = -kInf;
+    bool low_faces_out = false, high_faces_out = false;
+    // The lowest and highest points whatever the order (a tie goes to the side facing out), so
+    // the result does not depend on how the triangles were split among threads.
+    void put(double height, bool faces_down, bool faces_up) {
+      if (height < low || (height == low && faces_down)) low = height, low_faces_out = faces_down;
+      if (height > high || (height == high && faces_up)) high = height, high_faces_out = faces_up;
+    }
+    void merge(const Column& o) {
+      if (o.low < low || (o.low == low && o.low_faces_out)) low = o.low, low_faces_out = o.low_faces_out;
+      if (o.high > high || (o.high == high && o.high_faces_out)) high = o.high, high_faces_out = o.high_faces_out;
+    }
+  };
+  using Grids = std::array<std::vector<Column>, 3>;
+  const Eigen::Vector3d extent = (hi - lo).cwiseMax(1e-300);
+  const Eigen::Vector3d to_cells = Eigen::Vector3d::Constant(G).cwiseQuotient(extent);
+  const auto rasterize = [&](std::size_t first, std::size_t last, Grids& columns) {
+    for (std::size_t f = first; f < last; ++f) {
+      const auto& t = mesh.triangles[f];
+      const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+      const Eigen::Vector3d n = outward * (b - a).cross(c - a);
+      // Column coordinates of the corners (column centres sit at i + 0.5).
+      const Eigen::Vector3d ca = (a - lo).cwiseProduct(to_cells), cb = (b - lo).cwiseProduct(to_cells), cc = (c - lo).cwiseProduct(to_cells);
+      const Eigen::Vector3d cmin = ca.cwiseMin(cb).cwiseMin(cc), cmax = ca.cwiseMax(cb).cwiseMax(cc);
+      const Eigen::Vector3d pmin = a.cwiseMin(b).cwiseMin(c), pmax = a.cwiseMax(b).cwiseMax(c);
+      for (int k = 0; k < 3; ++k) {
+        const int u = (k + 1) % 3, v = (k + 2) % 3;  // the column's coordinates
+        std::vector<Column>& grid = columns[static_cast<std::size_t>(k)];
+        const bool faces_down = n[k] <= 0.0, faces_up = n[k] >= 0.0;
+        const int i0 = std::max(0, static_cast<int>(std::ceil(cmin[u] - 0.5))), i1 = std::min(G - 1, static_cast<int>(std::floor(cmax[u] - 0.5)));
+        const int j0 = std::max(0, static_cast<int>(std::ceil(cmin[v] - 0.5))), j1 = std::min(G - 1, static_cast<int>(std::floor(cmax[v] - 0.5)));
+        const double det = (cb[u] - ca[u]) * (cc[v] - ca[v]) - (cc[u] - ca[u]) * (cb[v] - ca[v]);
+        bool any = false;
+        if (i0 <= i1 && j0 <= j1 && std::abs(det) > 1e-12)
+          for (int i = i0; i <= i1; ++i)
+            for (int j = j0; j <= j1; ++j) {  // the triangle's exact height at the centres in its shadow
+              const double pu = i + 0.5 - ca[u], pv = j + 0.5 - ca[v];
+              const double s = (pu * (cc[v] - ca[v]) - pv * (cc[u] - ca[u])) / det, r = ((cb[u] - ca[u]) * pv - (cb[v] - ca[v]) * pu) / det;
+              if (s < -1e-9 || r < -1e-9 || s + r > 1.0 + 1e-9) continue;
+              grid[static_cast<std::size_t>(i * G + j)].put(a[k] + s * (b[k] - a[k]) + r * (c[k] - a[k]), faces_down, faces_up);
+              any = true;
+            }
+        if (!any) {  // smaller than a column (a scan's triangle): its centre's column, its lowest and highest point
+          const int i = std::clamp(static_cast<int>((ca[u] + cb[u] + cc[u]) / 3.0), 0, G - 1);
+          const int j = std::clamp(static_cast<int>((ca[v] + cb[v] + cc[v]) / 3.0), 0, G - 1);
+          Column& col = grid[static_cast<std::size_t>(i * G + j)];
+          col.put(pmin[k], faces_down, faces_up);
+          col.put(pmax[k], faces_down, faces_up);
+        }
+      }
+    }
+  };
+  const auto empty_grids = [] {
+    Grids g;
+    for (auto& c : g) c.assign(static_cast<std::size_t>(G * G), Column{});
+    return g;
+  };
+  const auto merge = [](Grids into, const Grids& from) {
+    for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t q = 0; q < into[k].size(); ++q) into[k][q].merge(from[k][q]);
+    return into;
+  };
+  // Chunks of triangles in parallel, each into its own grids, merged (min and max: any order).
+  const Grids columns = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1 << 16), empty_grids(),
+      [&](const tbb::blocked_range<std::size_t>& range, Grids grids) {
+        rasterize(range.begin(), range.end(), grids);
+        return grids;
+      },
+      merge);
+
+  AirUnder share;
+  std::vector<double> roof(static_cast<std::size_t>(G * G)), escape(static_cast<std::size_t>(G * G));
+  for (int side = 0; side < 6; ++side) {  // side 2k: up +k, resting on the -k end; 2k + 1: up -k
+    const int k = side / 2;
+    const bool up_negative = side % 2 == 1;
+    for (std::size_t q = 0; q < roof.size(); ++q) {
+      const Column& c = columns[static_cast<std::size_t>(k)][q];
+      if (!up_negative)
+        roof[q] = c.low == kInf ? kInf : c.low_faces_out ? c.low - lo[k] : 0.0;
+      else
+        roof[q] = c.high == -kInf ? kInf : c.high_faces_out ? hi[k] - c.high : 0.0;
+    }
+    // Max-min flood from the open air: escape[q] is the highest level up to which the air in
+    // column q reaches a column with no roof (or the grid's edge) under roofs at least as high.
+    std::vector<std::pair<double, int>> heap;
+    std::fill(escape.begin(), escape.end(), -1.0);
+    for (int i = 0; i < G; ++i)
+      for (int j = 0; j < G; ++j) {
+        const int q = i * G + j;
+        if (roof[static_cast<std::size_t>(q)] == kInf || i == 0 || j == 0 || i == G - 1 || j == G - 1) {
+          escape[static_cast<std::size_t>(q)] = roof[static_cast<std::size_t>(q)];
+          heap.emplace_back(roof[static_cast<std::size_t>(q)], q);
+        }
+      }
+    std::make_heap(heap.begin(), heap.end());
+    while (!heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end());
+      const auto [level, q] = heap.back();
+      heap.pop_back();
+      if (level < escape[static_cast<std::size_t>(q)]) continue;  // a stale entry
+      const int i = q / G, j = q % G;
+      const int next[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+      for (const auto& [ni, nj] : next) {
+        if (ni < 0 || nj < 0 || ni >= G || nj >= G) continue;
+        const auto nq = static_cast<std::size_t>(ni * G + nj);
+        const double reach = std::min(roof[nq], level);
+        if (reach > escape[nq]) {
+          escape[nq] = reach;
+          heap.emplace_back(reach, static_cast<int>(nq));
+          std::push_heap(heap.begin(), heap.end());
+        }
+      }
+    }
+    double trapped = 0.0, open = 0.0;
+    for (std::size_t q = 0; q < roof.size(); ++q)
+      if (roof[q] != kInf) {
+        trapped += roof[q] - std::max(0.0, escape[q]);
+        open += std::max(0.0, std::min(roof[q], escape[q]));
+      }
+    // Shares of the bounding box (columns x height), the same box for both ends of an axis.
+    share.trapped[static_cast<std::size_t>(side)] = trapped / (static_cast<double>(G) * G * extent[k]);
+    share.open[static_cast<std::size_t>(side)] = open / (static_cast<double>(G) * G * extent[k]);
+  }
+  return share;
+}
+
 double polygon_area(const std::vector<Eigen::Vector2d>& p) {
   double a = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -348,10 +525,13 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
     rest.rest = rest.margin > 0.0 ? rest.support_area * rest.margin * (1.0 - rest.centroid_height) : 0.0;
   };
 
+  const AirUnder air = air_under(mesh, lo, hi, volume6 < 0.0 ? -1.0 : 1.0);
   for (int k = 0; k < 6; ++k) {
     UpRest& rest = choice.rests[static_cast<std::size_t>(k)];
     rest.up = Axis{k / 2, k % 2 == 1};
     rest_on(-rest.up.vector(), rest);
+    rest.trapped_air = air.trapped[static_cast<std::size_t>(k)];
+    rest.clearance = air.open[static_cast<std::size_t>(k)];
   }
   for (int k = 0; k < 6; ++k) {
     UpRest& rest = choice.rests[static_cast<std::size_t>(k)];
@@ -378,6 +558,54 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   // (+y): a guess would turn the model on its side.
   choice.confident = best.score >= kFirmScore && best.score >= kConfidentRatio * second.score;
   choice.up = choice.confident ? best.up : Axis{1, false};
+  // A vessel on its mouth: the side it rests on best traps air under it, more than the other end
+  // does (a goblet's hollow foot, a foot ring), so it stands the other way up, mouth up. Checked
+  // whether or not the rest was confident: a cup's rim and its foot are both firm rests.
+  const std::size_t best_side = order[0];
+  const UpRest& opposite = choice.rests[best_side ^ 1];
+  const bool upside_down = best.score > 0.0 && best.trapped_air >= kPocketShare && opposite.trapped_air < best.trapped_air;
+  if (upside_down) {
+    choice.up = opposite.up;
+    choice.confident = true;
+    choice.upside_down_air = best.trapped_air;
+  }
+  // Furniture: a table, stool, bench or chair rests more firmly on its top or seat (flat, heavy,
+  // the whole footprint) than on its legs. Standing on its legs, most of its box under it is open
+  // air (kLegsClearance) and the legs span most of its footprint (kLegsSupport); lying on its top,
+  // none is (kFlatClearance). That is never so of a statue, animal, vessel or tool (measured below).
+  // A chair on its legs may also lead its back by too little to be confident: that is no doubt.
+  const auto on_legs = [](const UpRest& r) { return r.score >= kFirmScore && r.support_area >= kLegsSupport && r.clearance >= kLegsClearance; };
+  const UpRest* legs = nullptr;
+  if (!upside_down && best.score > 0.0 && (best.clearance < kFlatClearance || on_legs(best)))
+    for (const std::size_t k : order)
+      if (on_legs(choice.rests[k])) {
+        legs = &choice.rests[k];
+        break;
+      }
+  if (legs == &best && choice.confident) legs = nullptr;  // nothing to add to a confident rest
+  if (legs) {
+    choice.up = legs->up;
+    choice.confident = true;
+  }
+  // A figure with its limbs spread (a T- or A-pose) is a slab as wide as it is tall, and rests far
+  // more firmly on its front or back than on its feet. It is told from things that lie flat by
+  // its mirror plane: the plane's normal is a wide axis (the arms), and the third axis, in the
+  // plane and as long (head to feet), has a firm rest at one end (the feet).
+  const Eigen::Vector3d relative = extent / extent.maxCoeff();
+  const UpRest* feet = nullptr;
+  if (!upside_down && !legs && best.score >= kFirmScore && choice.symmetry_normal >= 0 && choice.symmetry_normal != best.up.index &&
+      relative[best.up.index] >= kFigureThickness[0] && relative[best.up.index] <= kFigureThickness[1]) {
+    const int across = choice.symmetry_normal, along = 3 - best.up.index - across;
+    const UpRest& a = choice.rests[static_cast<std::size_t>(2 * along)];
+    const UpRest& b = choice.rests[static_cast<std::size_t>(2 * along + 1)];
+    const UpRest& stand = a.score >= b.score ? a : b;
+    if (relative[across] >= kFigureSpread * relative[along] && stand.score >= kFirmScore) feet = &stand;
+  }
+  if (feet) {
+    choice.up = feet->up;
+    choice.confident = true;
+    choice.lying_figure = true;
+  }
   std::optional<FlatCut> cut;
   if (!choice.confident) cut = flat_cut(mesh, hull, model_size, choice.symmetry_normal, volume6 < 0.0 ? -1.0 : 1.0);
   if (cut) {
@@ -389,7 +617,29 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   const std::string symmetry =
       choice.symmetry_normal >= 0 ? std::string(", mirror-symmetric across ") + "xyz"[choice.symmetry_normal] : std::string();
   char text[400];
-  if (cut)
+  if (legs)
+    std::snprintf(text, sizeof text,
+                  "stands on its legs, its %s side (score %.3g, support %.0f%% of the footprint, %.0f%% of its box open air "
+                  "under it): it rests more firmly on its flat %s side (score %.3g), as a table, stool or chair does on its "
+                  "top or seat%s",
+                  side(legs->up).c_str(), legs->score, 100.0 * legs->support_area, 100.0 * legs->clearance, side(best.up).c_str(),
+                  best.score, symmetry.c_str());
+  else if (feet)
+    std::snprintf(text, sizeof text,
+                  "stands on its feet, its %s side (score %.3g): it rests more firmly on its %s side (score %.3g), but "
+                  "there it lies flat (%.0f%% as thick as long) with limbs spread as wide as it is tall (%.0f%%) "
+                  "across its mirror plane, a figure in a T- or A-pose%s",
+                  side(feet->up).c_str(), feet->score, side(best.up).c_str(), best.score,
+                  100.0 * relative[best.up.index], 100.0 * relative[choice.symmetry_normal] / relative[3 - best.up.index - choice.symmetry_normal],
+                  symmetry.c_str());
+  else if (upside_down)
+    std::snprintf(text, sizeof text,
+                  "stands mouth up: it rests most firmly on its %s side (score %.3g), but would trap air under it there "
+                  "(%.0f%% of its box, %.0f%% the other way up), as a bowl, cup or plate does upside down; a bell or a "
+                  "helmet stands on its mouth: give --up %s for one%s",
+                  side(best.up).c_str(), best.score, 100.0 * best.trapped_air, 100.0 * opposite.trapped_air,
+                  best.up.name().c_str(), symmetry.c_str());
+  else if (cut)
     std::snprintf(text, sizeof text,
                   "stands on a flat cut on its %s side (%.1f%% of the surface, %.0f degrees off the axis: a bust's or a "
                   "fragment's sawn base), where no side rests firmly (best %s %.3g, next %s %.3g)%s",

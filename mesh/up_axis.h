@@ -9,21 +9,26 @@
 //  * a sawn base, only where these leave the choice open: a flat region bounded by a crease, at
 //    one end, on a coarse proxy of the surface (a marble head's slanted, rough neck cut).
 // The best side wins when it is firm and 1.5x the next, else the sawn base, else +y, said as not
-// confident. glTF files are +y by their specification, which only a strong, clearly different
-// choice overrides (with a warning). Behind `--up auto`, not the default (issue 15).
+// confident. Three kinds of object rest most firmly the wrong way, and the air under the model
+// (on a grid of columns per side) or its proportions turn them over:
+//  * a vessel on its mouth (bowl, cup, plate, goblet): the air under it is closed in by the rim,
+//    so it stands mouth up (a bell or a helmet, which stand on their mouths, would be turned too);
+//  * furniture on its top or seat (table, stool, bench, chair): standing on its legs, most of its
+//    box is open air under it, so it stands on its legs;
+//  * a figure with its limbs spread (a T- or A-pose) on its back or front: a slab as wide as it
+//    is tall with a mirror plane across its width, so it stands on its feet.
+// glTF files are +y by their specification, which only a strong, clearly different choice
+// overrides (with a warning). Behind `--up auto`, not the default (issue 15).
 // Measured (tests/mesh_up_axis_test.cpp prints every side's score): on the shared meshes it finds
 // the up of the horse, kitten, bunny and armadillo in all six orientations by their rests and flat
 // bases, and of the Venus head by its sawn neck (no side rests on it: tilted 17 degrees, as rough
 // as the crown); the bear (upright on one hind leg) gives no side a clear lead and has no cut, so
 // it keeps +y, not confident: right only by convention. The rocker arm (no natural up) lies on
-// its widest flank. On 17 fetched models used while choosing the constants it finds the up of 14
-// in all six orientations (the Igea head by its cut); it is confidently wrong on three that rest
-// more firmly on their back or crown than on their base (the ogre figure, Blender's Suzanne, the
-// Max Planck head). On 16 more fetched afterwards (held out: statues, busts, animals, T-posed
-// humans) it found 11: not confident on a goat's and a human skull, a mushroom and a T-posed man;
-// confidently wrong on a T-posed woman (rests on her back). That was before the sawn base, which
-// can only change the four it was not confident on. Of two later ones (meshJND's buste.off and
-// mask.obj) it finds the bust on its pedestal and lays the open face mask on its back.
+// its widest flank. On fetched models (the README lists them and the counts): it is confidently
+// wrong on two that rest on their faces and are neither vessels, furniture nor spread figures,
+// Blender's Suzanne (a head without a neck) and meshJND's open face mask (on its open back); the
+// A-posed ogre and two T-posed humans stand on their feet since the figure cue. The procedural
+// vessels, furniture and T-posed figure of the tests are found in all six orientations.
 #include <array>
 #include <filesystem>
 #include <optional>
@@ -46,6 +51,8 @@ struct UpRest {
   double flat_base = 0.0;     ///< area of the flat surface facing down at the bottom / footprint
   double flat_top = 0.0;      ///< the same facing up at the top
   double score = 0.0;         ///< rest and flat base combined (see up_axis.cpp); 0 across a symmetry plane
+  double trapped_air = 0.0;   ///< air enclosed under the model resting so (a vessel on its mouth), share of its bounding box
+  double clearance = 0.0;     ///< air under the model resting so that reaches the open air around it (under a table, between legs), share of its bounding box
 };
 
 /// The chosen up axis, why, and all six rests (in the order +x, -x, +y, -y, +z, -z).
@@ -60,6 +67,12 @@ struct UpChoice {
   /// Share of the surface of the flat cut (a bust's sawn base) that chose `up` where the rests and
   /// flat ends did not; 0 when they decided or nothing did.
   double cut_share = 0.0;
+  /// The air the firmest rest would trap under the model, when that turned it over (a bowl, cup
+  /// or plate stands mouth up); else 0.
+  double upside_down_air = 0.0;
+  /// True when the firmest rest laid a figure with spread limbs on its front or back, and it was
+  /// stood on its feet instead.
+  bool lying_figure = false;
   /// Not empty when the shape overrode the up its file format prescribes (glTF: +y), saying so.
   std::string warning;
 };

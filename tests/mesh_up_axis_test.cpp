@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <tbb/global_control.h>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "helpers.h"
 #include "mesh/mesh.h"
@@ -90,6 +93,10 @@ TEST(UpAxis, SharedMeshesAndTheirRotations) {
       for (const UpRest& rest : choice.rests) {
         const UpRest& same = turned_side(turned, r, rest.up);
         EXPECT_NEAR(same.score, rest.score, 1e-9) << d.file << " turned to " << to.name() << ", side " << rest.up.name();
+        // The air under it, on a grid of columns over the turned box (a scan's tiny triangles fall
+        // in the column of their centre, which can move by one at a column's edge).
+        EXPECT_NEAR(same.trapped_air, rest.trapped_air, 0.005) << d.file << " turned to " << to.name() << ", side " << rest.up.name();
+        EXPECT_NEAR(same.clearance, rest.clearance, 0.01) << d.file << " turned to " << to.name() << ", side " << rest.up.name();
       }
       if (d.rule_finds_it) {
         EXPECT_EQ(turned.up.name(), to.name()) << d.file << " turned to " << to.name() << ": " << turned.reason;
@@ -143,6 +150,14 @@ struct Builder {
         if (i == 0) mesh.triangles.push_back({c, at(i, j + 1), at(i, j)});
         else mesh.triangles.push_back({c, at(i, j), at(i, j + 1)});
     }
+  }
+  // A closed lathe-turned solid about +y: the profile (radius, height) runs from the centre of
+  // the bottom out, up the outside, over the rim and down the inside to the centre of the inner
+  // bottom (both ends at radius 0), as a potter's wheel turns a vessel with walls.
+  void lathe(const std::vector<Eigen::Vector2d>& profile, int segments = 64) {
+    const int n = static_cast<int>(profile.size()) - 1;
+    const auto at = [&](double t) { return profile[static_cast<std::size_t>(std::lround(t * n))]; };
+    revolution({0.0, 0.0, 0.0}, [&](double t) { return at(t).x(); }, [&](double t) { return at(t).y(); }, n, segments);
   }
   void sphere(const Eigen::Vector3d& centre, double r, int rings = 24, int segments = 48) {
     revolution(centre, [r](double t) { return r * std::sin(EIGEN_PI * t); }, [r](double t) { return -r * std::cos(EIGEN_PI * t); },
@@ -275,6 +290,139 @@ TEST(UpAxis, GltfKeepsItsUpUnlessTheShapeClearlyDisagrees) {
   EXPECT_EQ(ball.up.name(), "+y") << ball.reason;
   EXPECT_TRUE(ball.warning.empty()) << ball.warning;
   EXPECT_NE(ball.reason.find("glTF is +y up"), std::string::npos) << ball.reason;
+}
+
+// Vessels turned on a wheel, with walls: a bowl, a cup, a plate, a goblet on a hollow foot and a
+// bowl on a recessed foot ring. Each rests more firmly on its rim than on its foot (the rim spans
+// the footprint), so the rests alone put them upside down; the air trapped under the rim stands
+// them mouth up, in every orientation. The hollows under a foot (the goblet's, the foot ring's)
+// trap far less.
+TEST(UpAxis, VesselsStandMouthUp) {
+  using P = Eigen::Vector2d;
+  std::vector<std::pair<std::string, std::vector<P>>> vessels;
+  std::vector<P> bowl{{0, 0}, {0.35, 0}, {0.38, 0.06}};
+  for (int k = 1; k <= 10; ++k) {
+    const double a = EIGEN_PI / 2 * k / 10;
+    bowl.emplace_back(0.38 + 0.62 * std::sin(a), 0.06 + 0.9 * (1 - std::cos(a)));
+  }
+  for (int k = 10; k >= 1; --k) bowl.emplace_back(0.93 * bowl[static_cast<std::size_t>(2 + k)].x(), 0.1 + 0.95 * (bowl[static_cast<std::size_t>(2 + k)].y() - 0.06));
+  bowl.emplace_back(0, 0.1);
+  vessels.emplace_back("bowl", bowl);
+  vessels.emplace_back("cup", std::vector<P>{{0, 0}, {0.4, 0}, {0.42, 0.05}, {0.45, 0.9}, {0.5, 1.0}, {0.46, 1.0}, {0.41, 0.9}, {0.38, 0.1}, {0, 0.1}});
+  vessels.emplace_back("plate", std::vector<P>{{0, 0}, {0.5, 0}, {0.52, 0.03}, {0.6, 0.06}, {1.0, 0.15}, {1.0, 0.17}, {0.6, 0.09}, {0, 0.09}});
+  vessels.emplace_back("goblet", std::vector<P>{{0, 0.15}, {0.3, 0.02}, {0.45, 0}, {0.45, 0.02}, {0.32, 0.05}, {0.06, 0.25}, {0.06, 0.45},
+                                                {0.3, 0.55}, {0.45, 0.75}, {0.5, 1.0}, {0.47, 1.0}, {0.42, 0.76}, {0.28, 0.58}, {0, 0.52}});
+  std::vector<P> footring{{0, 0.04}, {0.3, 0.04}, {0.3, 0}, {0.36, 0}, {0.38, 0.06}};
+  for (int k = 1; k <= 10; ++k) {
+    const double a = EIGEN_PI / 2 * k / 10;
+    footring.emplace_back(0.38 + 0.62 * std::sin(a), 0.06 + 0.9 * (1 - std::cos(a)));
+  }
+  for (int k = 10; k >= 1; --k) footring.emplace_back(0.93 * footring[static_cast<std::size_t>(4 + k)].x(), 0.1 + 0.95 * (footring[static_cast<std::size_t>(4 + k)].y() - 0.06));
+  footring.emplace_back(0, 0.1);
+  vessels.emplace_back("foot-ring bowl", footring);
+  for (const auto& [name, profile] : vessels) {
+    Builder b;
+    b.lathe(profile);
+    const UpChoice c = choose_up_axis(b.mesh);
+    const UpRest& on_rim = c.rests[3];  // -y: upside down
+    const UpRest& on_foot = c.rests[2];
+    EXPECT_GT(on_rim.score, on_foot.score) << name << ": the rim is the firmer rest, so the air decides";
+    EXPECT_GE(on_rim.trapped_air, 0.15) << name;
+    EXPECT_LE(on_foot.trapped_air, 0.05) << name;
+    EXPECT_GT(c.upside_down_air, 0.0) << name << ": " << c.reason;
+    EXPECT_NE(c.reason.find("mouth up"), std::string::npos) << c.reason;
+    expect_found_in_every_orientation(name, b.mesh, Axis{1, false});
+  }
+  // A solid dome on its flat face (a paperweight) traps no air either way: it stays on its face.
+  Builder dome;
+  dome.revolution({0.0, 0.0, 0.0}, [](double t) { return std::cos(EIGEN_PI / 2 * t); }, [](double t) { return std::sin(EIGEN_PI / 2 * t); });
+  const UpChoice d = choose_up_axis(dome.mesh);
+  EXPECT_EQ(d.upside_down_air, 0.0) << d.reason;
+  expect_found_in_every_orientation("dome", dome.mesh, Axis{1, false});
+}
+
+// Furniture rests more firmly on its top or seat than on its legs (flat, heavy, the whole
+// footprint); standing on its legs, most of its box is open air under it. A table, a stool, a
+// bench and a chair (whose back is a rest nearly as firm as its legs) stand on their legs in every
+// orientation.
+TEST(UpAxis, FurnitureStandsOnItsLegs) {
+  const auto legs = [](Builder& b, double w, double d, double h, double t) {
+    for (const double sx : {-1.0, 1.0})
+      for (const double sz : {-1.0, 1.0})
+        b.box({sx * w - (sx > 0 ? t : 0.0), 0.0, sz * d - (sz > 0 ? t : 0.0)}, {sx * w + (sx > 0 ? 0.0 : t), h, sz * d + (sz > 0 ? 0.0 : t)});
+  };
+  Builder table, stool, bench, chair;
+  table.box({-1.0, 0.72, -0.6}, {1.0, 0.76, 0.6});
+  legs(table, 0.95, 0.55, 0.72, 0.05);
+  stool.box({-0.2, 0.45, -0.2}, {0.2, 0.5, 0.2});
+  legs(stool, 0.18, 0.18, 0.45, 0.04);
+  bench.box({-1.0, 0.42, -0.2}, {1.0, 0.46, 0.2});
+  legs(bench, 0.95, 0.15, 0.42, 0.05);
+  chair.box({-0.22, 0.45, -0.22}, {0.22, 0.5, 0.22});
+  chair.box({-0.22, 0.5, -0.22}, {0.22, 0.95, -0.18});
+  legs(chair, 0.2, 0.2, 0.45, 0.04);
+  for (const auto& [name, b] : {std::pair<std::string, const Builder*>{"table", &table}, {"stool", &stool}, {"bench", &bench}, {"chair", &chair}}) {
+    const UpChoice c = choose_up_axis(b->mesh);
+    EXPECT_GE(c.rests[2].clearance, 0.4) << name;
+    EXPECT_NE(c.reason.find("stands on its legs"), std::string::npos) << name << ": " << c.reason;
+    expect_found_in_every_orientation(name, b->mesh, Axis{1, false});
+  }
+}
+
+// A figure with its arms spread (a T-pose: as wide as it is tall, a fifth as thick) rests far more
+// firmly on its back than on its feet; its mirror plane (x = 0) tells it from a thing that lies
+// flat, and it stands on its feet in every orientation. A lizard lying on its belly (as thick, but
+// much longer than its legs are wide) keeps lying.
+TEST(UpAxis, FigureWithSpreadArmsStandsOnItsFeet) {
+  const auto figure = [](double depth) {
+    Builder b;
+    const double d = depth / 2;
+    // Front and back differ as a body's do (the mirror test must not find a front-back plane):
+    // legs and seat to the back, chest, head and feet to the front.
+    b.box({-0.2, 0.0, -d}, {-0.05, 0.9, 0.2 * d});        // legs
+    b.box({0.05, 0.0, -d}, {0.2, 0.9, 0.2 * d});
+    b.box({-0.2, 0.0, -d}, {-0.05, 0.08, 2.2 * d});       // feet, pointing to +z
+    b.box({0.05, 0.0, -d}, {0.2, 0.08, 2.2 * d});
+    b.box({-0.25, 0.9, -d}, {0.25, 1.5, 0.6 * d});        // body
+    b.box({-0.22, 1.1, 0.6 * d}, {0.22, 1.45, 1.6 * d});  // chest
+    b.box({-0.85, 1.38, -0.4 * d}, {-0.25, 1.48, 0.6 * d}); // arms, straight out
+    b.box({0.25, 1.38, -0.4 * d}, {0.85, 1.48, 0.6 * d});
+    b.sphere({0.0, 1.65, 0.5 * d}, 0.12);                 // head and nose
+    b.box({-0.03, 1.62, 0.5 * d + 0.1}, {0.03, 1.68, 0.5 * d + 0.16});
+    return b;
+  };
+  const Builder person = figure(0.24);
+  const UpChoice c = choose_up_axis(person.mesh);
+  EXPECT_EQ(c.symmetry_normal, 0) << c.reason;
+  EXPECT_TRUE(c.lying_figure) << c.reason;
+  EXPECT_GT(c.rests[4].score, c.rests[2].score) << "lying on its back is the firmer rest, so the figure rule decides";
+  expect_found_in_every_orientation("T-pose", person.mesh, Axis{1, false});
+
+  Builder lizard;
+  lizard.box({-0.15, 0.0, -1.0}, {0.15, 0.3, 1.0});  // body, head to tail along z
+  for (const double sx : {-1.0, 1.0})
+    for (const double z : {-0.6, 0.6}) lizard.box({sx > 0 ? 0.15 : -0.45, 0.0, z - 0.05}, {sx > 0 ? 0.45 : -0.15, 0.1, z + 0.05});
+  const UpChoice l = choose_up_axis(lizard.mesh);
+  EXPECT_FALSE(l.lying_figure) << l.reason;
+  expect_found_in_every_orientation("lizard", lizard.mesh, Axis{1, false});
+
+}
+
+// The air under each side is gathered by threads over chunks of triangles and merged by lowest and
+// highest point: the same choice and the same numbers on one thread as on all.
+TEST(UpAxis, SameAnswerOnAnyThreadCount) {
+  Builder b;
+  for (int i = 0; i < 12; ++i) b.sphere({0.3 * i, 0.1 * (i % 3), 0.0}, 0.4, 96, 192);  // > 400k triangles: many chunks
+  b.box({-0.5, -0.6, -0.5}, {3.8, -0.4, 0.5});
+  const UpChoice all = choose_up_axis(b.mesh);
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const UpChoice single = choose_up_axis(b.mesh);
+  EXPECT_EQ(single.up, all.up);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_EQ(single.rests[k].trapped_air, all.rests[k].trapped_air) << k;
+    EXPECT_EQ(single.rests[k].clearance, all.rests[k].clearance) << k;
+    EXPECT_EQ(single.rests[k].score, all.rests[k].score) << k;
+  }
 }
 
 TEST(UpAxis, MeshWithoutAreaIsAnInputError) {
