@@ -1,6 +1,7 @@
 #include "mesh/gltf.h"
 
 #include <draco/compression/decode.h>
+#include <meshoptimizer.h>
 
 #include <Eigen/Geometry>
 
@@ -29,8 +30,8 @@ using Matrix = Eigen::Matrix4d;
 
 // Extensions meshtour reads. Any other one a file lists in extensionsRequired changes geometry or
 // colour in a way meshtour would get wrong, so it is refused by name.
-const std::set<std::string> kSupported = {"KHR_draco_mesh_compression", "KHR_texture_transform", "KHR_mesh_quantization",
-                                          "KHR_materials_unlit"};
+const std::set<std::string> kSupported = {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_texture_transform",
+                                          "KHR_mesh_quantization", "KHR_materials_unlit"};
 
 // Images keep their encoded bytes (OpenImageIO decodes them when the tracer needs them). An image
 // in a buffer view is left for encoded_image_bytes(): tinygltf 2.7 hands over the view's range
@@ -42,24 +43,158 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
   return true;
 }
 
-// tinygltf (2.7, built without Draco) refuses a Draco primitive's index accessor, which has no
-// buffer view by design. Such primitives' "indices" move into their extension object, where
-// gltf_summary() finds the count; the triangles come from the Draco data.
-std::string without_draco_indices(const std::string& json_text) {
-  if (json_text.find("KHR_draco_mesh_compression") == std::string::npos) return json_text;
-  nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
-  if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return json_text;
-  for (auto& mesh : doc["meshes"]) {
-    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
-    for (auto& prim : mesh["primitives"]) {
-      if (!prim.is_object() || !prim.contains("indices") || !prim.contains("extensions") || !prim["extensions"].is_object()) continue;
-      auto& ext = prim["extensions"];
-      if (!ext.contains("KHR_draco_mesh_compression") || !ext["KHR_draco_mesh_compression"].is_object()) continue;
-      ext["KHR_draco_mesh_compression"]["indices"] = prim["indices"];
-      prim.erase("indices");
-    }
+// EXT_meshopt_compression (gltfpack, glTF-Transform): a buffer view's bytes are stored
+// compressed in another buffer, and the view's own buffer is a "fallback" that has no data when
+// the extension is required. One compressed view, read from the JSON before the reader sees it.
+struct MeshoptView {
+  std::size_t view = 0;          // the buffer view it fills
+  std::size_t source = 0;        // the buffer holding the compressed bytes
+  std::size_t offset = 0, length = 0;
+  std::size_t stride = 0, count = 0;
+  std::string mode, filter;      // ATTRIBUTES | TRIANGLES | INDICES; NONE | OCTAHEDRAL | QUATERNION | EXPONENTIAL
+};
+
+// What the JSON needs before tinygltf 2.7 reads it, and what must be done after.
+struct Prepared {
+  std::string json;                                         // the text to hand to the reader
+  std::vector<std::pair<std::size_t, std::size_t>> fallbacks;  // (buffer, byteLength) standing in for decoded data
+  std::vector<MeshoptView> meshopt;
+};
+
+std::size_t count_of(const nlohmann::json& o, const char* key, const std::string& where, bool required = true) {
+  if (!o.contains(key)) {
+    if (required) throw InputError(where + " has no " + key);
+    return 0;
   }
-  return doc.dump();
+  const auto& v = o[key];
+  if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<std::int64_t>() >= 0))
+    throw InputError(where + ": " + key + " is not a non-negative whole number");
+  return v.get<std::size_t>();
+}
+
+// tinygltf (2.7, built without Draco) refuses a Draco primitive's index accessor, which has no
+// buffer view by design: such primitives' "indices" move into their extension object, where
+// gltf_summary() finds the count; the triangles come from the Draco data. Nor does it read
+// EXT_meshopt_compression: a fallback buffer (no data by design) gets a one-byte data URI so
+// that the reader accepts it, and decode_meshopt() gives it its real length and fills it.
+Prepared prepare_json(const std::string& json_text, const std::string& name) {
+  Prepared out{json_text, {}, {}};
+  const bool draco = json_text.find("KHR_draco_mesh_compression") != std::string::npos;
+  const bool meshopt = json_text.find("EXT_meshopt_compression") != std::string::npos;
+  if (!draco && !meshopt) return out;
+  nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
+  if (doc.is_discarded() || !doc.is_object()) return out;  // the reader says what is wrong
+  if (draco && doc.contains("meshes") && doc["meshes"].is_array())
+    for (auto& mesh : doc["meshes"]) {
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      for (auto& prim : mesh["primitives"]) {
+        if (!prim.is_object() || !prim.contains("indices") || !prim.contains("extensions") || !prim["extensions"].is_object()) continue;
+        auto& ext = prim["extensions"];
+        if (!ext.contains("KHR_draco_mesh_compression") || !ext["KHR_draco_mesh_compression"].is_object()) continue;
+        ext["KHR_draco_mesh_compression"]["indices"] = prim["indices"];
+        prim.erase("indices");
+      }
+    }
+  if (meshopt && doc.contains("buffers") && doc["buffers"].is_array()) {
+    auto& buffers = doc["buffers"];
+    for (std::size_t b = 0; b < buffers.size(); ++b) {
+      auto& buffer = buffers[b];
+      if (!buffer.is_object() || buffer.contains("uri") || !buffer.contains("extensions") || !buffer["extensions"].is_object()) continue;
+      const auto& ext = buffer["extensions"];
+      if (!ext.contains("EXT_meshopt_compression") || !ext["EXT_meshopt_compression"].is_object()) continue;
+      const std::string where = name + ": buffer " + std::to_string(b);
+      out.fallbacks.emplace_back(b, count_of(buffer, "byteLength", where));
+      buffer["byteLength"] = 1;
+      buffer["uri"] = "data:application/octet-stream;base64,AA==";
+    }
+    if (doc.contains("bufferViews") && doc["bufferViews"].is_array())
+      for (std::size_t v = 0; v < doc["bufferViews"].size(); ++v) {
+        const auto& view = doc["bufferViews"][v];
+        if (!view.is_object() || !view.contains("extensions") || !view["extensions"].is_object()) continue;
+        const auto& ext = view["extensions"];
+        if (!ext.contains("EXT_meshopt_compression")) continue;
+        const std::string where = name + ": buffer view " + std::to_string(v) + "'s EXT_meshopt_compression";
+        const auto& e = ext["EXT_meshopt_compression"];
+        if (!e.is_object()) throw InputError(where + " is not an object");
+        MeshoptView m;
+        m.view = v;
+        m.source = count_of(e, "buffer", where);
+        m.offset = count_of(e, "byteOffset", where, false);
+        m.length = count_of(e, "byteLength", where);
+        m.stride = count_of(e, "byteStride", where);
+        m.count = count_of(e, "count", where);
+        if (!e.contains("mode") || !e["mode"].is_string()) throw InputError(where + " has no mode");
+        m.mode = e["mode"].get<std::string>();
+        m.filter = e.contains("filter") && e["filter"].is_string() ? e["filter"].get<std::string>() : "NONE";
+        out.meshopt.push_back(std::move(m));
+      }
+  }
+  out.json = doc.dump();
+  return out;
+}
+
+// Decodes every EXT_meshopt_compression view into its buffer. Everything the decoder is given is
+// checked first: libmeshoptimizer asserts on strides and counts it does not support, and a crash
+// inside it could not be mended here (it is safe on corrupt compressed bytes, which it reports).
+void decode_meshopt(tinygltf::Model& model, const Prepared& prepared, const std::string& name) {
+  if (prepared.meshopt.empty() && prepared.fallbacks.empty()) return;
+  // The decoded data cannot be much larger than its compressed bytes (the codecs' best case is
+  // about 32 to 1): a fallback announcing more is corrupt, and is not allocated.
+  std::size_t compressed = 0;
+  for (const MeshoptView& m : prepared.meshopt) compressed += m.length;
+  for (const auto& [buffer, length] : prepared.fallbacks) {
+    if (buffer >= model.buffers.size()) continue;
+    if (length / 64 > compressed + 4096)
+      throw InputError(name + ": buffer " + std::to_string(buffer) + " announces " + std::to_string(length) +
+                       " bytes of EXT_meshopt_compression data, far more than its " + std::to_string(compressed) +
+                       " compressed bytes could hold (the file is corrupt)");
+    model.buffers[buffer].data.assign(length, 0);
+  }
+  // A fallback buffer has no bytes of its own: a view into it that nothing decodes would read zeros.
+  for (std::size_t v = 0; v < model.bufferViews.size(); ++v) {
+    const int buffer = model.bufferViews[v].buffer;
+    const bool in_fallback = std::any_of(prepared.fallbacks.begin(), prepared.fallbacks.end(),
+                                         [&](const auto& f) { return static_cast<int>(f.first) == buffer; });
+    const bool decoded = std::any_of(prepared.meshopt.begin(), prepared.meshopt.end(), [&](const MeshoptView& m) { return m.view == v; });
+    if (in_fallback && !decoded)
+      throw InputError(name + ": buffer view " + std::to_string(v) + " lies in buffer " + std::to_string(buffer) +
+                       ", an EXT_meshopt_compression fallback with no data of its own, but has no compressed data to "
+                       "decode (the file is corrupt)");
+  }
+  for (const MeshoptView& m : prepared.meshopt) {
+    const std::string where = name + ": buffer view " + std::to_string(m.view) + " (EXT_meshopt_compression)";
+    if (m.view >= model.bufferViews.size()) continue;
+    const tinygltf::BufferView& view = model.bufferViews[m.view];
+    if (m.source >= model.buffers.size()) throw InputError(where + " names buffer " + std::to_string(m.source) + ", which does not exist");
+    const std::vector<unsigned char>& source = model.buffers[m.source].data;
+    if (m.offset > source.size() || m.length > source.size() - m.offset)
+      throw InputError(where + ": its compressed bytes lie outside buffer " + std::to_string(m.source) + " (the file is truncated or corrupt)");
+    const bool indices = m.mode == "TRIANGLES" || m.mode == "INDICES";
+    if (m.mode != "ATTRIBUTES" && !indices) throw InputError(where + ": unknown mode '" + m.mode + "'");
+    if (indices ? (m.stride != 2 && m.stride != 4) : (m.stride == 0 || m.stride > 256 || m.stride % 4 != 0))
+      throw InputError(where + ": byteStride " + std::to_string(m.stride) + " is not valid for mode " + m.mode);
+    if (m.mode == "TRIANGLES" && m.count % 3 != 0) throw InputError(where + ": a triangle list's count " + std::to_string(m.count) + " is not a multiple of 3");
+    const bool filter_fits = m.filter == "NONE" || (m.filter == "OCTAHEDRAL" && (m.stride == 4 || m.stride == 8)) ||
+                             (m.filter == "QUATERNION" && m.stride == 8) || (m.filter == "EXPONENTIAL" && m.stride % 4 == 0);
+    if (indices ? m.filter != "NONE" : !filter_fits)
+      throw InputError(where + ": filter '" + m.filter + "' is unknown or does not fit byteStride " + std::to_string(m.stride));
+    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
+      throw InputError(where + " lies in a buffer that does not exist");
+    std::vector<unsigned char>& target = model.buffers[static_cast<std::size_t>(view.buffer)].data;
+    if (m.count > (std::numeric_limits<std::size_t>::max() / 2) / m.stride || m.count * m.stride > view.byteLength ||
+        view.byteOffset > target.size() || view.byteLength > target.size() - view.byteOffset)
+      throw InputError(where + ": " + std::to_string(m.count) + " elements of " + std::to_string(m.stride) +
+                       " bytes do not fit the view or its buffer (the file is corrupt)");
+    unsigned char* out = target.data() + view.byteOffset;
+    const unsigned char* in = source.data() + m.offset;
+    const int status = m.mode == "ATTRIBUTES" ? meshopt_decodeVertexBuffer(out, m.count, m.stride, in, m.length)
+                       : m.mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(out, m.count, m.stride, in, m.length)
+                                               : meshopt_decodeIndexSequence(out, m.count, m.stride, in, m.length);
+    if (status != 0) throw InputError(where + ": the compressed data is corrupt (meshoptimizer error " + std::to_string(status) + ")");
+    if (m.filter == "OCTAHEDRAL") meshopt_decodeFilterOct(out, m.count, m.stride);
+    else if (m.filter == "QUATERNION") meshopt_decodeFilterQuat(out, m.count, m.stride);
+    else if (m.filter == "EXPONENTIAL") meshopt_decodeFilterExp(out, m.count, m.stride);
+  }
 }
 
 std::uint32_t read_u32(const std::vector<unsigned char>& bytes, std::size_t at) {
@@ -76,23 +211,18 @@ std::string json_text_of(const std::vector<unsigned char>& bytes, bool glb) {
   return std::string(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
 }
 
-// A GLB with its JSON chunk passed through without_draco_indices() (the container is checked
-// first; a malformed one is left to tinygltf to refuse).
-std::vector<unsigned char> glb_without_draco_indices(std::vector<unsigned char> bytes) {
-  const std::string json = json_text_of(bytes, true);
-  if (json.empty()) return bytes;
-  const std::size_t json_length = json.size();
-  std::string changed = without_draco_indices(json);
-  if (changed == json) return bytes;
-  while (changed.size() % 4) changed += ' ';
+// The GLB `bytes` with its JSON chunk replaced by `json` (the container was checked by json_text_of()).
+std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& bytes, std::string json) {
+  const std::size_t json_length = read_u32(bytes, 12);
+  while (json.size() % 4) json += ' ';
   std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 12);
   const auto put = [&out](std::size_t at, std::uint32_t v) {
     for (int k = 0; k < 4; ++k) out[at + static_cast<std::size_t>(k)] = static_cast<unsigned char>(v >> (8 * k));
   };
   out.resize(20);
-  put(12, static_cast<std::uint32_t>(changed.size()));
+  put(12, static_cast<std::uint32_t>(json.size()));
   put(16, 0x4E4F534Au);
-  out.insert(out.end(), changed.begin(), changed.end());
+  out.insert(out.end(), json.begin(), json.end());
   out.insert(out.end(), bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length), bytes.end());
   put(8, static_cast<std::uint32_t>(out.size()));
   return out;
@@ -108,8 +238,8 @@ void refuse_unsupported(const std::vector<std::string>& required, const std::str
   for (const auto& e : unsupported) list += (list.empty() ? "" : ", ") + e;
   throw InputError(name + ": requires the glTF extension" + (unsupported.size() > 1 ? "s " : " ") + list +
                    ", which meshtour does not read (it would change the model's geometry or colours); export the "
-                   "model without it (supported: KHR_draco_mesh_compression, KHR_mesh_quantization, "
-                   "KHR_texture_transform, KHR_materials_unlit)");
+                   "model without it (supported: KHR_draco_mesh_compression, EXT_meshopt_compression, "
+                   "KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit)");
 }
 
 // extensionsRequired as the JSON lists it (strings only; nothing when the JSON does not parse).
@@ -128,6 +258,7 @@ tinygltf::Model read_model(const std::filesystem::path& file, const std::string&
   tinygltf::Model model;
   std::string error, warning;
   bool ok = false;
+  Prepared prepared;
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   const std::string base_dir = file.parent_path().string();
@@ -136,16 +267,19 @@ tinygltf::Model read_model(const std::filesystem::path& file, const std::string&
     if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
     std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     // A required extension meshtour does not read is named before the reader sees the file: such
-    // files are often unreadable without it (EXT_meshopt_compression's fallback buffers have no
-    // data), and the reader's own complaint would not say why.
-    refuse_unsupported(required_extensions(json_text_of(bytes, ext == ".glb")), name);
-    if (ext == ".glb") {
-      bytes = glb_without_draco_indices(std::move(bytes));
+    // files are often unreadable without it (a compression extension's views have no data of
+    // their own), and the reader's own complaint would not say why.
+    const bool glb = ext == ".glb";
+    const std::string json = json_text_of(bytes, glb);
+    refuse_unsupported(required_extensions(json), name);
+    prepared = prepare_json(json, name);  // a malformed container ("" here) is left to the reader to refuse
+    if (glb) {
+      if (!json.empty() && prepared.json != json) bytes = glb_with_json(bytes, prepared.json);
       ok = reader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
     } else {
-      const std::string text = without_draco_indices(std::string(bytes.begin(), bytes.end()));
-      ok = reader.LoadASCIIFromString(&model, &error, &warning, text.c_str(), static_cast<unsigned>(text.size()), base_dir);
+      ok = reader.LoadASCIIFromString(&model, &error, &warning, prepared.json.c_str(), static_cast<unsigned>(prepared.json.size()), base_dir);
     }
+    if (ok) decode_meshopt(model, prepared, name);
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {

@@ -53,11 +53,19 @@ struct GltfBuilder {
     return static_cast<int>(doc["images"].size()) - 1;
   }
 
+  /// The file's buffers: `first` (the one `bin` fills) and any the test added after it in
+  /// doc["buffers"] (e.g. an EXT_meshopt_compression fallback).
+  nlohmann::json buffers_with(nlohmann::json first) const {
+    nlohmann::json out = nlohmann::json::array({std::move(first)});
+    if (doc.contains("buffers"))
+      for (std::size_t i = 1; i < doc["buffers"].size(); ++i) out.push_back(doc["buffers"][i]);
+    return out;
+  }
   /// Writes a .gltf whose buffer is `<stem>.bin` beside it.
   void write_gltf(const std::filesystem::path& file) {
     nlohmann::json d = doc;
     const auto bin_file = file.parent_path() / (file.stem().string() + ".bin");
-    d["buffers"] = {{{"byteLength", bin.size()}, {"uri", bin_file.filename().string()}}};
+    d["buffers"] = buffers_with(nlohmann::json{{"byteLength", bin.size()}, {"uri", bin_file.filename().string()}});
     std::ofstream(bin_file, std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), static_cast<std::streamsize>(bin.size()));
     std::ofstream(file) << d.dump(1);
   }
@@ -66,7 +74,7 @@ struct GltfBuilder {
     nlohmann::json d = doc;
     std::vector<unsigned char> data = bin;
     while (data.size() % 4) data.push_back(0);
-    d["buffers"] = {{{"byteLength", data.size()}}};
+    d["buffers"] = buffers_with(nlohmann::json{{"byteLength", data.size()}});
     std::string json = d.dump();
     while (json.size() % 4) json += ' ';
     std::vector<unsigned char> out;

@@ -1,9 +1,16 @@
 // glTF 2.0 / GLB input: files written by the test itself (tests/gltf_writer.h), the Draco case
-// encoded with Debian's draco_encoder when it is installed.
+// encoded with Debian's draco_encoder when it is installed, the EXT_meshopt_compression cases with
+// libmeshoptimizer's encoders (as gltfpack writes them).
 #include <gtest/gtest.h>
+#include <meshoptimizer.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <functional>
 
 #include "core/error.h"
 #include "gltf_writer.h"
@@ -109,6 +116,114 @@ TEST(MeshGltf, GlbWithEmbeddedImageColoursStripsAndTextureTransform) {
   EXPECT_NEAR((mesh.corner_uvs[1] - Eigen::Vector2f(0.5f, 0.5f)).norm(), 0.0f, 1e-6f);
 }
 
+// A wavy height field of n x n vertices: positions and a triangle list.
+struct Grid {
+  std::vector<float> positions;
+  std::vector<std::uint32_t> indices;
+};
+Grid wavy_grid(int n) {
+  Grid g;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const float x = static_cast<float>(i) / (n - 1), z = static_cast<float>(j) / (n - 1);
+      g.positions.insert(g.positions.end(), {x, 0.1f * std::sin(7.0f * x) * std::cos(5.0f * z), z});
+    }
+  for (int i = 0; i + 1 < n; ++i)
+    for (int j = 0; j + 1 < n; ++j) {
+      const auto v = static_cast<std::uint32_t>(i * n + j), n32 = static_cast<std::uint32_t>(n);
+      g.indices.insert(g.indices.end(), {v, v + 1, v + n32, v + 1, v + n32 + 1, v + n32});
+    }
+  return g;
+}
+
+GltfBuilder one_mesh(GltfBuilder b, const nlohmann::json& prim) {
+  b.doc["meshes"] = {{{"primitives", {prim}}}};
+  b.doc["nodes"] = {{{"mesh", 0}}};
+  b.doc["scenes"] = {{{"nodes", {0}}}};
+  b.doc["scene"] = 0;
+  return b;
+}
+
+GltfBuilder plain_grid(const Grid& g) {
+  GltfBuilder b;
+  const int pos = b.floats(g.positions, 3);
+  const int idx = b.indices(g.indices);
+  return one_mesh(std::move(b), {{"attributes", {{"POSITION", pos}}}, {"indices", idx}});
+}
+
+// gltfpack's layout: the compressed bytes in buffer 0 (the GLB's), the views in buffer 1, a
+// fallback with no data, which the decoder fills. `exponential`: positions through the
+// EXPONENTIAL filter (15-bit mantissas), as gltfpack -vpf writes them.
+GltfBuilder meshopt_grid(const Grid& g, bool exponential = false) {
+  GltfBuilder b;
+  const std::size_t vertices = g.positions.size() / 3, indices = g.indices.size();
+  std::vector<unsigned char> raw(vertices * 12);
+  if (exponential) meshopt_encodeFilterExp(raw.data(), vertices, 12, 15, g.positions.data());
+  else std::memcpy(raw.data(), g.positions.data(), raw.size());
+  std::vector<unsigned char> packed_vertices(meshopt_encodeVertexBufferBound(vertices, 12));
+  packed_vertices.resize(meshopt_encodeVertexBuffer(packed_vertices.data(), packed_vertices.size(), raw.data(), vertices, 12));
+  std::vector<unsigned char> packed_indices(meshopt_encodeIndexBufferBound(indices, vertices));
+  packed_indices.resize(meshopt_encodeIndexBuffer(packed_indices.data(), packed_indices.size(), g.indices.data(), indices));
+  const auto put = [&b](const std::vector<unsigned char>& bytes) {
+    while (b.bin.size() % 4) b.bin.push_back(0);
+    const std::size_t at = b.bin.size();
+    b.bin.insert(b.bin.end(), bytes.begin(), bytes.end());
+    return at;
+  };
+  const std::size_t at_vertices = put(packed_vertices), at_indices = put(packed_indices);
+  nlohmann::json vertex_ext = {{"buffer", 0}, {"byteOffset", at_vertices}, {"byteLength", packed_vertices.size()}, {"byteStride", 12},
+                               {"count", vertices}, {"mode", "ATTRIBUTES"}};
+  if (exponential) vertex_ext["filter"] = "EXPONENTIAL";
+  b.doc["bufferViews"] = {
+      {{"buffer", 1}, {"byteOffset", 0}, {"byteLength", vertices * 12}, {"byteStride", 12}, {"extensions", {{"EXT_meshopt_compression", vertex_ext}}}},
+      {{"buffer", 1},
+       {"byteOffset", vertices * 12},
+       {"byteLength", indices * 4},
+       {"extensions",
+        {{"EXT_meshopt_compression",
+          {{"buffer", 0}, {"byteOffset", at_indices}, {"byteLength", packed_indices.size()}, {"byteStride", 4}, {"count", indices}, {"mode", "TRIANGLES"}}}}}}};
+  std::vector<float> lo(3, 1e30f), hi(3, -1e30f);
+  for (std::size_t i = 0; i < g.positions.size(); ++i) lo[i % 3] = std::min(lo[i % 3], g.positions[i]), hi[i % 3] = std::max(hi[i % 3], g.positions[i]);
+  b.doc["accessors"] = {{{"bufferView", 0}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"}, {"min", lo}, {"max", hi}},
+                        {{"bufferView", 1}, {"componentType", 5125}, {"count", indices}, {"type", "SCALAR"}}};
+  b.doc["buffers"] = {nlohmann::json::object(),
+                      {{"byteLength", vertices * 12 + indices * 4}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
+  b.doc["extensionsUsed"] = b.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
+  return one_mesh(std::move(b), {{"attributes", {{"POSITION", 0}}}, {"indices", 1}});
+}
+
+// EXT_meshopt_compression (gltfpack's and glTF-Transform's output): the decoded views give the
+// same model as the uncompressed file, bit for bit, as GLB and as .gltf with an external .bin;
+// through the EXPONENTIAL filter, within its 15-bit mantissa.
+TEST(MeshGltf, MeshoptCompressedViewsDecodeToTheSameModel) {
+  const auto dir = test::scratch_dir();
+  const Grid grid = wavy_grid(40);
+  plain_grid(grid).write_glb(dir / "plain.glb");
+  const TriangleMesh reference = load_mesh(dir / "plain.glb");
+  ASSERT_EQ(reference.triangles.size(), grid.indices.size() / 3);
+  meshopt_grid(grid).write_glb(dir / "meshopt.glb");
+  meshopt_grid(grid).write_gltf(dir / "meshopt.gltf");
+  // The index codec may start a triangle at another corner (same winding): compare each
+  // triangle from its smallest index.
+  const auto canonical = [](std::vector<std::array<std::uint32_t, 3>> triangles) {
+    for (auto& t : triangles) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    return triangles;
+  };
+  for (const char* file : {"meshopt.glb", "meshopt.gltf"}) {
+    const TriangleMesh mesh = load_mesh(dir / file);
+    EXPECT_EQ(canonical(mesh.triangles), canonical(reference.triangles)) << file;
+    EXPECT_EQ(mesh.positions, reference.positions) << file;
+  }
+  meshopt_grid(grid, true).write_glb(dir / "meshopt_exp.glb");
+  const TriangleMesh filtered = load_mesh(dir / "meshopt_exp.glb");
+  EXPECT_EQ(canonical(filtered.triangles), canonical(reference.triangles));
+  ASSERT_EQ(filtered.positions.size(), reference.positions.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < filtered.positions.size(); ++i) worst = std::max(worst, (filtered.positions[i] - reference.positions[i]).norm());
+  EXPECT_LT(worst, 1e-4) << "positions through the EXPONENTIAL filter";
+  EXPECT_GT(worst, 0.0) << "the filter is lossy: a zero error would mean the filter was not applied";
+}
+
 std::string error_of(const std::filesystem::path& file) {
   try {
     load_mesh(file);
@@ -146,15 +261,50 @@ TEST(MeshGltf, BadFilesGetClearErrors) {
     EXPECT_NE(e.find("KHR_materials_volume, EXT_fancy"), std::string::npos) << e;
   }
   {
-    // gltfpack's output: the geometry's views point into a fallback buffer with no data, which
-    // the reader refuses with a complaint about its length. The extension is what to name.
+    // A view in an EXT_meshopt_compression fallback buffer (no data of its own) that has no
+    // compressed data: it would read zeros.
     GltfBuilder b = square(false);
     b.doc["extensionsUsed"] = b.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
-    b.doc["buffers"].push_back({{"byteLength", 4096}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}});
+    b.doc["buffers"] = {nlohmann::json::object(), {{"byteLength", 4096}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
     b.doc["bufferViews"][0]["buffer"] = 1;
     b.write_glb(dir / "meshopt.glb");
     const std::string e = error_of(dir / "meshopt.glb");
-    EXPECT_NE(e.find("requires the glTF extension EXT_meshopt_compression"), std::string::npos) << e;
+    EXPECT_NE(e.find("buffer view 0 lies in buffer 1, an EXT_meshopt_compression fallback"), std::string::npos) << e;
+  }
+  {
+    // Corrupt or impossible EXT_meshopt_compression views: each named, none handed to the decoder
+    // with values it would assert on.
+    const Grid grid = wavy_grid(8);
+    struct Case {
+      const char* file;
+      std::function<void(GltfBuilder&)> damage;
+      const char* says;
+    };
+    const std::vector<Case> cases = {
+        {"meshopt_corrupt.glb", [](GltfBuilder& b) { std::fill(b.bin.begin(), b.bin.begin() + 16, static_cast<unsigned char>(0xFF)); },
+         "compressed data is corrupt"},
+        {"meshopt_stride.glb", [](GltfBuilder& b) { b.doc["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteStride"] = 6; },
+         "byteStride 6 is not valid for mode ATTRIBUTES"},
+        {"meshopt_triangles.glb", [](GltfBuilder& b) { b.doc["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]["count"] = 7; },
+         "not a multiple of 3"},
+        {"meshopt_outside.glb", [](GltfBuilder& b) { b.doc["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]["byteOffset"] = 1 << 30; },
+         "lie outside buffer 0"},
+        {"meshopt_huge.glb", [](GltfBuilder& b) { b.doc["buffers"][1]["byteLength"] = std::uint64_t{1} << 40; }, "far more than its"},
+        {"meshopt_filter.glb", [](GltfBuilder& b) { b.doc["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["filter"] = "QUATERNION"; },
+         "filter 'QUATERNION'"},
+        {"meshopt_count.glb", [](GltfBuilder& b) { b.doc["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["count"] = -3; },
+         "count is not a non-negative whole number"},
+    };
+    meshopt_grid(grid).write_glb(dir / "meshopt_valid.glb");  // undamaged, it loads
+    EXPECT_EQ(load_mesh(dir / "meshopt_valid.glb").triangles.size(), 98u);
+    for (const Case& c : cases) {
+      GltfBuilder b = meshopt_grid(grid);
+      c.damage(b);
+      b.write_glb(dir / c.file);
+      const std::string e = error_of(dir / c.file);
+      EXPECT_NE(e.find(c.says), std::string::npos) << c.file << ": " << e;
+      EXPECT_NE(e.find(c.file), std::string::npos) << e;
+    }
   }
   {
     GltfBuilder b = square();

@@ -320,13 +320,16 @@ TEST(UpAxis, VesselsStandMouthUp) {
   for (int k = 10; k >= 1; --k) footring.emplace_back(0.93 * footring[static_cast<std::size_t>(4 + k)].x(), 0.1 + 0.95 * (footring[static_cast<std::size_t>(4 + k)].y() - 0.06));
   footring.emplace_back(0, 0.1);
   vessels.emplace_back("foot-ring bowl", footring);
+  // A straight beaker: its foot and its rim are the same disc, so the two rests nearly tie and
+  // either may lead; the air under the rim decides both ways.
+  vessels.emplace_back("beaker", std::vector<P>{{0, 0}, {0.5, 0}, {0.5, 1.0}, {0.45, 1.0}, {0.45, 0.08}, {0, 0.08}});
   for (const auto& [name, profile] : vessels) {
     Builder b;
     b.lathe(profile);
     const UpChoice c = choose_up_axis(b.mesh);
     const UpRest& on_rim = c.rests[3];  // -y: upside down
     const UpRest& on_foot = c.rests[2];
-    EXPECT_GT(on_rim.score, on_foot.score) << name << ": the rim is the firmer rest, so the air decides";
+    if (name != "beaker") EXPECT_GT(on_rim.score, on_foot.score) << name << ": the rim is the firmer rest, so the air decides";
     EXPECT_GE(on_rim.trapped_air, 0.15) << name;
     EXPECT_LE(on_foot.trapped_air, 0.05) << name;
     EXPECT_GT(c.upside_down_air, 0.0) << name << ": " << c.reason;
