@@ -77,13 +77,13 @@ std::size_t count_of(const nlohmann::json& o, const char* key, const std::string
 // gltf_summary() finds the count; the triangles come from the Draco data. Nor does it read
 // EXT_meshopt_compression: a fallback buffer (no data by design) gets a one-byte data URI so
 // that the reader accepts it, and decode_meshopt() gives it its real length and fills it.
-Prepared prepare_json(const std::string& json_text, const std::string& name) {
+// `doc` is `json_text` parsed (discarded when it does not parse: the reader then says what is wrong).
+Prepared prepare_json(nlohmann::json doc, const std::string& json_text, const std::string& name) {
   Prepared out{json_text, {}, {}};
   const bool draco = json_text.find("KHR_draco_mesh_compression") != std::string::npos;
   const bool meshopt = json_text.find("EXT_meshopt_compression") != std::string::npos;
   if (!draco && !meshopt) return out;
-  nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
-  if (doc.is_discarded() || !doc.is_object()) return out;  // the reader says what is wrong
+  if (doc.is_discarded() || !doc.is_object()) return out;
   if (draco && doc.contains("meshes") && doc["meshes"].is_array())
     for (auto& mesh : doc["meshes"]) {
       if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
@@ -151,12 +151,14 @@ void decode_meshopt(tinygltf::Model& model, const Prepared& prepared, const std:
     model.buffers[buffer].data.assign(length, 0);
   }
   // A fallback buffer has no bytes of its own: a view into it that nothing decodes would read zeros.
+  std::vector<bool> fallback(model.buffers.size(), false), decoded(model.bufferViews.size(), false);
+  for (const auto& f : prepared.fallbacks)
+    if (f.first < fallback.size()) fallback[f.first] = true;
+  for (const MeshoptView& m : prepared.meshopt)
+    if (m.view < decoded.size()) decoded[m.view] = true;
   for (std::size_t v = 0; v < model.bufferViews.size(); ++v) {
     const int buffer = model.bufferViews[v].buffer;
-    const bool in_fallback = std::any_of(prepared.fallbacks.begin(), prepared.fallbacks.end(),
-                                         [&](const auto& f) { return static_cast<int>(f.first) == buffer; });
-    const bool decoded = std::any_of(prepared.meshopt.begin(), prepared.meshopt.end(), [&](const MeshoptView& m) { return m.view == v; });
-    if (in_fallback && !decoded)
+    if (buffer >= 0 && static_cast<std::size_t>(buffer) < fallback.size() && fallback[static_cast<std::size_t>(buffer)] && !decoded[v])
       throw InputError(name + ": buffer view " + std::to_string(v) + " lies in buffer " + std::to_string(buffer) +
                        ", an EXT_meshopt_compression fallback with no data of its own, but has no compressed data to "
                        "decode (the file is corrupt)");
@@ -242,10 +244,9 @@ void refuse_unsupported(const std::vector<std::string>& required, const std::str
                    "KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit)");
 }
 
-// extensionsRequired as the JSON lists it (strings only; nothing when the JSON does not parse).
-std::vector<std::string> required_extensions(const std::string& json_text) {
+// extensionsRequired as the parsed JSON lists it (strings only; nothing when it did not parse).
+std::vector<std::string> required_extensions(const nlohmann::json& doc) {
   std::vector<std::string> out;
-  const nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
   if (doc.is_discarded() || !doc.is_object() || !doc.contains("extensionsRequired") || !doc["extensionsRequired"].is_array()) return out;
   for (const auto& e : doc["extensionsRequired"])
     if (e.is_string()) out.push_back(e.get<std::string>());
@@ -271,8 +272,11 @@ tinygltf::Model read_model(const std::filesystem::path& file, const std::string&
     // their own), and the reader's own complaint would not say why.
     const bool glb = ext == ".glb";
     const std::string json = json_text_of(bytes, glb);
-    refuse_unsupported(required_extensions(json), name);
-    prepared = prepare_json(json, name);  // a malformed container ("" here) is left to the reader to refuse
+    // Parsed once, for the required extensions and for the rewrites; a malformed container ("")
+    // or JSON is left to the reader to refuse.
+    nlohmann::json doc = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
+    refuse_unsupported(required_extensions(doc), name);
+    prepared = prepare_json(std::move(doc), json, name);
     if (glb) {
       if (!json.empty() && prepared.json != json) bytes = glb_with_json(bytes, prepared.json);
       ok = reader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);

@@ -196,44 +196,43 @@ std::optional<FlatCut> flat_cut(const TriangleMesh& mesh, const std::vector<Eige
   return best;
 }
 
-// Air trapped under the model: a vessel put down on its mouth. A bowl, cup or plate rests most
-// firmly upside down (its rim spans the whole footprint, its foot ring a small part), and the
-// rests and flat ends cannot tell it from a dome on its base. What tells them apart is the air
-// under it: upside down, the vessel's hollow is a pocket closed all round by the rim on the floor;
-// under an animal's belly, a table or a car the air runs out sideways, and a figure or a bust on
-// its base has none. Measured per side on a grid of columns over the bounding box (kPocketGrid
-// across each side): a column's roof is the first surface above the floor, and its air is trapped
-// up to the height at which it could not reach the open air around the model through columns
-// with higher roofs (the water-filling of a terrain, upside down: a max-min flood from outside).
-// A roof seen from behind (an open scan's shell seen from inside through its missing bottom) is
-// no air: the open-bottom scan of a statue keeps its hole as its base (the flat-base cue above).
-// Result per side: trapped air volume / (footprint area x height), in [0, 1).
+// Air under the model, per side: a vessel put down on its mouth, furniture on its legs. A bowl,
+// cup or plate rests most firmly upside down (its rim spans the whole footprint, its foot ring a
+// small part), and the rests and flat ends cannot tell it from a dome on its base. What tells them
+// apart is the air under it: upside down, the vessel's hollow is a pocket closed all round by the
+// rim on the floor; under an animal's belly, a table or a car the air runs out sideways, and a
+// figure or a bust on its base has none. Measured per side on a grid of columns over the bounding
+// box (kPocketGrid across each side): a column's roof is the first surface above the floor, and
+// its air is trapped up to the height at which it could not reach the open air around the model
+// through columns with higher roofs (the water-filling of a terrain, upside down: a max-min flood
+// from outside); above that it is open. A roof seen from behind (an open scan's shell seen from
+// inside through its missing bottom) is no air: the open-bottom scan of a statue keeps its hole as
+// its base (the flat-base cue above). Both are shares of the bounding box (columns x height).
 constexpr int kPocketGrid = 64;
+// A vessel on its mouth. Measured (tests/mesh_up_axis_test.cpp's lathe vessels; 72 shared and
+// fetched models, all six sides): upside down, a bowl traps 0.45 of its box, a bowl on a recessed
+// foot ring 0.46, a cup 0.45, a plate 0.22, a goblet 0.22; right side up, the goblet's hollow foot
+// 0.02, the foot ring 0.003; 11 real bowls, mugs, jars, vases and a teapot 0.23-0.54. Of 88 models
+// that are no vessels (shared, fetched, 16 real pieces of furniture) the most is a bookcase's
+// shelves open to the floor, 0.11, then an upside-down pizza's crust, 0.083 and tables' aprons,
+// 0.055; 0.15 or more under a side that traps more than the other end is a vessel upside down.
+constexpr double kPocketShare = 0.15;
+// Furniture on its legs (see choose_up_axis). Measured (the test's table, stool, bench and chair):
+// on their legs 0.46-0.94 of their box is open air under them, and the legs span 71-87% of the
+// footprint; lying on the top or seat, 0-0.02 (a real desk 0.03). Of the 72 shared and fetched
+// models, six sides have 0.4 or more open air under them; the only firm rest among them is a
+// hammer standing on its handle (0.71, support 15% of the footprint). The closest firm rests
+// below: an upside-down pizza (0.34, support 53%) and a car on its roof (0.33, support 10%).
+constexpr double kFlatClearance = 0.1;
+constexpr double kLegsClearance = 0.4;
+constexpr double kLegsSupport = 0.5;
 // A figure lying flat (see choose_up_axis): thickness along its firmest rest between these shares
 // of its length, and its arm span at least kFigureSpread of its height. Measured: T-posed human
 // models 0.17 thick, spans 0.95-1.0; the A-posed ogre 0.30, 0.97. The lower bound leaves truly
 // flat things lying (sprites, plaques, leaves, a pinned butterfly: under a tenth), the upper
 // bound figures that are not slabs (a car 0.34 thick is 0.41 as wide as long, and never spread).
-// Furniture on its legs (see choose_up_axis). Measured (the test's table, stool, bench and chair):
-// on their legs 0.46-0.94 of their box is open air under them, and the legs span 71-87% of the
-// footprint; lying on the top or seat, 0-0.02 (a real desk 0.03). Of the 72 shared and fetched
-// models, six sides
-// have 0.4 or more open air under them; the only firm rest among them is a hammer standing on its
-// handle (0.71, support 15% of the footprint). The closest firm rests below: an upside-down pizza
-// (0.34, support 53%) and a car on its roof (0.33, support 10%).
-constexpr double kFlatClearance = 0.1;
-constexpr double kLegsClearance = 0.4;
-constexpr double kLegsSupport = 0.5;
 constexpr double kFigureThickness[2] = {0.1, 0.35};
 constexpr double kFigureSpread = 0.7;
-// Measured (tests/mesh_up_axis_test.cpp's lathe vessels; 72 shared and fetched models, all six
-// sides): upside down, a bowl traps 0.45 of its box, a bowl on a recessed foot ring 0.46, a cup
-// 0.45, a plate 0.22, a goblet 0.22; right side up, the goblet's hollow foot 0.02, the foot ring
-// 0.003; 11 real bowls, mugs, jars, vases and a teapot 0.23-0.54. Of 88 models that are no vessels
-// (shared, fetched, 16 real pieces of furniture) the most is a bookcase's shelves open to the
-// floor, 0.11, then an upside-down pizza's crust, 0.083 and tables' aprons, 0.055;
-// 0.15 or more under a side that traps more than the other end is a vessel upside down.
-constexpr double kPocketShare = 0.15;
 
 struct AirUnder {
   std::array<double, 6> trapped{};  // per side (as UpChoice::rests): air closed in under the model
@@ -528,7 +527,8 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
     rest.rest = rest.margin > 0.0 ? rest.support_area * rest.margin * (1.0 - rest.centroid_height) : 0.0;
   };
 
-  const AirUnder air = air_under(mesh, lo, hi, volume6 < 0.0 ? -1.0 : 1.0);
+  const double outward = volume6 < 0.0 ? -1.0 : 1.0;  // the triangles' facing: out of the model, or into it
+  const AirUnder air = air_under(mesh, lo, hi, outward);
   for (int k = 0; k < 6; ++k) {
     UpRest& rest = choice.rests[static_cast<std::size_t>(k)];
     rest.up = Axis{k / 2, k % 2 == 1};
@@ -570,14 +570,15 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
     const UpRest& r = choice.rests[k];
     return r.score > 0.0 && r.trapped_air >= kPocketShare && choice.rests[k ^ 1].trapped_air < r.trapped_air;
   };
-  const std::size_t mouth_side = mouth_down(order[0]) ? order[0] : mouth_down(order[1]) && order[0] == (order[1] ^ 1) ? order[1] : 6;
-  const bool upside_down = mouth_side < 6;
-  const UpRest& mouth = choice.rests[upside_down ? mouth_side : 0];
-  const UpRest& mouth_up = choice.rests[upside_down ? mouth_side ^ 1 : 0];
+  const UpRest* mouth = mouth_down(order[0])                                 ? &choice.rests[order[0]]
+                        : mouth_down(order[1]) && order[0] == (order[1] ^ 1) ? &choice.rests[order[1]]
+                                                                             : nullptr;
+  const UpRest* mouth_up = mouth ? &choice.rests[static_cast<std::size_t>(mouth - choice.rests.data()) ^ 1] : nullptr;
+  const bool upside_down = mouth != nullptr;
   if (upside_down) {
-    choice.up = mouth_up.up;
+    choice.up = mouth_up->up;
     choice.confident = true;
-    choice.upside_down_air = mouth.trapped_air;
+    choice.upside_down_air = mouth->trapped_air;
   }
   // Furniture: a table, stool, bench or chair rests more firmly on its top or seat (flat, heavy,
   // the whole footprint) than on its legs. Standing on its legs, most of its box under it is open
@@ -622,7 +623,7 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   // than its mouth's rim), but a flat region elsewhere says nothing (an armchair's back, a
   // bookcase's): +y stays, not confident.
   if (!choice.confident) {
-    cut = flat_cut(mesh, hull, model_size, choice.symmetry_normal, volume6 < 0.0 ? -1.0 : 1.0);
+    cut = flat_cut(mesh, hull, model_size, choice.symmetry_normal, outward);
     if (cut && best.score >= kFirmScore && cut->up != best.up && cut->up != second.up) cut.reset();
   }
   if (cut) {
@@ -654,8 +655,8 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
                   "stands mouth up: resting on its %s side (score %.3g; the other way up %.3g) it would trap air under it "
                   "(%.0f%% of its box, %.0f%% the other way up), as a bowl, cup or plate does upside down; a bell or a "
                   "helmet stands on its mouth: give --up %s for one%s",
-                  side(mouth.up).c_str(), mouth.score, mouth_up.score, 100.0 * mouth.trapped_air, 100.0 * mouth_up.trapped_air,
-                  mouth.up.name().c_str(), symmetry.c_str());
+                  side(mouth->up).c_str(), mouth->score, mouth_up->score, 100.0 * mouth->trapped_air, 100.0 * mouth_up->trapped_air,
+                  mouth->up.name().c_str(), symmetry.c_str());
   else if (cut)
     std::snprintf(text, sizeof text,
                   "stands on a flat cut on its %s side (%.1f%% of the surface, %.0f degrees off the axis: a bust's or a "

@@ -23,6 +23,15 @@ namespace {
 
 using test::GltfBuilder;
 
+// `b` with one mesh of one primitive, in one node of the default scene.
+GltfBuilder one_mesh(GltfBuilder b, const nlohmann::json& prim) {
+  b.doc["meshes"] = {{{"primitives", {prim}}}};
+  b.doc["nodes"] = {{{"mesh", 0}}};
+  b.doc["scenes"] = {{{"nodes", {0}}}};
+  b.doc["scene"] = 0;
+  return b;
+}
+
 // A unit square in the XY plane (z = 0) with UVs, as one triangle list; material 0 when
 // `material` is set.
 GltfBuilder square(bool material = true) {
@@ -32,11 +41,7 @@ GltfBuilder square(bool material = true) {
   const int idx = b.indices({0, 1, 2, 0, 2, 3});
   nlohmann::json prim = {{"attributes", {{"POSITION", pos}, {"TEXCOORD_0", uv}}}, {"indices", idx}};
   if (material) prim["material"] = 0;
-  b.doc["meshes"] = {{{"primitives", {prim}}}};
-  b.doc["nodes"] = {{{"mesh", 0}}};
-  b.doc["scenes"] = {{{"nodes", {0}}}};
-  b.doc["scene"] = 0;
-  return b;
+  return one_mesh(std::move(b), prim);
 }
 
 void add_textured_material(GltfBuilder& b, int image, nlohmann::json texture_info = {}) {
@@ -134,14 +139,6 @@ Grid wavy_grid(int n) {
       g.indices.insert(g.indices.end(), {v, v + 1, v + n32, v + 1, v + n32 + 1, v + n32});
     }
   return g;
-}
-
-GltfBuilder one_mesh(GltfBuilder b, const nlohmann::json& prim) {
-  b.doc["meshes"] = {{{"primitives", {prim}}}};
-  b.doc["nodes"] = {{{"mesh", 0}}};
-  b.doc["scenes"] = {{{"nodes", {0}}}};
-  b.doc["scene"] = 0;
-  return b;
 }
 
 GltfBuilder plain_grid(const Grid& g) {

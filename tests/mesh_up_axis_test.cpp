@@ -300,26 +300,27 @@ TEST(UpAxis, GltfKeepsItsUpUnlessTheShapeClearlyDisagrees) {
 TEST(UpAxis, VesselsStandMouthUp) {
   using P = Eigen::Vector2d;
   std::vector<std::pair<std::string, std::vector<P>>> vessels;
-  std::vector<P> bowl{{0, 0}, {0.35, 0}, {0.38, 0.06}};
-  for (int k = 1; k <= 10; ++k) {
-    const double a = EIGEN_PI / 2 * k / 10;
-    bowl.emplace_back(0.38 + 0.62 * std::sin(a), 0.06 + 0.9 * (1 - std::cos(a)));
-  }
-  for (int k = 10; k >= 1; --k) bowl.emplace_back(0.93 * bowl[static_cast<std::size_t>(2 + k)].x(), 0.1 + 0.95 * (bowl[static_cast<std::size_t>(2 + k)].y() - 0.06));
-  bowl.emplace_back(0, 0.1);
-  vessels.emplace_back("bowl", bowl);
+  // A round bowl standing on `foot` (its profile up to the foot's outer edge at (0.38, 0.06)):
+  // the outside rises as a quarter circle to the rim, the inside comes back down 0.05 thinner.
+  const auto bowl_on = [](std::vector<P> profile) {
+    const std::size_t foot = profile.size();
+    for (int k = 1; k <= 10; ++k) {
+      const double a = EIGEN_PI / 2 * k / 10;
+      profile.emplace_back(0.38 + 0.62 * std::sin(a), 0.06 + 0.9 * (1 - std::cos(a)));
+    }
+    for (std::size_t k = 10; k >= 1; --k) {
+      const P outside = profile[foot - 1 + k];
+      profile.emplace_back(0.93 * outside.x(), 0.1 + 0.95 * (outside.y() - 0.06));
+    }
+    profile.emplace_back(0, 0.1);
+    return profile;
+  };
+  vessels.emplace_back("bowl", bowl_on({{0, 0}, {0.35, 0}, {0.38, 0.06}}));
   vessels.emplace_back("cup", std::vector<P>{{0, 0}, {0.4, 0}, {0.42, 0.05}, {0.45, 0.9}, {0.5, 1.0}, {0.46, 1.0}, {0.41, 0.9}, {0.38, 0.1}, {0, 0.1}});
   vessels.emplace_back("plate", std::vector<P>{{0, 0}, {0.5, 0}, {0.52, 0.03}, {0.6, 0.06}, {1.0, 0.15}, {1.0, 0.17}, {0.6, 0.09}, {0, 0.09}});
   vessels.emplace_back("goblet", std::vector<P>{{0, 0.15}, {0.3, 0.02}, {0.45, 0}, {0.45, 0.02}, {0.32, 0.05}, {0.06, 0.25}, {0.06, 0.45},
                                                 {0.3, 0.55}, {0.45, 0.75}, {0.5, 1.0}, {0.47, 1.0}, {0.42, 0.76}, {0.28, 0.58}, {0, 0.52}});
-  std::vector<P> footring{{0, 0.04}, {0.3, 0.04}, {0.3, 0}, {0.36, 0}, {0.38, 0.06}};
-  for (int k = 1; k <= 10; ++k) {
-    const double a = EIGEN_PI / 2 * k / 10;
-    footring.emplace_back(0.38 + 0.62 * std::sin(a), 0.06 + 0.9 * (1 - std::cos(a)));
-  }
-  for (int k = 10; k >= 1; --k) footring.emplace_back(0.93 * footring[static_cast<std::size_t>(4 + k)].x(), 0.1 + 0.95 * (footring[static_cast<std::size_t>(4 + k)].y() - 0.06));
-  footring.emplace_back(0, 0.1);
-  vessels.emplace_back("foot-ring bowl", footring);
+  vessels.emplace_back("foot-ring bowl", bowl_on({{0, 0.04}, {0.3, 0.04}, {0.3, 0}, {0.36, 0}, {0.38, 0.06}}));
   // A straight beaker: its foot and its rim are the same disc, so the two rests nearly tie and
   // either may lead; the air under the rim decides both ways.
   vessels.emplace_back("beaker", std::vector<P>{{0, 0}, {0.5, 0}, {0.5, 1.0}, {0.45, 1.0}, {0.45, 0.08}, {0, 0.08}});
@@ -329,7 +330,9 @@ TEST(UpAxis, VesselsStandMouthUp) {
     const UpChoice c = choose_up_axis(b.mesh);
     const UpRest& on_rim = c.rests[3];  // -y: upside down
     const UpRest& on_foot = c.rests[2];
-    if (name != "beaker") EXPECT_GT(on_rim.score, on_foot.score) << name << ": the rim is the firmer rest, so the air decides";
+    if (name != "beaker") {
+      EXPECT_GT(on_rim.score, on_foot.score) << name << ": the rim is the firmer rest, so the air decides";
+    }
     EXPECT_GE(on_rim.trapped_air, 0.15) << name;
     EXPECT_LE(on_foot.trapped_air, 0.05) << name;
     EXPECT_GT(c.upside_down_air, 0.0) << name << ": " << c.reason;
