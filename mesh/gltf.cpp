@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <string_view>
 #include <tuple>
 
 #include <nlohmann/json.hpp>
@@ -31,7 +32,8 @@ using Matrix = Eigen::Matrix4d;
 // Extensions meshtour reads. Any other one a file lists in extensionsRequired changes geometry or
 // colour in a way meshtour would get wrong, so it is refused by name.
 const std::set<std::string> kSupported = {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_texture_transform",
-                                          "KHR_mesh_quantization", "KHR_materials_unlit"};
+                                          "KHR_mesh_quantization", "KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness",
+                                          "EXT_texture_webp"};
 
 // Images keep their encoded bytes (OpenImageIO decodes them when the tracer needs them). An image
 // in a buffer view is left for encoded_image_bytes(): tinygltf 2.7 hands over the view's range
@@ -241,7 +243,8 @@ void refuse_unsupported(const std::vector<std::string>& required, const std::str
   throw InputError(name + ": requires the glTF extension" + (unsupported.size() > 1 ? "s " : " ") + list +
                    ", which meshtour does not read (it would change the model's geometry or colours); export the "
                    "model without it (supported: KHR_draco_mesh_compression, EXT_meshopt_compression, "
-                   "KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit)");
+                   "KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit, "
+                   "KHR_materials_pbrSpecularGlossiness, EXT_texture_webp)");
 }
 
 // extensionsRequired as the parsed JSON lists it (strings only; nothing when it did not parse).
@@ -546,33 +549,102 @@ struct MaterialUse {
   Eigen::Matrix<double, 2, 3> uv_transform = Eigen::Matrix<double, 2, 3>::Identity();
 };
 
+// The bytes of base64 text (RFC 4648; padding optional). \throw InputError on another character.
+std::vector<unsigned char> base64_decoded(std::string_view text, const std::string& where) {
+  std::vector<unsigned char> out;
+  out.reserve(text.size() / 4 * 3);
+  std::uint32_t bits = 0;
+  int count = 0;
+  for (const char c : text) {
+    if (c == '=') break;
+    const int value = c >= 'A' && c <= 'Z'   ? c - 'A'
+                      : c >= 'a' && c <= 'z' ? c - 'a' + 26
+                      : c >= '0' && c <= '9' ? c - '0' + 52
+                      : c == '+'             ? 62
+                      : c == '/'             ? 63
+                                             : -1;
+    if (value < 0) throw InputError(where + ": its image's data URI has a character that is not base64");
+    bits = (bits << 6) | static_cast<std::uint32_t>(value);
+    if (++count == 4) {
+      out.push_back(static_cast<unsigned char>(bits >> 16));
+      out.push_back(static_cast<unsigned char>(bits >> 8));
+      out.push_back(static_cast<unsigned char>(bits));
+      bits = 0, count = 0;
+    }
+  }
+  if (count == 2) out.push_back(static_cast<unsigned char>(bits >> 4));
+  if (count == 3) out.push_back(static_cast<unsigned char>(bits >> 10)), out.push_back(static_cast<unsigned char>(bits >> 2));
+  return out;
+}
+
+// The base colour of a material: its factor and the texture it names (`index` -1: none), with
+// the texture's coordinate set and KHR_texture_transform. From pbrMetallicRoughness, or from
+// KHR_materials_pbrSpecularGlossiness's diffuse (older Sketchfab and Blender exports), which takes
+// precedence where a reader supports it; its specular and glossiness, like metallic and roughness,
+// are not part of meshtour's studio look.
+struct BaseColor {
+  std::vector<double> factor;
+  int index = -1, tex_coord = 0;
+  const tinygltf::Value* transform = nullptr;
+};
+
+BaseColor base_color_of(const tinygltf::Material& m) {
+  BaseColor out;
+  if (const auto it = m.extensions.find("KHR_materials_pbrSpecularGlossiness"); it != m.extensions.end() && it->second.IsObject()) {
+    const tinygltf::Value& sg = it->second;
+    if (sg.Has("diffuseFactor") && sg.Get("diffuseFactor").IsArray())
+      for (int k = 0; k < static_cast<int>(sg.Get("diffuseFactor").ArrayLen()); ++k)
+        out.factor.push_back(sg.Get("diffuseFactor").Get(k).IsNumber() ? sg.Get("diffuseFactor").Get(k).GetNumberAsDouble() : 1.0);
+    if (sg.Has("diffuseTexture") && sg.Get("diffuseTexture").IsObject()) {
+      const tinygltf::Value& info = sg.Get("diffuseTexture");
+      out.index = info.Has("index") && info.Get("index").IsNumber() ? info.Get("index").GetNumberAsInt() : -1;
+      if (info.Has("texCoord") && info.Get("texCoord").IsNumber()) out.tex_coord = info.Get("texCoord").GetNumberAsInt();
+      if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
+        out.transform = &info.Get("extensions").Get("KHR_texture_transform");
+    }
+    return out;
+  }
+  out.factor = m.pbrMetallicRoughness.baseColorFactor;
+  const tinygltf::TextureInfo& info = m.pbrMetallicRoughness.baseColorTexture;
+  out.index = info.index;
+  out.tex_coord = info.texCoord;
+  if (const auto it = info.extensions.find("KHR_texture_transform"); it != info.extensions.end()) out.transform = &it->second;
+  return out;
+}
+
 MaterialUse material_use(const tinygltf::Model& model, int index, const std::filesystem::path& file, const std::string& name) {
   MaterialUse use;
   use.material.texture_times_vertex_colors = true;
   const tinygltf::Material& m = model.materials[static_cast<std::size_t>(index)];
   use.material.name = m.name.empty() ? "material " + std::to_string(index) : m.name;
-  const auto& factor = m.pbrMetallicRoughness.baseColorFactor;
+  const BaseColor base = base_color_of(m);
+  const auto& factor = base.factor;
   use.material.base_color = factor.size() >= 3 ? Eigen::Vector3f(static_cast<float>(factor[0]), static_cast<float>(factor[1]),
                                                                  static_cast<float>(factor[2]))
                                                : Eigen::Vector3f::Ones();
-  const tinygltf::TextureInfo& info = m.pbrMetallicRoughness.baseColorTexture;
-  if (info.index < 0) return use;
+  if (base.index < 0) return use;
   const std::string where = name + ": material '" + use.material.name + "'";
-  if (info.index >= static_cast<int>(model.textures.size()))
-    throw InputError(where + " names texture " + std::to_string(info.index) + ", which does not exist");
-  const tinygltf::Texture& texture = model.textures[static_cast<std::size_t>(info.index)];
-  if (texture.source < 0 || texture.source >= static_cast<int>(model.images.size()))
-    throw InputError(where + " has a texture whose image does not exist (texture " + std::to_string(info.index) + ")");
+  if (base.index >= static_cast<int>(model.textures.size()))
+    throw InputError(where + " names texture " + std::to_string(base.index) + ", which does not exist");
+  const tinygltf::Texture& texture = model.textures[static_cast<std::size_t>(base.index)];
+  // EXT_texture_webp names a WebP image in place of (or as well as) the core PNG/JPEG source;
+  // a reader that decodes WebP (OpenImageIO does) uses it.
+  int source = texture.source;
+  if (const auto it = texture.extensions.find("EXT_texture_webp"); it != texture.extensions.end() && it->second.IsObject() &&
+                                                                   it->second.Has("source") && it->second.Get("source").IsNumber())
+    source = it->second.Get("source").GetNumberAsInt();
+  if (source < 0 || source >= static_cast<int>(model.images.size()))
+    throw InputError(where + " has a texture whose image does not exist (texture " + std::to_string(base.index) + ")");
   if (texture.sampler >= static_cast<int>(model.samplers.size()))
-    throw InputError(where + " has a texture whose sampler does not exist (texture " + std::to_string(info.index) + ")");
+    throw InputError(where + " has a texture whose sampler does not exist (texture " + std::to_string(base.index) + ")");
   if (texture.sampler >= 0) {
     const tinygltf::Sampler& sampler = model.samplers[static_cast<std::size_t>(texture.sampler)];
     use.material.wrap_s = wrap_of(sampler.wrapS);
     use.material.wrap_t = wrap_of(sampler.wrapT);
   }
-  use.uv_set = std::max(0, info.texCoord);
-  if (const auto it = info.extensions.find("KHR_texture_transform"); it != info.extensions.end() && it->second.IsObject()) {
-    const tinygltf::Value& t = it->second;
+  use.uv_set = std::max(0, base.tex_coord);
+  if (base.transform && base.transform->IsObject()) {
+    const tinygltf::Value& t = *base.transform;
     const auto pair = [&](const char* key, double fallback) {
       std::array<double, 2> v{fallback, fallback};
       if (t.Has(key) && t.Get(key).IsArray() && t.Get(key).ArrayLen() >= 2)
@@ -587,27 +659,40 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
     // The extension's matrix: translation * rotation * scale.
     use.uv_transform << c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1];
   }
-  const tinygltf::Image& image = model.images[static_cast<std::size_t>(texture.source)];
-  if (!image.uri.empty() && image.image.empty()) {  // an external file (data URIs arrive decoded)
+  const tinygltf::Image& image = model.images[static_cast<std::size_t>(source)];
+  // tinygltf decodes the data URIs of PNG and JPEG images; a WebP one arrives as its text.
+  std::string data_uri_mime;
+  std::vector<unsigned char> data_uri_bytes;
+  if (image.image.empty() && image.uri.starts_with("data:")) {
+    const std::size_t comma = image.uri.find(','), marker = image.uri.rfind(";base64", comma);
+    if (comma == std::string::npos || marker == std::string::npos || marker + 7 != comma)
+      throw InputError(where + ": its image " + std::to_string(source) + " is a data URI that is not base64");
+    data_uri_mime = image.uri.substr(5, marker - 5);
+    data_uri_bytes = base64_decoded(std::string_view(image.uri).substr(comma + 1), where);
+  }
+  if (!image.uri.empty() && image.image.empty() && data_uri_mime.empty()) {  // an external file
     const std::filesystem::path relative(percent_decoded(image.uri));
     use.material.texture_file = relative.is_absolute() ? relative : file.parent_path() / relative;
   } else {
-    std::vector<unsigned char> bytes = image.image;
+    std::vector<unsigned char> bytes = data_uri_mime.empty() ? image.image : std::move(data_uri_bytes);
+    const std::string& mime = data_uri_mime.empty() ? image.mimeType : data_uri_mime;
     if (image.bufferView >= 0) {  // checked here, not by tinygltf (keep_encoded_image)
       if (static_cast<std::size_t>(image.bufferView) >= model.bufferViews.size())
-        throw InputError(where + ": its image " + std::to_string(texture.source) + " names a buffer view that does not exist");
+        throw InputError(where + ": its image " + std::to_string(source) + " names a buffer view that does not exist");
       const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(image.bufferView)];
       if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
-        throw InputError(where + ": its image " + std::to_string(texture.source) + " names a buffer that does not exist");
+        throw InputError(where + ": its image " + std::to_string(source) + " names a buffer that does not exist");
       const std::vector<unsigned char>& buffer = model.buffers[static_cast<std::size_t>(view.buffer)].data;
       if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
-        throw InputError(where + ": its image " + std::to_string(texture.source) + " lies outside its buffer (truncated file?)");
+        throw InputError(where + ": its image " + std::to_string(source) + " lies outside its buffer (truncated file?)");
       bytes.assign(buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
                    buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength));
     }
-    if (bytes.empty()) throw InputError(where + ": its image " + std::to_string(texture.source) + " has no data");
-    const std::string ext = image.mimeType == "image/jpeg" ? ".jpg" : image.mimeType == "image/png" ? ".png" : "";
-    use.material.texture_file = file.string() + "#image" + std::to_string(texture.source) + ext;
+    if (bytes.empty()) throw InputError(where + ": its image " + std::to_string(source) + " has no data");
+    const std::string ext = mime == "image/jpeg" ? ".jpg" : mime == "image/png" ? ".png"
+                            : mime == "image/webp" ? ".webp"
+                                                             : "";
+    use.material.texture_file = file.string() + "#image" + std::to_string(source) + ext;
     use.material.texture_bytes = std::make_shared<const std::vector<unsigned char>>(std::move(bytes));
   }
   return use;
@@ -716,7 +801,14 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
           if (const auto t = attribute("TEXCOORD_" + std::to_string(uv_set)); t != prim.attributes.end())
             data.uvs = reader.read(t->second, "TEXCOORD_" + std::to_string(uv_set) + " of " + where.substr(name.size() + 2));
         if (prim.indices >= 0) {
-          const auto raw = reader.read(prim.indices, "the indices of " + where.substr(name.size() + 2));
+          const std::string what = "the indices of " + where.substr(name.size() + 2);
+          // Only unsigned integers are indices (a float one would not convert to a vertex number).
+          const int type = reader.accessor(prim.indices, what).componentType;
+          if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+              type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+            throw InputError(name + ": " + what + " (accessor " + std::to_string(prim.indices) + ") have component type " +
+                             std::to_string(type) + "; glTF indices are unsigned bytes, shorts or ints (5121, 5123, 5125)");
+          const auto raw = reader.read(prim.indices, what);
           data.indices.reserve(raw.size());
           for (const auto& v : raw) data.indices.push_back(static_cast<std::uint32_t>(v[0]));
         }

@@ -3,6 +3,7 @@
 // libmeshoptimizer's encoders (as gltfpack writes them).
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
+#include <OpenImageIO/imagebuf.h>
 
 #include <algorithm>
 #include <array>
@@ -121,6 +122,100 @@ TEST(MeshGltf, GlbWithEmbeddedImageColoursStripsAndTextureTransform) {
   EXPECT_NEAR((mesh.corner_uvs[1] - Eigen::Vector2f(0.5f, 0.5f)).norm(), 0.0f, 1e-6f);
 }
 
+std::string error_of(const std::filesystem::path& file) {
+  try {
+    load_mesh(file);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(loaded)";
+}
+
+// Two base-colour sources of older and web-optimised exports:
+//  * KHR_materials_pbrSpecularGlossiness (older Sketchfab and Blender files): its diffuse factor
+//    and texture (with its own KHR_texture_transform) take precedence over pbrMetallicRoughness;
+//  * EXT_texture_webp (glTF-Transform's `webp`): the WebP image the texture's extension names is
+//    used in place of its PNG source, and a texture with the WebP image alone works too.
+TEST(MeshGltf, SpecularGlossinessDiffuseAndWebpTextures) {
+  const auto dir = test::scratch_dir();
+  {
+    GltfBuilder b = square();
+    const int image = b.embedded_image(checker_png(dir), "image/png");
+    b.doc["textures"] = {{{"source", image}}};
+    b.doc["materials"] = {
+        {{"name", "old"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 0.0, 0.0, 1.0}}}},
+         {"extensions",
+          {{"KHR_materials_pbrSpecularGlossiness",
+            {{"diffuseFactor", {0.25, 0.5, 1.0, 1.0}},
+             {"specularFactor", {0.1, 0.1, 0.1}},
+             {"diffuseTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {0.5, 0.5}}}}}}}}}}}}}};
+    b.doc["extensionsUsed"] = {"KHR_materials_pbrSpecularGlossiness", "KHR_texture_transform"};
+    b.doc["extensionsRequired"] = {"KHR_materials_pbrSpecularGlossiness"};
+    b.write_glb(dir / "specgloss.glb");
+    const TriangleMesh mesh = load_mesh(dir / "specgloss.glb");
+    ASSERT_EQ(mesh.materials.size(), 1u);
+    ASSERT_TRUE(mesh.materials[0].base_color);
+    EXPECT_FLOAT_EQ(mesh.materials[0].base_color->x(), 0.25f);
+    EXPECT_FLOAT_EQ(mesh.materials[0].base_color->y(), 0.5f);
+    ASSERT_TRUE(mesh.materials[0].texture_bytes);
+    EXPECT_EQ(probe_texture(mesh.materials[0]).width, 64);
+    // Vertex 1 at glTF uv (1, 1), scaled by 0.5: meshtour's (0.5, 1 - 0.5).
+    EXPECT_NEAR((mesh.corner_uvs[1] - Eigen::Vector2f(0.5f, 0.5f)).norm(), 0.0f, 1e-6f);
+  }
+  // The checker as WebP (lossless, 64 x 64) beside a 4 x 4 PNG fallback.
+  OIIO::ImageBuf checker((dir / "checker.png").string());
+  ASSERT_TRUE(checker.write((dir / "checker.webp").string())) << checker.geterror();
+  OIIO::ImageBuf small(OIIO::ImageSpec(4, 4, 3, OIIO::TypeDesc::UINT8));
+  ASSERT_TRUE(small.write((dir / "small.png").string()));
+  for (const bool with_fallback : {true, false}) {
+    GltfBuilder b = square();
+    const int png = b.embedded_image(test::read_bytes(dir / "small.png"), "image/png");
+    const int webp = b.embedded_image(test::read_bytes(dir / "checker.webp"), "image/webp");
+    nlohmann::json texture = {{"extensions", {{"EXT_texture_webp", {{"source", webp}}}}}};
+    if (with_fallback) texture["source"] = png;
+    b.doc["textures"] = {texture};
+    b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+    b.doc["extensionsUsed"] = {"EXT_texture_webp"};
+    if (!with_fallback) b.doc["extensionsRequired"] = {"EXT_texture_webp"};
+    b.write_glb(dir / "webp.glb");
+    const TriangleMesh mesh = load_mesh(dir / "webp.glb");
+    ASSERT_EQ(mesh.materials.size(), 1u);
+    const TextureSize size = probe_texture(mesh.materials[0]);
+    EXPECT_EQ(size.width, 64) << "with a PNG fallback: " << with_fallback;
+    EXPECT_EQ(size.height, 64);
+    EXPECT_TRUE(mesh.materials[0].texture_file.string().ends_with(".webp"));
+  }
+  // A .gltf with the WebP image as a data URI (tinygltf decodes only PNG, JPEG, BMP and GIF ones).
+  const auto base64 = [](const std::vector<unsigned char>& bytes) {
+    static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (std::size_t i = 0; i < bytes.size(); i += 3) {
+      const std::uint32_t n = (std::uint32_t{bytes[i]} << 16) | (i + 1 < bytes.size() ? std::uint32_t{bytes[i + 1]} << 8 : 0u) |
+                              (i + 2 < bytes.size() ? std::uint32_t{bytes[i + 2]} : 0u);
+      const std::size_t digits_used = std::min<std::size_t>(3, bytes.size() - i) + 1;  // the rest is padding
+      for (std::size_t k = 0; k < 4; ++k) out += k < digits_used ? digits[(n >> (18 - 6 * k)) & 63] : '=';
+    }
+    return out;
+  };
+  for (const std::string& payload : {base64(test::read_bytes(dir / "checker.webp")), std::string("not*base64")}) {
+    GltfBuilder b = square();
+    b.doc["images"] = {{{"uri", "data:image/webp;base64," + payload}}};
+    b.doc["textures"] = {{{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}}};
+    b.doc["materials"] = {{{"name", "inline"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+    b.doc["extensionsUsed"] = b.doc["extensionsRequired"] = {"EXT_texture_webp"};
+    b.write_gltf(dir / "webp_uri.gltf");
+    if (payload.starts_with("not")) {
+      const std::string e = error_of(dir / "webp_uri.gltf");
+      EXPECT_NE(e.find("material 'inline': its image's data URI has a character that is not base64"), std::string::npos) << e;
+      continue;
+    }
+    const TriangleMesh mesh = load_mesh(dir / "webp_uri.gltf");
+    ASSERT_EQ(mesh.materials.size(), 1u);
+    EXPECT_EQ(probe_texture(mesh.materials[0]).width, 64);
+  }
+}
+
 // A wavy height field of n x n vertices: positions and a triangle list.
 struct Grid {
   std::vector<float> positions;
@@ -221,14 +316,6 @@ TEST(MeshGltf, MeshoptCompressedViewsDecodeToTheSameModel) {
   EXPECT_GT(worst, 0.0) << "the filter is lossy: a zero error would mean the filter was not applied";
 }
 
-std::string error_of(const std::filesystem::path& file) {
-  try {
-    load_mesh(file);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(loaded)";
-}
 
 TEST(MeshGltf, BadFilesGetClearErrors) {
   const auto dir = test::scratch_dir();
@@ -249,6 +336,14 @@ TEST(MeshGltf, BadFilesGetClearErrors) {
     LoadReport report;
     EXPECT_NO_THROW(load_mesh(dir / "missing_image.gltf", &report, LoadOptions{.missing_textures_grey = true}));
     EXPECT_EQ(report.warnings.size(), 1u);
+  }
+  {
+    // Indices stored as floats (found by fuzz_gltf): refused, not converted to vertex numbers.
+    GltfBuilder b = square(false);
+    b.doc["accessors"][2]["componentType"] = 5126;
+    b.write_gltf(dir / "float_indices.gltf");
+    const std::string e = error_of(dir / "float_indices.gltf");
+    EXPECT_NE(e.find("have component type 5126; glTF indices are unsigned"), std::string::npos) << e;
   }
   {
     GltfBuilder b = square(false);
