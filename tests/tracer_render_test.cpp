@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
@@ -93,6 +94,51 @@ TEST(Renderer, OneShadowRayToOneLightAveragesToAllLights) {
 Camera studio_camera(int k) {
   const double a = 0.4 * k;
   return Camera{{4 * std::sin(a), 1.5, 4 * std::cos(a)}, {0, 0, 0}, {0, 1, 0}, 35.0};
+}
+
+// Textures are colours as the image stores them: an 8-bit PNG (or JPEG, WebP) holds sRGB-encoded
+// values, decoded to linear like vertex colours, so a texture and vertex colours of one colour
+// render alike (OpenImageIO 2.4's texture system returns the stored values; before this was
+// decoded, a black stone scan rendered light grey). A float EXR holds linear values, used as they are.
+TEST(Renderer, TexturesAreDecodedLikeVertexColours) {
+  const auto dir = test::scratch_dir();
+  const float encoded = 0.2f, linear = 0.35f;
+  {
+    OIIO::ImageBuf png(OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8));
+    const float v[3] = {encoded, encoded, encoded};
+    OIIO::ImageBufAlgo::fill(png, v);
+    ASSERT_TRUE(png.write((dir / "grey.png").string()));
+    OIIO::ImageBuf exr(OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::HALF));
+    const float l[3] = {linear, linear, linear};
+    OIIO::ImageBufAlgo::fill(exr, l);
+    ASSERT_TRUE(exr.write((dir / "grey.exr").string()));
+  }
+  RenderOptions options;
+  options.width = 48;
+  options.height = 32;
+  options.samples_per_pixel = 1;
+  options.layers.albedo = true;
+  const Camera camera{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 30.0};
+  const auto albedo_at_centre = [&](const TriangleMesh& mesh) {
+    const Image img = Renderer(mesh, options).render(camera);
+    return img.albedo[(static_cast<std::size_t>(options.height / 2) * options.width + options.width / 2) * 3];
+  };
+  const auto textured = [&](const std::string& file) {
+    TriangleMesh mesh = uv_sphere(1.0, 32, 16);
+    MeshMaterial m;
+    m.texture_file = dir / file;
+    mesh.materials = {m};
+    mesh.triangle_materials.assign(mesh.triangles.size(), 0);
+    mesh.corner_uvs.assign(3 * mesh.triangles.size(), Eigen::Vector2f(0.5f, 0.5f));
+    return mesh;
+  };
+  TriangleMesh coloured = uv_sphere(1.0, 32, 16);
+  const float stored = std::round(encoded * 255.0f) / 255.0f;  // the PNG's 8-bit value
+  coloured.colors.assign(coloured.positions.size(), Eigen::Vector3f::Constant(stored));
+  const float from_colours = albedo_at_centre(coloured);
+  EXPECT_NEAR(from_colours, srgb_to_linear(stored), 1e-6f);
+  EXPECT_NEAR(albedo_at_centre(textured("grey.png")), from_colours, 1e-4f);
+  EXPECT_NEAR(albedo_at_centre(textured("grey.exr")), linear, 1e-3f);  // half precision
 }
 
 TEST(Renderer, SamePixelsWithOneOrTwoThreads) {

@@ -2,6 +2,7 @@
 // of shadow and occlusion rays, and the reconstruction filter.
 #include <Eigen/Geometry>
 #include <OpenImageIO/imagecache.h>
+#include <OpenImageIO/strutil.h>
 #include <OpenImageIO/texture.h>
 #include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -126,8 +127,6 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
     if (textured && m.has_texture()) {
       if (!s.textures) {
         s.textures.reset(OIIO::TextureSystem::create(/*shared=*/false));
-        // Textures are usually sRGB-encoded 8-bit images; lookups must return linear values.
-        s.textures->attribute("colorspace", "linear");
         // Untiled images (JPEG, PNG atlases) are cached in 64x64 tiles rather than whole, so the
         // cache's memory cap holds for 16k atlases too (the texels and the filtering are the same).
         s.textures->attribute("autotile", 64);
@@ -147,6 +146,16 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
       if (!surface.texture || !s.textures->good(surface.texture))
         throw IoError(m.texture_file.string() + ": cannot read the texture of material '" + m.name + "' (" +
                       s.textures->geterror() + "); check the file the model names it in, or pass --missing-textures grey");
+      // OpenImageIO 2.4's texture system returns the file's values as stored (it has no colour
+      // transform), so the encoding is decided here: integer images (PNG, JPEG, WebP, 8/16-bit
+      // TIFF: scans' atlases, glTF base colour) are sRGB-encoded unless the file says linear;
+      // float images (EXR, HDR) hold linear values.
+      int format = 0;
+      s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("format"), OIIO::TypeInt, &format);
+      OIIO::ustring color_space;
+      s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("oiio:ColorSpace"), OIIO::TypeString, &color_space);
+      const bool float_data = format == OIIO::TypeDesc::HALF || format == OIIO::TypeDesc::FLOAT || format == OIIO::TypeDesc::DOUBLE;
+      surface.texture_srgb = !float_data && !OIIO::Strutil::iequals(color_space.string(), "linear");
     }
     s.surfaces.push_back(surface);
   }

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 
+#include "tracer/color.h"
 #include "tracer/denoiser.h"
 #include "tracer/film.h"
 #include "tracer/random.h"
@@ -444,7 +445,8 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
               // OBJ's v runs upwards; OpenImageIO's t runs down the image.
               if (textures->texture(surface.texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f,
                                     width_uv, 3, rgb)) {
-                const Eigen::Vector3f texel(rgb[0], rgb[1], rgb[2]);
+                const Eigen::Vector3f texel = surface.texture_srgb ? srgb_to_linear(Eigen::Vector3f(rgb[0], rgb[1], rgb[2]))
+                                                                   : Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
                 c = surface.texture_times_vertex_colors && !colors.empty() ? Eigen::Vector3f(texel.cwiseProduct(c)) : texel;
               }
               c = c.cwiseProduct(surface.factor);
