@@ -323,9 +323,16 @@ Matrix node_matrix(const tinygltf::Node& node) {
   return t.matrix();
 }
 
-// The mesh instances of the default scene: (mesh index, world matrix).
-std::vector<std::pair<int, Matrix>> instances(const tinygltf::Model& model, const std::string& name) {
-  std::vector<std::pair<int, Matrix>> out;
+// A mesh instance of the default scene: the mesh, its node's world matrix, and the node's skin
+// (-1: none).
+struct Instance {
+  int mesh = -1;
+  Matrix world;
+  int skin = -1;
+};
+
+std::vector<Instance> instances(const tinygltf::Model& model, const std::string& name) {
+  std::vector<Instance> out;
   const auto nodes = static_cast<int>(model.nodes.size());
   // Depth-first with the path's nodes on a stack: a node that is its own ancestor is refused.
   std::vector<int> path;
@@ -338,7 +345,7 @@ std::vector<std::pair<int, Matrix>> instances(const tinygltf::Model& model, cons
     if (node.mesh >= 0) {
       if (node.mesh >= static_cast<int>(model.meshes.size()))
         throw InputError(name + ": node " + std::to_string(index) + " names mesh " + std::to_string(node.mesh) + ", which does not exist");
-      out.emplace_back(node.mesh, world);
+      out.push_back({node.mesh, world, node.skin});
     }
     path.push_back(index);
     for (const int child : node.children) self(self, child, world);
@@ -355,7 +362,7 @@ std::vector<std::pair<int, Matrix>> instances(const tinygltf::Model& model, cons
     for (int i = 0; i < nodes; ++i)
       if (!child[static_cast<std::size_t>(i)]) visit(visit, i, Matrix::Identity());
   } else {
-    for (int m = 0; m < static_cast<int>(model.meshes.size()); ++m) out.emplace_back(m, Matrix::Identity());
+    for (int m = 0; m < static_cast<int>(model.meshes.size()); ++m) out.push_back({m, Matrix::Identity(), -1});
   }
   return out;
 }
@@ -372,17 +379,21 @@ public:
     return model_.accessors[static_cast<std::size_t>(index)];
   }
 
-  std::vector<std::array<double, 4>> read(int index, const std::string& what) const {
+  std::vector<std::array<double, 4>> read(int index, const std::string& what) const { return read_elements<4>(index, what); }
+
+  /// Elements of up to N components (16: a skin's MAT4 inverse bind matrices, column-major).
+  template <std::size_t N>
+  std::vector<std::array<double, N>> read_elements(int index, const std::string& what) const {
     const tinygltf::Accessor& a = accessor(index, what);
     const std::string where = name_ + ": " + what + " (accessor " + std::to_string(index) + ")";
     if (a.sparse.isSparse) throw InputError(where + " is sparse, which meshtour does not read");
     const int components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type));
     const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
-    if (components <= 0 || components > 4 || size <= 0) throw InputError(where + " has a type meshtour does not read");
-    std::vector<std::array<double, 4>> out;
+    if (components <= 0 || components > static_cast<int>(N) || size <= 0) throw InputError(where + " has a type meshtour does not read");
+    std::vector<std::array<double, N>> out;
     if (a.bufferView < 0) {  // no data: all zeros (the specification's default)
       if (a.count > 100'000'000) throw InputError(where + " announces " + std::to_string(a.count) + " elements");
-      out.assign(a.count, {0, 0, 0, 0});
+      out.assign(a.count, std::array<double, N>{});
       return out;
     }
     if (a.bufferView >= static_cast<int>(model_.bufferViews.size())) throw InputError(where + " names a buffer view that does not exist");
@@ -404,7 +415,7 @@ public:
     out.resize(a.count);
     for (std::size_t i = 0; i < a.count; ++i) {
       const unsigned char* p = base + i * stride;
-      std::array<double, 4> v{0, 0, 0, 0};
+      std::array<double, N> v{};
       for (int c = 0; c < components; ++c) v[static_cast<std::size_t>(c)] = component(p + c * size, a.componentType, a.normalized);
       out[i] = v;
     }
@@ -430,6 +441,95 @@ private:
   const tinygltf::Model& model_;
   const std::string& name_;
 };
+
+// Skinning (glTF 2.0, "Skins"): a skinned mesh's vertices are placed by its joints, each vertex
+// by up to four joints per JOINTS_n/WEIGHTS_n set, with the matrix global(joint) x
+// inverseBind(joint); the transform of the node holding the mesh is not applied. Rigged exports
+// (Blender, Sketchfab characters) keep their bind pose in the mesh and put a scale or a rotation
+// on the armature, or pose the joints: without skinning the model comes out at the wrong size,
+// turned or unposed, and parts attached to bones (eyes, props) miss the body. The skin's joint
+// matrices, in the skin's joint order.
+std::vector<Matrix> joint_matrices(const tinygltf::Model& model, const AccessorReader& reader, int skin_index, const std::string& name) {
+  const std::string where = name + ": skin " + std::to_string(skin_index);
+  if (skin_index < 0 || skin_index >= static_cast<int>(model.skins.size()))
+    throw InputError(name + ": a node names skin " + std::to_string(skin_index) + ", which does not exist");
+  const tinygltf::Skin& skin = model.skins[static_cast<std::size_t>(skin_index)];
+  if (skin.joints.empty()) throw InputError(where + " has no joints");
+  const auto nodes = static_cast<int>(model.nodes.size());
+  std::vector<int> parent(model.nodes.size(), -1);
+  for (int i = 0; i < nodes; ++i)
+    for (const int c : model.nodes[static_cast<std::size_t>(i)].children)
+      if (c >= 0 && c < nodes) parent[static_cast<std::size_t>(c)] = i;
+  const auto global = [&](int node) {
+    Matrix m = Matrix::Identity();
+    int depth = 0;
+    for (int n = node; n >= 0; n = parent[static_cast<std::size_t>(n)]) {
+      if (++depth > 256) throw InputError(where + ": joint " + std::to_string(node) + "'s ancestors form a cycle");
+      m = node_matrix(model.nodes[static_cast<std::size_t>(n)]) * m;
+    }
+    return m;
+  };
+  std::vector<std::array<double, 16>> inverse_bind;
+  if (skin.inverseBindMatrices >= 0) {
+    const std::string what = "the inverse bind matrices of skin " + std::to_string(skin_index);
+    const tinygltf::Accessor& a = reader.accessor(skin.inverseBindMatrices, what);
+    if (a.type != TINYGLTF_TYPE_MAT4 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+      throw InputError(name + ": " + what + " are not float 4x4 matrices (MAT4, 5126)");
+    inverse_bind = reader.read_elements<16>(skin.inverseBindMatrices, what);
+    if (inverse_bind.size() < skin.joints.size())
+      throw InputError(name + ": " + what + " are " + std::to_string(inverse_bind.size()) + ", fewer than its " +
+                       std::to_string(skin.joints.size()) + " joints");
+  }
+  std::vector<Matrix> out;
+  for (std::size_t k = 0; k < skin.joints.size(); ++k) {
+    const int joint = skin.joints[k];
+    if (joint < 0 || joint >= nodes) throw InputError(where + " names node " + std::to_string(joint) + " as a joint, which does not exist");
+    Matrix inverse = Matrix::Identity();
+    if (!inverse_bind.empty())
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) inverse(r, c) = inverse_bind[k][static_cast<std::size_t>(4 * c + r)];  // column-major
+    out.push_back(global(joint) * inverse);
+  }
+  return out;
+}
+
+// Each vertex's blend of its skin's joint matrices (weights normalised to sum to 1), from every
+// JOINTS_n/WEIGHTS_n set the primitive has.
+std::vector<Matrix> skinning_matrices(const tinygltf::Primitive& prim, const AccessorReader& reader, const std::vector<Matrix>& joints,
+                                      std::size_t count, const std::string& where, const std::string& name) {
+  std::vector<Matrix> blend(count, Matrix::Zero());
+  std::vector<double> total(count, 0.0);
+  int sets = 0;
+  for (;; ++sets) {
+    const auto j = prim.attributes.find("JOINTS_" + std::to_string(sets)), w = prim.attributes.find("WEIGHTS_" + std::to_string(sets));
+    if (j == prim.attributes.end() || w == prim.attributes.end()) break;
+    const std::string what = "JOINTS_" + std::to_string(sets) + " of " + where.substr(name.size() + 2);
+    const int type = reader.accessor(j->second, what).componentType;
+    if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)
+      throw InputError(name + ": " + what + " are not unsigned bytes or shorts (5121, 5123)");
+    const auto joint = reader.read(j->second, what);
+    const auto weight = reader.read(w->second, "WEIGHTS_" + std::to_string(sets) + " of " + where.substr(name.size() + 2));
+    if (joint.size() != count || weight.size() != count)
+      throw InputError(where + ": JOINTS_" + std::to_string(sets) + ", WEIGHTS_" + std::to_string(sets) + " and POSITION differ in count");
+    for (std::size_t i = 0; i < count; ++i)
+      for (std::size_t c = 0; c < 4; ++c) {
+        const double wc = weight[i][c];
+        if (wc == 0.0) continue;
+        if (!(wc > 0.0 && wc <= 1.0)) throw InputError(where + ": vertex " + std::to_string(i) + " has a joint weight outside [0, 1]");
+        if (joint[i][c] >= static_cast<double>(joints.size()))
+          throw InputError(where + ": vertex " + std::to_string(i) + " names joint " + std::to_string(static_cast<std::size_t>(joint[i][c])) +
+                           ", but its skin has " + std::to_string(joints.size()));
+        blend[i] += wc * joints[static_cast<std::size_t>(joint[i][c])];
+        total[i] += wc;
+      }
+  }
+  if (sets == 0) throw InputError(where + " belongs to a skinned node but has no JOINTS_0 and WEIGHTS_0");
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!(total[i] > 0.0)) throw InputError(where + ": vertex " + std::to_string(i) + " has no joint weight (a skinned vertex needs one)");
+    blend[i] /= total[i];
+  }
+  return blend;
+}
 
 // One primitive's data before it joins the mesh.
 struct PrimitiveData {
@@ -766,10 +866,11 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
   std::vector<bool> vertex_has_color;
   std::size_t skipped = 0;
 
-  for (const auto& [mesh_index, world] : instances(model, name)) {
+  for (const auto& [mesh_index, world, skin] : instances(model, name)) {
     const tinygltf::Mesh& gm = model.meshes[static_cast<std::size_t>(mesh_index)];
     const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
     const bool mirrored = linear.determinant() < 0;
+    const std::vector<Matrix> joints = skin >= 0 ? joint_matrices(model, reader, skin, name) : std::vector<Matrix>{};
     for (std::size_t p = 0; p < gm.primitives.size(); ++p) {
       const tinygltf::Primitive& prim = gm.primitives[p];
       const std::string where = name + ": mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
@@ -807,7 +908,9 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
       }
       // Geometry.
       PrimitiveData data;
+      std::vector<Matrix> skinned;  // per vertex, for a skinned mesh: its blend of joint matrices
       if (const auto draco = prim.extensions.find("KHR_draco_mesh_compression"); draco != prim.extensions.end()) {
+        if (skin >= 0) throw InputError(where + " is skinned and Draco-compressed; meshtour reads the joints of uncompressed or meshopt skinned meshes only");
         data = decode_draco(model, draco->second, uv_set, true, where);
       } else {
         const auto attribute = [&](const std::string& key) { return prim.attributes.find(key); };
@@ -831,6 +934,7 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
           data.indices.reserve(raw.size());
           for (const auto& v : raw) data.indices.push_back(static_cast<std::uint32_t>(v[0]));
         }
+        if (skin >= 0) skinned = skinning_matrices(prim, reader, joints, data.positions.size(), where, name);
       }
       const std::size_t count = data.positions.size();
       if (!data.colors.empty() && data.colors.size() != count) throw InputError(where + ": COLOR_0 and POSITION differ in count");
@@ -840,7 +944,13 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
                                          std::to_string(count) + ")");
       const auto base = static_cast<std::uint32_t>(mesh.positions.size());
       if (mesh.positions.size() + count > std::numeric_limits<std::uint32_t>::max()) throw InputError(name + ": too many vertices");
-      for (const auto& v : data.positions) mesh.positions.push_back((world * Eigen::Vector4d(v[0], v[1], v[2], 1.0)).head<3>());
+      std::vector<bool> vertex_mirrored;  // skinned: per vertex; else the node's `mirrored`
+      for (std::size_t i = 0; i < count; ++i) {
+        const auto& v = data.positions[i];
+        const Matrix& m = skinned.empty() ? world : skinned[i];
+        mesh.positions.push_back((m * Eigen::Vector4d(v[0], v[1], v[2], 1.0)).head<3>());
+        if (!skinned.empty()) vertex_mirrored.push_back(m.topLeftCorner<3, 3>().determinant() < 0);
+      }
       vertex_has_color.resize(mesh.positions.size(), false);
       if (!data.colors.empty()) {
         any_colors = true;
@@ -851,7 +961,7 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
         }
       }
       for (auto t : triangles_of(data.indices, count, mode)) {
-        if (mirrored) std::swap(t[1], t[2]);
+        if (vertex_mirrored.empty() ? mirrored : vertex_mirrored[t[0]]) std::swap(t[1], t[2]);
         mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
         mesh.triangle_materials.push_back(material);
         for (const auto corner : t) {
@@ -880,8 +990,8 @@ MeshFileSummary gltf_summary(const std::filesystem::path& file) {
   const tinygltf::Model model = read_model(file, name);
   const AccessorReader reader(model, name);
   MeshFileSummary summary;
-  for (const auto& [mesh_index, world] : instances(model, name))
-    for (const tinygltf::Primitive& prim : model.meshes[static_cast<std::size_t>(mesh_index)].primitives) {
+  for (const Instance& instance : instances(model, name))
+    for (const tinygltf::Primitive& prim : model.meshes[static_cast<std::size_t>(instance.mesh)].primitives) {
       const auto position = prim.attributes.find("POSITION");
       if (position == prim.attributes.end()) continue;
       const std::size_t vertices = reader.accessor(position->second, "POSITION").count;

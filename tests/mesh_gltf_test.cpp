@@ -1,6 +1,7 @@
 // glTF 2.0 / GLB input: files written by the test itself (tests/gltf_writer.h), the Draco case
 // encoded with Debian's draco_encoder when it is installed, the EXT_meshopt_compression cases with
 // libmeshoptimizer's encoders (as gltfpack writes them).
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
 #include <OpenImageIO/imagebuf.h>
@@ -12,6 +13,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <numbers>
 
 #include "core/error.h"
 #include "gltf_writer.h"
@@ -213,6 +215,67 @@ TEST(MeshGltf, SpecularGlossinessDiffuseAndWebpTextures) {
     const TriangleMesh mesh = load_mesh(dir / "webp_uri.gltf");
     ASSERT_EQ(mesh.materials.size(), 1u);
     EXPECT_EQ(probe_texture(mesh.materials[0]).width, 64);
+  }
+}
+
+// Skinning: a skinned mesh is placed by its joints (global joint matrix x inverse bind matrix,
+// blended by the weights), and its own node's transform is not applied. The square's vertices
+// 0-3 sit at (0,0,0) (1,0,0) (1,1,0) (0,1,0).
+TEST(MeshGltf, SkinnedMeshesArePlacedByTheirJoints) {
+  const auto dir = test::scratch_dir();
+  // Two joints: node 1 (the armature's bone, posed by `pose`) and node 2 (at rest). Vertex 0 is
+  // half on each, the others all on joint `main_joint`.
+  const auto skinned = [&](const Eigen::Affine3d& pose, const Eigen::Affine3d& bind, int main_joint) {
+    GltfBuilder b = square(false);
+    const std::vector<unsigned char> joints = {0, 1, 0, 0, static_cast<unsigned char>(main_joint), 0, 0, 0,
+                                               static_cast<unsigned char>(main_joint), 0, 0, 0, static_cast<unsigned char>(main_joint), 0, 0, 0};
+    b.doc["accessors"].push_back({{"bufferView", b.view(joints.data(), joints.size())}, {"componentType", 5121}, {"count", 4}, {"type", "VEC4"}});
+    const int joint_accessor = static_cast<int>(b.doc["accessors"].size()) - 1;
+    const int weights = b.floats({0.5f, 0.5f, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, 4);
+    std::vector<float> inverse_bind;
+    for (const Eigen::Matrix4d& m : {Eigen::Matrix4d(bind.inverse().matrix()), Eigen::Matrix4d::Identity().eval()})
+      for (int k = 0; k < 16; ++k) inverse_bind.push_back(static_cast<float>(m(k % 4, k / 4)));  // column-major
+    const int ibm = b.view(inverse_bind.data(), inverse_bind.size() * sizeof(float));
+    b.doc["accessors"].push_back({{"bufferView", ibm}, {"componentType", 5126}, {"count", 2}, {"type", "MAT4"}});
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = joint_accessor;
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = weights;
+    std::vector<double> matrix;
+    for (int k = 0; k < 16; ++k) matrix.push_back(pose.matrix()(k % 4, k / 4));
+    b.doc["nodes"] = {{{"mesh", 0}, {"skin", 0}, {"translation", {100, 0, 0}}},  // ignored: the joints place a skinned mesh
+                      {{"matrix", matrix}},
+                      {{"name", "rest"}}};
+    b.doc["skins"] = {{{"joints", {1, 2}}, {"inverseBindMatrices", static_cast<int>(b.doc["accessors"].size()) - 1}}};
+    b.doc["scenes"] = {{{"nodes", {0, 1, 2}}}};
+    return b;
+  };
+  const Eigen::Affine3d bind(Eigen::Translation3d(0, 5, 0));
+  const std::array<Eigen::Vector3d, 4> square_at = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(0, 1, 0)};
+  {
+    // In its bind pose the skin leaves the mesh where it is: the node's +100 is not applied.
+    skinned(bind, bind, 0).write_glb(dir / "bind.glb");
+    const TriangleMesh mesh = load_mesh(dir / "bind.glb");
+    ASSERT_EQ(mesh.positions.size(), 4u);
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR((mesh.positions[i] - square_at[i]).norm(), 0.0, 1e-6) << i;
+  }
+  {
+    // The bone turned 90 degrees about z at its bind place: vertices on it turn about (0, 5, 0);
+    // vertex 0, half on the resting joint, lands halfway.
+    const Eigen::Affine3d pose = bind * Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ());
+    skinned(pose, bind, 0).write_glb(dir / "posed.glb");
+    const TriangleMesh mesh = load_mesh(dir / "posed.glb");
+    const Eigen::Affine3d moved = pose * bind.inverse();
+    for (std::size_t i = 1; i < 4; ++i) EXPECT_NEAR((mesh.positions[i] - moved * square_at[i]).norm(), 0.0, 1e-6) << i;
+    EXPECT_NEAR((mesh.positions[0] - 0.5 * (moved * square_at[0] + square_at[0])).norm(), 0.0, 1e-6);
+  }
+  {
+    GltfBuilder b = skinned(bind, bind, 7);  // joint 7 of a two-joint skin
+    b.write_glb(dir / "bad_joint.glb");
+    const std::string e = error_of(dir / "bad_joint.glb");
+    EXPECT_NE(e.find("vertex 1 names joint 7, but its skin has 2"), std::string::npos) << e;
+    b = skinned(bind, bind, 0);
+    b.doc["meshes"][0]["primitives"][0]["attributes"].erase("WEIGHTS_0");
+    b.write_glb(dir / "no_weights.glb");
+    EXPECT_NE(error_of(dir / "no_weights.glb").find("has no JOINTS_0 and WEIGHTS_0"), std::string::npos) << error_of(dir / "no_weights.glb");
   }
 }
 
