@@ -4,11 +4,20 @@
 // to Google Benchmark once a benchmark has taken its own flags.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iomanip>
 #include <iostream>
 #include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "mesh/mesh.h"
@@ -35,6 +44,94 @@ inline const TriangleMesh& split_mesh(const std::filesystem::path& source, int l
     if (written) written(mesh, levels);
   }
   return cache.emplace(levels, std::move(mesh)).first->second;
+}
+
+// Binary little-endian PLY, float coordinates (what scanners write).
+inline void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  const std::filesystem::path temporary = file.string() + ".partial";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.positions.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.triangles.size()
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto& p : mesh.positions) {
+      const float xyz[3] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
+      out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
+    }
+    for (const auto& t : mesh.triangles) {
+      char face[13];
+      face[0] = 3;
+      std::memcpy(face + 1, t.data(), 12);
+      out.write(face, sizeof face);
+    }
+    if (!out) throw std::runtime_error("could not write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+// GLB (glTF 2.0 binary): float positions and uint32 indices in one buffer, one mesh, one node.
+inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  std::vector<char> bin(12 * mesh.positions.size() + 12 * mesh.triangles.size());
+  std::array<float, 3> lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
+  char* at = bin.data();
+  for (const auto& p : mesh.positions) {
+    const float xyz[3] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
+    for (std::size_t k = 0; k < 3; ++k) lo[k] = std::min(lo[k], xyz[k]), hi[k] = std::max(hi[k], xyz[k]);
+    std::memcpy(at, xyz, 12);
+    at += 12;
+  }
+  for (const auto& t : mesh.triangles) std::memcpy(at, t.data(), 12), at += 12;
+  const std::size_t positions = 12 * mesh.positions.size();
+  std::ostringstream json;
+  json << std::setprecision(9);  // min and max exact in float
+  json << R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":)" << bin.size() << R"(}],"bufferViews":[{"buffer":0,"byteLength":)"
+       << positions << R"(},{"buffer":0,"byteOffset":)" << positions << R"(,"byteLength":)" << bin.size() - positions
+       << R"(}],"accessors":[{"bufferView":0,"componentType":5126,"count":)" << mesh.positions.size() << R"(,"type":"VEC3","min":[)"
+       << lo[0] << "," << lo[1] << "," << lo[2] << "],\"max\":[" << hi[0] << "," << hi[1] << "," << hi[2]
+       << R"(]},{"bufferView":1,"componentType":5125,"count":)" << 3 * mesh.triangles.size()
+       << R"(,"type":"SCALAR"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})";
+  std::string text = json.str();
+  while (text.size() % 4) text += ' ';
+  const auto u32 = [](std::ofstream& out, std::size_t v) {
+    const std::uint32_t w = static_cast<std::uint32_t>(v);
+    out.write(reinterpret_cast<const char*>(&w), 4);
+  };
+  const std::filesystem::path temporary = file.string() + ".partial";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    u32(out, 0x46546C67);  // "glTF"
+    u32(out, 2);
+    u32(out, 12 + 8 + text.size() + 8 + bin.size());
+    u32(out, text.size());
+    u32(out, 0x4E4F534A);  // "JSON"
+    out << text;
+    u32(out, bin.size());
+    u32(out, 0x004E4942);  // "BIN"
+    out.write(bin.data(), static_cast<std::streamsize>(bin.size()));
+    if (!out) throw std::runtime_error("could not write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+/// The source mesh and the folder the split meshes are written to: --mesh=FILE (default
+/// ../shared/meshes/bunny.ply next to the source tree) and --mesh-dir=DIR (default bench-meshes/ in
+/// the build folder). Returns argv without these flags, for run_benchmarks().
+inline std::vector<char*> take_mesh_flags(int argc, char** argv, std::filesystem::path& source_mesh, std::filesystem::path& mesh_dir,
+                                          const std::filesystem::path& source_dir, const std::filesystem::path& binary_dir) {
+  source_mesh = source_dir.parent_path() / "shared" / "meshes" / "bunny.ply";
+  mesh_dir = binary_dir / "bench-meshes";
+  std::vector<char*> rest = {argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    if (std::strncmp(argv[i], "--mesh=", 7) == 0)
+      source_mesh = argv[i] + 7;
+    else if (std::strncmp(argv[i], "--mesh-dir=", 11) == 0)
+      mesh_dir = argv[i] + 11;
+    else
+      rest.push_back(argv[i]);
+  }
+  return rest;
 }
 
 /// Runs the benchmarks selected by `args` (argv[0] first, then the flags the benchmark did not take).

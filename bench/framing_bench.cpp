@@ -38,35 +38,11 @@ namespace {
 std::filesystem::path g_source_mesh;
 std::filesystem::path g_mesh_dir;
 
-// Binary little-endian PLY, float coordinates (what scanners write).
-void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
-  std::filesystem::create_directories(file.parent_path());
-  const std::filesystem::path temporary = file.string() + ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.positions.size()
-        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.triangles.size()
-        << "\nproperty list uchar int vertex_indices\nend_header\n";
-    for (const auto& p : mesh.positions) {
-      const float xyz[3] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
-      out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
-    }
-    for (const auto& t : mesh.triangles) {
-      char face[13];
-      face[0] = 3;
-      std::memcpy(face + 1, t.data(), 12);
-      out.write(face, sizeof face);
-    }
-    if (!out) throw std::runtime_error("could not write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, file);
-}
-
 // The source mesh split `levels` times; each split level is also written to g_mesh_dir.
 const meshtour::TriangleMesh& bunny(int levels) {
   return meshtour::bench::split_mesh(g_source_mesh, levels, [](const meshtour::TriangleMesh& mesh, int level) {
     const auto file = g_mesh_dir / (g_source_mesh.stem().string() + "-split" + std::to_string(level) + ".ply");
-    if (!std::filesystem::exists(file)) write_ply(mesh, file);
+    if (!std::filesystem::exists(file)) meshtour::bench::write_ply(mesh, file);
   });
 }
 
@@ -149,17 +125,6 @@ BENCHMARK(BM_UpAxis)->Apply(sizes)->Iterations(3);
 }  // namespace
 
 int main(int argc, char** argv) {
-  g_source_mesh = std::filesystem::path(MESHTOUR_SOURCE_DIR).parent_path() / "shared" / "meshes" / "bunny.ply";
-  g_mesh_dir = std::filesystem::path(MESHTOUR_BINARY_DIR) / "bench-meshes";
-  // Our own flags first; everything else goes to Google Benchmark.
-  std::vector<char*> rest = {argv[0]};
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--mesh=", 7) == 0)
-      g_source_mesh = argv[i] + 7;
-    else if (std::strncmp(argv[i], "--mesh-dir=", 11) == 0)
-      g_mesh_dir = argv[i] + 11;
-    else
-      rest.push_back(argv[i]);
-  }
-  return meshtour::bench::run_benchmarks(rest);
+  return meshtour::bench::run_benchmarks(
+      meshtour::bench::take_mesh_flags(argc, argv, g_source_mesh, g_mesh_dir, MESHTOUR_SOURCE_DIR, MESHTOUR_BINARY_DIR));
 }

@@ -48,6 +48,35 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
   return true;
 }
 
+// External buffers and images are read only from regular files: a URI that resolves to the
+// model's folder (an empty or malformed one) would otherwise be "read" by tinygltf 2.7 with the
+// size a directory reports for its end (2^63 - 1 on ext4), as found by fuzz_gltf.
+bool regular_file_exists(const std::string& path, void*) {
+  std::error_code error;
+  return std::filesystem::is_regular_file(path, error);
+}
+
+bool read_regular_file(std::vector<unsigned char>* out, std::string* error, const std::string& path, void*) {
+  std::error_code code;
+  if (!std::filesystem::is_regular_file(path, code)) {
+    if (error) *error += "'" + path + "' is not a file\n";
+    return false;
+  }
+  const std::uintmax_t size = std::filesystem::file_size(path, code);
+  std::ifstream in(path, std::ios::binary);
+  if (code || !in) {
+    if (error) *error += "cannot read '" + path + "'\n";
+    return false;
+  }
+  out->resize(static_cast<std::size_t>(size));
+  if (size > 0) in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size));
+  if (!in) {
+    if (error) *error += "cannot read '" + path + "'\n";
+    return false;
+  }
+  return true;
+}
+
 // EXT_meshopt_compression (gltfpack, glTF-Transform): a buffer view's bytes are stored
 // compressed in another buffer, and the view's own buffer is a "fallback" that has no data when
 // the extension is required. One compressed view, read from the JSON before the reader sees it.
@@ -262,6 +291,7 @@ std::vector<std::string> required_extensions(const nlohmann::json& doc) {
 tinygltf::Model read_model(const std::filesystem::path& file, const std::string& name) {
   tinygltf::TinyGLTF reader;
   reader.SetImageLoader(keep_encoded_image, nullptr);
+  reader.SetFsCallbacks({regular_file_exists, tinygltf::ExpandFilePath, read_regular_file, nullptr, nullptr});
   tinygltf::Model model;
   std::string error, warning;
   bool ok = false;

@@ -401,6 +401,20 @@ TEST(MeshGltf, BadFilesGetClearErrors) {
     EXPECT_EQ(report.warnings.size(), 1u);
   }
   {
+    // A buffer URI naming a folder (found by fuzz_gltf: a malformed URI decodes to the model's
+    // own folder): refused as a missing file, not read with the size a directory reports.
+    std::filesystem::create_directories(dir / "a folder");
+    GltfBuilder b = square(false);
+    b.write_gltf(dir / "folder_buffer.gltf");
+    nlohmann::json doc = nlohmann::json::parse(std::ifstream(dir / "folder_buffer.gltf"));
+    for (const char* uri : {"a%20folder", "."}) {
+      doc["buffers"][0]["uri"] = uri;
+      std::ofstream(dir / "folder_buffer.gltf") << doc.dump();
+      const std::string e = error_of(dir / "folder_buffer.gltf");
+      EXPECT_NE(e.find("File not found"), std::string::npos) << uri << ": " << e;
+    }
+  }
+  {
     // Indices stored as floats (found by fuzz_gltf): refused, not converted to vertex numbers.
     GltfBuilder b = square(false);
     b.doc["accessors"][2]["componentType"] = 5126;

@@ -1,0 +1,66 @@
+// Loading big meshes (issue 15): meshtour::load_mesh on the same model as binary PLY and as GLB,
+// the bunny split 1-to-4 at edge midpoints 0, 2, 3 and 4 times (70k, 1.1M, 4.5M, 17.8M faces).
+// The files are written once to --mesh-dir (default: bench-meshes/ in the build folder, never
+// the repository); each benchmark then times reading its file back, so the two formats are
+// compared in one run on one machine.
+//
+//   build/bench/load_bench                                   # every size, both formats
+//   build/bench/load_bench --benchmark_filter='Glb/4$'       # the 17.8M-face GLB only
+//   build/bench/load_bench --mesh=FILE --mesh-dir=DIR
+#include <benchmark/benchmark.h>
+
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench_common.h"
+#include "mesh/mesh.h"
+
+namespace {
+
+std::filesystem::path g_source_mesh;
+std::filesystem::path g_mesh_dir;
+
+// The split mesh's file in `extension` (".ply" or ".glb"), written on first use.
+std::filesystem::path mesh_file(int levels, const std::string& extension) {
+  const auto file = g_mesh_dir / (g_source_mesh.stem().string() + "-split" + std::to_string(levels) + extension);
+  if (!std::filesystem::exists(file)) {
+    const meshtour::TriangleMesh& mesh = meshtour::bench::split_mesh(g_source_mesh, levels);
+    if (extension == ".glb") meshtour::bench::write_glb(mesh, file);
+    else meshtour::bench::write_ply(mesh, file);
+  }
+  return file;
+}
+
+void load(benchmark::State& state, const std::string& extension) {
+  const auto file = mesh_file(static_cast<int>(state.range(0)), extension);
+  std::size_t faces = 0, vertices = 0;
+  for (auto _ : state) {
+    const meshtour::TriangleMesh mesh = meshtour::load_mesh(file);
+    faces = mesh.triangles.size();
+    vertices = mesh.positions.size();
+  }
+  state.counters["faces"] = static_cast<double>(faces);
+  state.counters["vertices"] = static_cast<double>(vertices);
+  state.counters["MB"] = static_cast<double>(std::filesystem::file_size(file)) / 1e6;
+}
+
+void BM_LoadPly(benchmark::State& state) { load(state, ".ply"); }
+// GLB: tinygltf's parse, the accessor checks and the welding of bit-identical vertices.
+void BM_LoadGlb(benchmark::State& state) { load(state, ".glb"); }
+
+void sizes(benchmark::internal::Benchmark* b) {
+  for (int levels : {0, 2, 3, 4}) b->Arg(levels);
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+}
+
+BENCHMARK(BM_LoadPly)->Apply(sizes);
+BENCHMARK(BM_LoadGlb)->Apply(sizes);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return meshtour::bench::run_benchmarks(
+      meshtour::bench::take_mesh_flags(argc, argv, g_source_mesh, g_mesh_dir, MESHTOUR_SOURCE_DIR, MESHTOUR_BINARY_DIR));
+}
