@@ -414,17 +414,44 @@ public:
   /// Elements of up to N components (16: a skin's MAT4 inverse bind matrices, column-major).
   template <std::size_t N>
   std::vector<std::array<double, N>> read_elements(int index, const std::string& what) const {
+    std::vector<std::array<double, N>> out;
+    each_element<N>(
+        index, what, [&](std::size_t count) { out.resize(count); },
+        [&](std::size_t i, const std::array<double, N>& v) { out[i] = v; });
+    return out;
+  }
+
+  /// A triangle list's or strip's indices: unsigned bytes, shorts or ints, read straight into
+  /// vertex numbers (a 17.8M-face model has 53M of them).
+  std::vector<std::uint32_t> read_indices(int index, const std::string& what) const {
+    // Only unsigned integers are indices (a float one would not convert to a vertex number).
+    const int type = accessor(index, what).componentType;
+    if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      throw InputError(name_ + ": " + what + " (accessor " + std::to_string(index) + ") have component type " + std::to_string(type) +
+                       "; glTF indices are unsigned bytes, shorts or ints (5121, 5123, 5125)");
+    std::vector<std::uint32_t> out;
+    each_element<1>(
+        index, what, [&](std::size_t count) { out.resize(count); },
+        [&](std::size_t i, const std::array<double, 1>& v) { out[i] = static_cast<std::uint32_t>(v[0]); });
+    return out;
+  }
+
+private:
+  // Checks that every byte the accessor names lies inside its buffer, then calls start(count)
+  // and f(i, element) for each element, its components as doubles.
+  template <std::size_t N, class Start, class F>
+  void each_element(int index, const std::string& what, Start&& start, F&& f) const {
     const tinygltf::Accessor& a = accessor(index, what);
     const std::string where = name_ + ": " + what + " (accessor " + std::to_string(index) + ")";
     if (a.sparse.isSparse) throw InputError(where + " is sparse, which meshtour does not read");
     const int components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type));
     const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
     if (components <= 0 || components > static_cast<int>(N) || size <= 0) throw InputError(where + " has a type meshtour does not read");
-    std::vector<std::array<double, N>> out;
     if (a.bufferView < 0) {  // no data: all zeros (the specification's default)
       if (a.count > 100'000'000) throw InputError(where + " announces " + std::to_string(a.count) + " elements");
-      out.assign(a.count, std::array<double, N>{});
-      return out;
+      start(a.count);
+      for (std::size_t i = 0; i < a.count; ++i) f(i, std::array<double, N>{});
+      return;
     }
     if (a.bufferView >= static_cast<int>(model_.bufferViews.size())) throw InputError(where + " names a buffer view that does not exist");
     const tinygltf::BufferView& view = model_.bufferViews[static_cast<std::size_t>(a.bufferView)];
@@ -442,17 +469,15 @@ public:
         throw InputError(where + ": its " + std::to_string(a.count) + " elements reach past the end of its buffer view");
     }
     const unsigned char* base = buffer.data() + view.byteOffset + a.byteOffset;
-    out.resize(a.count);
+    start(a.count);
     for (std::size_t i = 0; i < a.count; ++i) {
       const unsigned char* p = base + i * stride;
       std::array<double, N> v{};
       for (int c = 0; c < components; ++c) v[static_cast<std::size_t>(c)] = component(p + c * size, a.componentType, a.normalized);
-      out[i] = v;
+      f(i, v);
     }
-    return out;
   }
 
-private:
   static double component(const unsigned char* p, int type, bool normalized) {
     const auto load = [p](auto value) {
       std::memcpy(&value, p, sizeof value);
@@ -952,18 +977,7 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
         if (uv_set >= 0)
           if (const auto t = attribute("TEXCOORD_" + std::to_string(uv_set)); t != prim.attributes.end())
             data.uvs = reader.read(t->second, "TEXCOORD_" + std::to_string(uv_set) + " of " + where.substr(name.size() + 2));
-        if (prim.indices >= 0) {
-          const std::string what = "the indices of " + where.substr(name.size() + 2);
-          // Only unsigned integers are indices (a float one would not convert to a vertex number).
-          const int type = reader.accessor(prim.indices, what).componentType;
-          if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-              type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-            throw InputError(name + ": " + what + " (accessor " + std::to_string(prim.indices) + ") have component type " +
-                             std::to_string(type) + "; glTF indices are unsigned bytes, shorts or ints (5121, 5123, 5125)");
-          const auto raw = reader.read(prim.indices, what);
-          data.indices.reserve(raw.size());
-          for (const auto& v : raw) data.indices.push_back(static_cast<std::uint32_t>(v[0]));
-        }
+        if (prim.indices >= 0) data.indices = reader.read_indices(prim.indices, "the indices of " + where.substr(name.size() + 2));
         if (skin >= 0) skinned = skinning_matrices(prim, reader, joints, data.positions.size(), where, name);
       }
       const std::size_t count = data.positions.size();
