@@ -548,37 +548,37 @@ std::vector<Matrix> joint_matrices(const tinygltf::Model& model, const AccessorR
   return out;
 }
 
+// One primitive's data before it joins the mesh.
+struct PrimitiveData {
+  std::vector<std::array<double, 4>> positions, colors, uvs;
+  std::vector<std::uint32_t> indices;  // as the primitive lists them (mode applies), or empty
+  // A skinned primitive's JOINTS_n and WEIGHTS_n, one pair per set n.
+  std::vector<std::pair<std::vector<std::array<double, 4>>, std::vector<std::array<double, 4>>>> skin_sets;
+};
+
 // Each vertex's blend of its skin's joint matrices (weights normalised to sum to 1), from every
-// JOINTS_n/WEIGHTS_n set the primitive has.
-std::vector<Matrix> skinning_matrices(const tinygltf::Primitive& prim, const AccessorReader& reader, const std::vector<Matrix>& joints,
-                                      std::size_t count, const std::string& where, const std::string& name) {
+// JOINTS_n/WEIGHTS_n set of the primitive.
+std::vector<Matrix> skinning_matrices(const PrimitiveData& data, const std::vector<Matrix>& joints, const std::string& where) {
+  const std::size_t count = data.positions.size();
+  if (data.skin_sets.empty()) throw InputError(where + " belongs to a skinned node but has no JOINTS_0 and WEIGHTS_0");
   std::vector<Matrix> blend(count, Matrix::Zero());
   std::vector<double> total(count, 0.0);
-  int sets = 0;
-  for (;; ++sets) {
-    const auto j = prim.attributes.find("JOINTS_" + std::to_string(sets)), w = prim.attributes.find("WEIGHTS_" + std::to_string(sets));
-    if (j == prim.attributes.end() || w == prim.attributes.end()) break;
-    const std::string what = "JOINTS_" + std::to_string(sets) + " of " + where.substr(name.size() + 2);
-    const int type = reader.accessor(j->second, what).componentType;
-    if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)
-      throw InputError(name + ": " + what + " are not unsigned bytes or shorts (5121, 5123)");
-    const auto joint = reader.read(j->second, what);
-    const auto weight = reader.read(w->second, "WEIGHTS_" + std::to_string(sets) + " of " + where.substr(name.size() + 2));
+  for (std::size_t set = 0; set < data.skin_sets.size(); ++set) {
+    const auto& [joint, weight] = data.skin_sets[set];
     if (joint.size() != count || weight.size() != count)
-      throw InputError(where + ": JOINTS_" + std::to_string(sets) + ", WEIGHTS_" + std::to_string(sets) + " and POSITION differ in count");
+      throw InputError(where + ": JOINTS_" + std::to_string(set) + ", WEIGHTS_" + std::to_string(set) + " and POSITION differ in count");
     for (std::size_t i = 0; i < count; ++i)
       for (std::size_t c = 0; c < 4; ++c) {
         const double wc = weight[i][c];
         if (wc == 0.0) continue;
         if (!(wc > 0.0 && wc <= 1.0)) throw InputError(where + ": vertex " + std::to_string(i) + " has a joint weight outside [0, 1]");
-        if (joint[i][c] >= static_cast<double>(joints.size()))
-          throw InputError(where + ": vertex " + std::to_string(i) + " names joint " + std::to_string(static_cast<std::size_t>(joint[i][c])) +
+        if (!(joint[i][c] >= 0.0 && joint[i][c] < static_cast<double>(joints.size())))
+          throw InputError(where + ": vertex " + std::to_string(i) + " names joint " + std::to_string(static_cast<long long>(joint[i][c])) +
                            ", but its skin has " + std::to_string(joints.size()));
         blend[i] += wc * joints[static_cast<std::size_t>(joint[i][c])];
         total[i] += wc;
       }
   }
-  if (sets == 0) throw InputError(where + " belongs to a skinned node but has no JOINTS_0 and WEIGHTS_0");
   for (std::size_t i = 0; i < count; ++i) {
     if (!(total[i] > 0.0)) throw InputError(where + ": vertex " + std::to_string(i) + " has no joint weight (a skinned vertex needs one)");
     blend[i] /= total[i];
@@ -586,15 +586,10 @@ std::vector<Matrix> skinning_matrices(const tinygltf::Primitive& prim, const Acc
   return blend;
 }
 
-// One primitive's data before it joins the mesh.
-struct PrimitiveData {
-  std::vector<std::array<double, 4>> positions, colors, uvs;
-  std::vector<std::uint32_t> indices;  // as the primitive lists them (mode applies), or empty
-};
 
 // Decodes a KHR_draco_mesh_compression primitive. The buffer view is checked before libdraco
 // sees a byte of it; libdraco then decodes into its own structures, whose indices are checked.
-PrimitiveData decode_draco(const tinygltf::Model& model, const tinygltf::Value& ext, int uv_set, bool want_colors,
+PrimitiveData decode_draco(const tinygltf::Model& model, const tinygltf::Value& ext, int uv_set, bool want_colors, bool want_skin,
                            const std::string& where) {
   if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber() || !ext.Has("attributes") ||
       !ext.Get("attributes").IsObject())
@@ -644,6 +639,13 @@ PrimitiveData decode_draco(const tinygltf::Model& model, const tinygltf::Value& 
   read(position, data.positions);
   if (want_colors) read(attribute("COLOR_0"), data.colors);
   if (uv_set >= 0) read(attribute("TEXCOORD_" + std::to_string(uv_set)), data.uvs);
+  for (int set = 0; want_skin; ++set) {
+    const draco::PointAttribute* joints = attribute("JOINTS_" + std::to_string(set));
+    const draco::PointAttribute* weights = attribute("WEIGHTS_" + std::to_string(set));
+    if (!joints || !weights) break;
+    read(joints, data.skin_sets.emplace_back().first);
+    read(weights, data.skin_sets.back().second);
+  }
   data.indices.reserve(3 * static_cast<std::size_t>(mesh->num_faces()));
   for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f)
     for (int c = 0; c < 3; ++c) {
@@ -965,8 +967,7 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
       PrimitiveData data;
       std::vector<Matrix> skinned;  // per vertex, for a skinned mesh: its blend of joint matrices
       if (const auto draco = prim.extensions.find("KHR_draco_mesh_compression"); draco != prim.extensions.end()) {
-        if (skin >= 0) throw InputError(where + " is skinned and Draco-compressed; meshtour reads the joints of uncompressed or meshopt skinned meshes only");
-        data = decode_draco(model, draco->second, uv_set, true, where);
+        data = decode_draco(model, draco->second, uv_set, true, skin >= 0, where);
       } else {
         const auto attribute = [&](const std::string& key) { return prim.attributes.find(key); };
         const auto position = attribute("POSITION");
@@ -978,8 +979,18 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
           if (const auto t = attribute("TEXCOORD_" + std::to_string(uv_set)); t != prim.attributes.end())
             data.uvs = reader.read(t->second, "TEXCOORD_" + std::to_string(uv_set) + " of " + where.substr(name.size() + 2));
         if (prim.indices >= 0) data.indices = reader.read_indices(prim.indices, "the indices of " + where.substr(name.size() + 2));
-        if (skin >= 0) skinned = skinning_matrices(prim, reader, joints, data.positions.size(), where, name);
+        for (int set = 0; skin >= 0; ++set) {
+          const auto j = attribute("JOINTS_" + std::to_string(set)), w = attribute("WEIGHTS_" + std::to_string(set));
+          if (j == prim.attributes.end() || w == prim.attributes.end()) break;
+          const std::string what = "JOINTS_" + std::to_string(set) + " of " + where.substr(name.size() + 2);
+          const int type = reader.accessor(j->second, what).componentType;
+          if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)
+            throw InputError(name + ": " + what + " are not unsigned bytes or shorts (5121, 5123)");
+          data.skin_sets.emplace_back(reader.read(j->second, what),
+                                      reader.read(w->second, "WEIGHTS_" + std::to_string(set) + " of " + where.substr(name.size() + 2)));
+        }
       }
+      if (skin >= 0) skinned = skinning_matrices(data, joints, where);
       const std::size_t count = data.positions.size();
       if (!data.colors.empty() && data.colors.size() != count) throw InputError(where + ": COLOR_0 and POSITION differ in count");
       if (!data.uvs.empty() && data.uvs.size() != count) throw InputError(where + ": TEXCOORD and POSITION differ in count");

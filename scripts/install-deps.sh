@@ -10,7 +10,7 @@ packages=(
   openimageio-tools                         # OpenImageIO's CMake config refers to its tools (iconvert, ...)
   libopenmesh-dev libeigen3-dev             # pathgen: mesh I/O and linear algebra
   libqhull-dev                              # mesh: convex hulls (reentrant libqhull_r) for fast framing
-  libtinygltf-dev libdraco-dev draco        # mesh: glTF/GLB input, Draco-compressed primitives (draco_encoder: tests)
+  libtinygltf-dev libdraco-dev draco        # mesh: glTF/GLB input, Draco-compressed primitives (draco_encoder, draco_transcoder: tests)
   libmeshoptimizer-dev                      # mesh: glTF EXT_meshopt_compression (gltfpack's output)
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video encoder
   libavfilter-dev                           # video encoder: the GIF palette (palettegen, paletteuse), captions (drawtext, xfade)

@@ -266,6 +266,21 @@ TEST(MeshGltf, SkinnedMeshesArePlacedByTheirJoints) {
     const Eigen::Affine3d moved = pose * bind.inverse();
     for (std::size_t i = 1; i < 4; ++i) EXPECT_NEAR((mesh.positions[i] - moved * square_at[i]).norm(), 0.0, 1e-6) << i;
     EXPECT_NEAR((mesh.positions[0] - 0.5 * (moved * square_at[0] + square_at[0])).norm(), 0.0, 1e-6);
+    // The same file through Debian's draco_transcoder: the joints and weights come out of the
+    // Draco data, the vertices land within its quantization.
+    if (std::system("command -v draco_transcoder >/dev/null 2>&1") == 0) {
+      const std::string command = "draco_transcoder -i '" + (dir / "posed.glb").string() + "' -o '" + (dir / "posed_draco.glb").string() + "' >/dev/null 2>&1";
+      ASSERT_EQ(std::system(command.c_str()), 0) << command;
+      const TriangleMesh draco = load_mesh(dir / "posed_draco.glb");
+      ASSERT_EQ(draco.positions.size(), 4u);
+      for (const auto& p : mesh.positions) {
+        double best = 1e9;
+        for (const auto& q : draco.positions) best = std::min(best, (p - q).norm());
+        EXPECT_LT(best, 1e-3) << p.transpose();
+      }
+    } else if (std::getenv("MESHTOUR_REQUIRE_SHARED")) {
+      FAIL() << "draco_transcoder is not installed (scripts/install-deps.sh)";
+    }
   }
   {
     GltfBuilder b = skinned(bind, bind, 7);  // joint 7 of a two-joint skin
