@@ -36,7 +36,7 @@ using Matrix = Eigen::Matrix4d;
 // colour in a way meshtour would get wrong, so it is refused by name.
 const std::set<std::string> kSupported = {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_texture_transform",
                                           "KHR_mesh_quantization", "KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness",
-                                          "EXT_texture_webp"};
+                                          "EXT_texture_webp", "EXT_mesh_gpu_instancing", "KHR_lights_punctual"};
 
 // Images keep their encoded bytes (OpenImageIO decodes them when the tracer needs them). An image
 // in a buffer view is left for encoded_image_bytes(): tinygltf 2.7 hands over the view's range
@@ -276,7 +276,8 @@ void refuse_unsupported(const std::vector<std::string>& required, const std::str
                    ", which meshtour does not read (it would change the model's geometry or colours); export the "
                    "model without it (supported: KHR_draco_mesh_compression, EXT_meshopt_compression, "
                    "KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit, "
-                   "KHR_materials_pbrSpecularGlossiness, EXT_texture_webp)");
+                   "KHR_materials_pbrSpecularGlossiness, EXT_texture_webp, EXT_mesh_gpu_instancing, "
+                   "KHR_lights_punctual)");
 }
 
 // extensionsRequired as the parsed JSON lists it (strings only; nothing when it did not parse).
@@ -353,6 +354,8 @@ Matrix node_matrix(const tinygltf::Node& node) {
   return t.matrix();
 }
 
+std::vector<Matrix> gpu_instances(const tinygltf::Model& model, const tinygltf::Value& ext, const std::string& where);
+
 // A mesh instance of the default scene: the mesh, its node's world matrix, and the node's skin
 // (-1: none).
 struct Instance {
@@ -375,7 +378,11 @@ std::vector<Instance> instances(const tinygltf::Model& model, const std::string&
     if (node.mesh >= 0) {
       if (node.mesh >= static_cast<int>(model.meshes.size()))
         throw InputError(name + ": node " + std::to_string(index) + " names mesh " + std::to_string(node.mesh) + ", which does not exist");
-      out.push_back({node.mesh, world, node.skin});
+      if (const auto it = node.extensions.find("EXT_mesh_gpu_instancing"); it != node.extensions.end() && it->second.IsObject())
+        for (const Matrix& instance : gpu_instances(model, it->second, name + ": node " + std::to_string(index) + "'s EXT_mesh_gpu_instancing"))
+          out.push_back({node.mesh, world * instance, node.skin});
+      else
+        out.push_back({node.mesh, world, node.skin});
     }
     path.push_back(index);
     for (const int child : node.children) self(self, child, world);
@@ -496,6 +503,38 @@ private:
   const tinygltf::Model& model_;
   const std::string& name_;
 };
+
+// EXT_mesh_gpu_instancing (scenes of repeated parts, vegetation, chess pieces): the node's mesh
+// drawn once per instance, each with its TRANSLATION, ROTATION (unit quaternion x, y, z, w) and
+// SCALE (each optional), applied under the node's own transform.
+std::vector<Matrix> gpu_instances(const tinygltf::Model& model, const tinygltf::Value& ext, const std::string& where) {
+  const AccessorReader reader(model, where);
+  if (!ext.Has("attributes") || !ext.Get("attributes").IsObject()) throw InputError(where + " has no attributes");
+  const tinygltf::Value& attributes = ext.Get("attributes");
+  std::optional<std::size_t> count;
+  const auto read = [&](const char* key) {
+    std::vector<std::array<double, 4>> values;
+    if (!attributes.Has(key) || !attributes.Get(key).IsNumber()) return values;
+    values = reader.read(attributes.Get(key).GetNumberAsInt(), key);
+    if (count && *count != values.size()) throw InputError(where + ": its attributes differ in count");
+    count = values.size();
+    return values;
+  };
+  const auto translation = read("TRANSLATION"), rotation = read("ROTATION"), scale = read("SCALE");
+  if (!count) throw InputError(where + " has none of TRANSLATION, ROTATION and SCALE");
+  std::vector<Matrix> out;
+  for (std::size_t i = 0; i < *count; ++i) {
+    Eigen::Affine3d t = Eigen::Affine3d::Identity();
+    if (!translation.empty()) t.translate(Eigen::Vector3d(translation[i][0], translation[i][1], translation[i][2]));
+    if (!rotation.empty()) {
+      const Eigen::Quaterniond q(rotation[i][3], rotation[i][0], rotation[i][1], rotation[i][2]);
+      if (q.norm() > 0) t.rotate(q.normalized());
+    }
+    if (!scale.empty()) t.scale(Eigen::Vector3d(scale[i][0], scale[i][1], scale[i][2]));
+    out.push_back(t.matrix());
+  }
+  return out;
+}
 
 // Skinning (glTF 2.0, "Skins"): a skinned mesh's vertices are placed by its joints, each vertex
 // by up to four joints per JOINTS_n/WEIGHTS_n set, with the matrix global(joint) x
@@ -1036,6 +1075,8 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
   weld_identical_vertices(mesh);
   if (!any_uvs) mesh.corner_uvs.clear();
   if (skipped) warnings.push_back(std::to_string(skipped) + " primitive(s) of points or lines skipped (only triangles are rendered)");
+  if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), "KHR_lights_punctual") != model.extensionsUsed.end())
+    warnings.push_back("the file's lights (KHR_lights_punctual) are not used: meshtour lights every model with its look (--preset)");
   if (mesh.triangles.empty()) throw InputError(name + ": the default scene has no triangles (no mesh, or only points and lines)");
   return mesh;
 }

@@ -294,6 +294,38 @@ TEST(MeshGltf, SkinnedMeshesArePlacedByTheirJoints) {
   }
 }
 
+// EXT_mesh_gpu_instancing: the node's mesh once per instance (TRANSLATION, ROTATION, SCALE under
+// the node's transform). KHR_lights_punctual, even when required, only adds lights, which the
+// look replaces: the model loads, with a warning saying so.
+TEST(MeshGltf, GpuInstancesAndIgnoredLights) {
+  const auto dir = test::scratch_dir();
+  GltfBuilder b = square(false);
+  const int translation = b.floats({0, 0, 0, 5, 0, 0}, 3);
+  const int rotation = b.floats({0, 0, 0, 1, 0, 0, 0.7071067811865476f, 0.7071067811865476f}, 4);  // none; 90 degrees about z
+  const int scale = b.floats({1, 1, 1, 2, 2, 2}, 3);
+  b.doc["nodes"][0]["translation"] = {0, 10, 0};
+  b.doc["nodes"][0]["extensions"] = {
+      {"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", translation}, {"ROTATION", rotation}, {"SCALE", scale}}}}},
+      {"KHR_lights_punctual", {{"light", 0}}}};
+  b.doc["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 10}}}}}}};
+  b.doc["extensionsUsed"] = b.doc["extensionsRequired"] = {"EXT_mesh_gpu_instancing", "KHR_lights_punctual"};
+  b.write_glb(dir / "instances.glb");
+  LoadReport report;
+  const TriangleMesh mesh = load_mesh(dir / "instances.glb", &report);
+  ASSERT_EQ(mesh.triangles.size(), 4u);
+  ASSERT_EQ(mesh.positions.size(), 8u);
+  // Instance 0: the square moved up by the node; instance 1: turned 90 degrees, doubled, at x = 5.
+  EXPECT_NEAR((mesh.positions[2] - Eigen::Vector3d(1, 11, 0)).norm(), 0.0, 1e-6);
+  EXPECT_NEAR((mesh.positions[4 + 1] - Eigen::Vector3d(5, 12, 0)).norm(), 0.0, 1e-6);  // (1,0,0) -> (0,2,0) + (5,10,0)
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("KHR_lights_punctual"), std::string::npos) << report.warnings[0];
+
+  b.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["SCALE"] = b.floats({1, 1, 1}, 3);  // one, for two instances
+  b.write_glb(dir / "uneven.glb");
+  const std::string e = error_of(dir / "uneven.glb");
+  EXPECT_NE(e.find("EXT_mesh_gpu_instancing: its attributes differ in count"), std::string::npos) << e;
+}
+
 // A wavy height field of n x n vertices: positions and a triangle list.
 struct Grid {
   std::vector<float> positions;
