@@ -511,13 +511,21 @@ std::vector<Matrix> gpu_instances(const tinygltf::Model& model, const tinygltf::
   const AccessorReader reader(model, where);
   if (!ext.Has("attributes") || !ext.Get("attributes").IsObject()) throw InputError(where + " has no attributes");
   const tinygltf::Value& attributes = ext.Get("attributes");
+  // A few bytes of accessor can announce millions of copies of a big mesh: beyond this many the
+  // file is refused before anything is read (the memory budget of tour and render then counts
+  // every instance's triangles, from the same instances()).
+  constexpr std::size_t kMaxInstances = 1'000'000;
   std::optional<std::size_t> count;
   const auto read = [&](const char* key) {
     std::vector<std::array<double, 4>> values;
     if (!attributes.Has(key) || !attributes.Get(key).IsNumber()) return values;
-    values = reader.read(attributes.Get(key).GetNumberAsInt(), key);
-    if (count && *count != values.size()) throw InputError(where + ": its attributes differ in count");
-    count = values.size();
+    const int index = attributes.Get(key).GetNumberAsInt();
+    const std::size_t n = reader.accessor(index, key).count;
+    if (n > kMaxInstances)
+      throw InputError(where + " announces " + std::to_string(n) + " instances; meshtour draws at most " + std::to_string(kMaxInstances));
+    if (count && *count != n) throw InputError(where + ": its attributes differ in count");
+    count = n;
+    values = reader.read(index, key);
     return values;
   };
   const auto translation = read("TRANSLATION"), rotation = read("ROTATION"), scale = read("SCALE");

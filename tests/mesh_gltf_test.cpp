@@ -324,6 +324,12 @@ TEST(MeshGltf, GpuInstancesAndIgnoredLights) {
   b.write_glb(dir / "uneven.glb");
   const std::string e = error_of(dir / "uneven.glb");
   EXPECT_NE(e.find("EXT_mesh_gpu_instancing: its attributes differ in count"), std::string::npos) << e;
+  // Two million instances from an accessor with no data (zeros): refused before it is read.
+  b.doc["accessors"].push_back({{"componentType", 5126}, {"count", 2'000'000}, {"type", "VEC3"}});
+  b.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"] = {{"TRANSLATION", b.doc["accessors"].size() - 1}};
+  b.write_glb(dir / "bomb.glb");
+  const std::string bomb = error_of(dir / "bomb.glb");
+  EXPECT_NE(bomb.find("announces 2000000 instances; meshtour draws at most 1000000"), std::string::npos) << bomb;
 }
 
 // A wavy height field of n x n vertices: positions and a triangle list.
