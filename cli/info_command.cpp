@@ -50,7 +50,6 @@ nlohmann::json describe(const std::string& file) {
   std::vector<std::size_t> per_material(mesh.materials.size(), 0);
   for (std::size_t t = 0; t < mesh.triangles.size() && !mesh.materials.empty(); ++t)
     ++per_material[mesh.triangle_materials.empty() ? 0 : mesh.triangle_materials[t]];
-  double texture_bytes = 0;
   j["materials"] = nlohmann::json::array();
   for (std::size_t m = 0; m < mesh.materials.size(); ++m) {
     const MeshMaterial& material = mesh.materials[m];
@@ -60,8 +59,6 @@ nlohmann::json describe(const std::string& file) {
       jm["texture"] = material.texture_bytes ? "(embedded) " + material.texture_file.filename().string() : material.texture_file.string();
       const TextureSize size = probe_texture(material);
       jm["texture_size"] = {size.width, size.height, size.channels};
-      // Decoded 8-bit texels plus a third for the MIP levels.
-      texture_bytes += 4.0 / 3.0 * size.width * size.height * size.channels;
     }
     j["materials"].push_back(jm);
   }
@@ -70,10 +67,8 @@ nlohmann::json describe(const std::string& file) {
   const double coverage = estimate_coverage_bytes(counts.triangles(), counts.vertices);
   const double bvh = estimate_bvh_bytes(counts.triangles());
   const double frames = estimate_frame_bytes(1280, 720, 0, true);
-  // The tracer reads textures through OpenImageIO's cache in 64x64 tiles; the cache keeps at
-  // most 1 GiB of them (its default), whatever the atlases' size (8 x 16k JPEG atlases measured
-  // 1.6 GB peak for a whole render).
-  const double texture_cache = std::min(texture_bytes, 1024.0 * 1024 * 1024);
+  const double texture_bytes = estimate_decoded_texture_bytes(mesh);
+  const double texture_cache = estimate_texture_cache_bytes(texture_bytes);
   j["memory_estimate_bytes"] = {{"mesh", mesh_bytes},
                                 {"camera_path", coverage},
                                 {"ray_tracing", bvh},

@@ -3,6 +3,8 @@
 // words its one-line message must hold; every message must name the file at fault. After a
 // failure the case's output folder must be empty: never a partial output file.
 #include <gtest/gtest.h>
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include <chrono>
 #include <cmath>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "helpers.h"
+#include "textured_cube.h"
 
 namespace {
 
@@ -118,6 +121,17 @@ std::string ply_tetrahedron_body() {
     body.append(reinterpret_cast<const char*>(f), 12);
   }
   return body;
+}
+
+// The textured cube of the golden tests with its checker replaced by a 4096 x 4096 one.
+fs::path big_texture_cube(const fs::path& dir) {
+  fs::create_directories(dir);
+  const fs::path obj = meshtour::test::write_textured_cube(dir);
+  OIIO::ImageBuf big(OIIO::ImageSpec(4096, 4096, 3, OIIO::TypeDesc::UINT8));
+  const float grey[3] = {0.5f, 0.5f, 0.5f};
+  OIIO::ImageBufAlgo::fill(big, grey);
+  if (!big.write((dir / "checker.png").string())) throw std::runtime_error("cannot write the big texture");
+  return obj;
 }
 
 // ---- the corpus -----------------------------------------------------------------------------
@@ -260,6 +274,11 @@ TEST_F(BadInputCorpus, Meshes) {
        {"budget.obj", "needs an estimated", "--max-memory 2M"}, false},
       {"--max-memory that is not a size", "path", write(d / "size.obj", sphere_obj()), "--max-memory lots", 2,
        {"--max-memory", "not a size"}, false},
+      // The model fits the budget, its 4096 x 4096 atlas (64 MiB decoded) does not: refused once
+      // the model is loaded and its textures' headers are read, before the texture cache exists.
+      {"textures over a 140 MiB memory budget", "tour", big_texture_cube(d / "big-texture"),
+       "-q --max-memory 140M --width 64 --height 48 --frames 2 --path turntable", 2,
+       {"needs an estimated", "texture cache 64.0 MiB", "memory budget is 140.0 MiB"}, false},
       {"scene not JSON", "tour", write(d / "broken.json", "{\"model\": {\"procedural\": \"sculpture\"},\n  \"up\": }"), "-q", 2,
        {"not valid JSON", "line 2"}},
   };

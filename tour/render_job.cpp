@@ -85,8 +85,8 @@ void run_render(const RenderJob& args) {
   if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", threads);
   StageLog log(args.resources.verbose);
   log.start("check");
-  check_tour_memory(scene, args.resources);
-  const PreparedTour tour = prepare_tour(scene, args.quiet, &log);
+  const TourMemoryCheck memory = check_tour_memory(scene, args.resources);
+  const PreparedTour tour = prepare_tour(scene, args.quiet, &log, &memory);
   // The path search's view scores (feature orbit) join the manifest, as `tour --frames-dir`
   // writes them: every chunk computes the same ones, so concurrent writers agree.
   if (!tour.view_scores.empty()) {

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "mesh/mesh.h"
 
 namespace meshtour {
 namespace {
@@ -104,6 +106,22 @@ double estimate_frame_bytes(int width, int height, int extra_layers, bool denois
   // bytes a pixel.
   return static_cast<double>(width) * height * (80.0 + 16.0 * extra_layers + 1.5 * 40 + (denoise ? 170.0 : 0.0));
 }
+
+double estimate_decoded_texture_bytes(const TriangleMesh& mesh) {
+  double bytes = 0.0;
+  for (const MeshMaterial& material : mesh.materials)
+    if (material.has_texture()) {
+      try {
+        const TextureSize size = probe_texture(material);
+        bytes += 4.0 / 3.0 * size.width * size.height * size.channels;
+      } catch (const IoError&) {
+        // An unreadable texture holds no memory; the loader or the renderer says what is wrong.
+      }
+    }
+  return bytes;
+}
+
+double estimate_texture_cache_bytes(double decoded_texture_bytes) { return std::min(decoded_texture_bytes, 1024.0 * 1024 * 1024); }
 
 void check_memory(const MemoryEstimate& estimate, const MemoryBudget& budget, const std::string& job) {
   if (estimate.peak <= static_cast<double>(budget.bytes)) return;

@@ -11,6 +11,8 @@
 
 namespace meshtour {
 
+struct TriangleMesh;
+
 struct ResourceArgs {
   std::string max_memory;  ///< as given ("512M", "8G"); empty = default budget
   bool verbose = false;
@@ -47,6 +49,12 @@ double estimate_bvh_bytes(std::size_t triangles);                         ///< E
 /// the clustering's arrays and the proxy's analysis.
 double estimate_coverage_bytes(std::size_t triangles, std::size_t vertices);
 double estimate_frame_bytes(int width, int height, int extra_layers, bool denoise);     ///< frame buffers + encoder
+/// The textures' texels as the renderer decodes them (8 bits a channel, plus a third for the MIP
+/// levels), from their files' headers. 0 for an untextured model.
+double estimate_decoded_texture_bytes(const TriangleMesh& mesh);
+/// The renderer's texture cache: OpenImageIO keeps at most 1 GiB of 64x64 tiles (its default),
+/// whatever the atlases' size (8 x 16k JPEG atlases measured 1.6 GB peak for a whole render).
+double estimate_texture_cache_bytes(double decoded_texture_bytes);
 
 /// Refuses (InputError, exit 2) a job whose estimated peak exceeds the budget, naming the budget,
 /// the estimate by part and how to raise the budget.

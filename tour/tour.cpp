@@ -187,7 +187,7 @@ Image PreparedTour::render_frame(int k) const {
   return renderer->render(Camera::at(pose, fov), static_cast<std::uint64_t>(k));
 }
 
-void check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
+TourMemoryCheck check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
   std::size_t triangles = 0, vertices = 0;
   if (scene.mesh_file) {
     const MeshFileSummary counts = check_mesh_file(*scene.mesh_file);
@@ -210,10 +210,27 @@ void check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
   // The path's structures are freed before the BVH is built.
   e.peak = e.parts[0].second + e.parts[1].second +
            std::max(path_stages ? e.parts[2].second : 0.0, e.parts[e.parts.size() - 2].second + e.parts.back().second);
-  check_memory(e, memory_budget(resources), "this tour");
+  TourMemoryCheck check{e, memory_budget(resources)};
+  check_memory(check.estimate, check.budget, "this tour");
+  return check;
 }
 
-PreparedTour prepare_tour(const Scene& requested, bool quiet, StageLog* log) {
+namespace {
+
+// The textures' part, known once the model is loaded (their files' headers give their sizes),
+// checked before the renderer's texture cache exists.
+void check_texture_memory(TourMemoryCheck memory, const TriangleMesh& mesh) {
+  const double decoded = estimate_decoded_texture_bytes(mesh);
+  if (!(decoded > 0.0)) return;
+  const double cache = estimate_texture_cache_bytes(decoded);
+  memory.estimate.parts.push_back({"texture cache", cache});
+  memory.estimate.peak += cache;
+  check_memory(memory.estimate, memory.budget, "this tour");
+}
+
+}  // namespace
+
+PreparedTour prepare_tour(const Scene& requested, bool quiet, StageLog* log, const TourMemoryCheck* memory) {
   const auto stage = [&](const char* name) {
     if (log) log->start(name);
   };
@@ -224,6 +241,7 @@ PreparedTour prepare_tour(const Scene& requested, bool quiet, StageLog* log) {
   tour.mesh = load_scene_model(requested, &report);
   // --up auto needs the model; from here on everything reads the decided axis.
   resolve_auto_up(tour.scene, tour.mesh, quiet);
+  if (memory) check_texture_memory(*memory, tour.mesh);
   const Scene& scene = tour.scene;
   const TriangleMesh& mesh = tour.mesh;
   const Bounds bounds = mesh.bounds();
@@ -314,7 +332,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   // Refuse what would not fit before allocating anything.
   StageLog log(job.resources.verbose);
   log.start("check");
-  check_tour_memory(scene, job.resources);
+  const TourMemoryCheck memory = check_tour_memory(scene, job.resources);
 
   // Fail on the output before the expensive work: the encoder opens its temporary file now.
   VideoOptions video;
@@ -337,7 +355,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   }
   check_poster_output(job.poster);
 
-  const PreparedTour tour = prepare_tour(scene, job.quiet, &log);
+  const PreparedTour tour = prepare_tour(scene, job.quiet, &log, &memory);
   // The frames directory and its manifest only once the tour could be prepared: a bad model or
   // path file leaves nothing behind.
   if (keep_frames) {

@@ -81,14 +81,23 @@ struct PreparedTour {
   Image render_frame(int k) const;
 };
 
-/// Loads the model (printing a summary unless `quiet`), computes the path and the fov and builds
-/// the renderer; each of these is a stage of `log` (--verbose) when given.
-PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log = nullptr);
+/// What check_tour_memory() estimated, and the budget it checked the estimate against.
+struct TourMemoryCheck {
+  MemoryEstimate estimate;
+  MemoryBudget budget;
+};
 
 /// Refuses (InputError) a tour of `scene` whose estimated memory exceeds the budget, before
 /// anything big is allocated: the model's counts come from its file's structure (or the
-/// procedural model's size), the rest from the options.
-void check_tour_memory(const Scene& scene, const ResourceArgs& resources);
+/// procedural model's size), the rest from the options. Textures are not known yet: give the
+/// result to prepare_tour(), which adds them once the model is loaded.
+TourMemoryCheck check_tour_memory(const Scene& scene, const ResourceArgs& resources);
+
+/// Loads the model (printing a summary unless `quiet`), computes the path and the fov and builds
+/// the renderer; each of these is a stage of `log` (--verbose) when given. With `memory`, the
+/// model's textures (their texture cache) join its estimate once the model is loaded, and a tour
+/// that no longer fits is refused before the path and the renderer are made.
+PreparedTour prepare_tour(const Scene& scene, bool quiet, StageLog* log = nullptr, const TourMemoryCheck* memory = nullptr);
 
 /// The one thread policy: `requested` when > 0, else SLURM_CPUS_PER_TASK when set (a farm task
 /// must not take the whole node), else every core of the machine; capped to the machine's cores,
