@@ -18,6 +18,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh/mesh.h"
@@ -115,6 +116,19 @@ inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem:
   std::filesystem::rename(temporary, file);
 }
 
+/// argv without the flags of `flags` ("--mesh=" -> what to do with its value), for run_benchmarks():
+/// each benchmark's own flags first, everything else goes to Google Benchmark.
+inline std::vector<char*> take_flags(int argc, char** argv,
+                                     const std::vector<std::pair<std::string, std::function<void(const char*)>>>& flags) {
+  std::vector<char*> rest = {argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    const auto flag = std::find_if(flags.begin(), flags.end(), [&](const auto& f) { return std::strncmp(argv[i], f.first.c_str(), f.first.size()) == 0; });
+    if (flag != flags.end()) flag->second(argv[i] + flag->first.size());
+    else rest.push_back(argv[i]);
+  }
+  return rest;
+}
+
 /// The source mesh and the folder the split meshes are written to: --mesh=FILE (default
 /// ../shared/meshes/bunny.ply next to the source tree) and --mesh-dir=DIR (default bench-meshes/ in
 /// the build folder). Returns argv without these flags, for run_benchmarks().
@@ -122,16 +136,7 @@ inline std::vector<char*> take_mesh_flags(int argc, char** argv, std::filesystem
                                           const std::filesystem::path& source_dir, const std::filesystem::path& binary_dir) {
   source_mesh = source_dir.parent_path() / "shared" / "meshes" / "bunny.ply";
   mesh_dir = binary_dir / "bench-meshes";
-  std::vector<char*> rest = {argv[0]};
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--mesh=", 7) == 0)
-      source_mesh = argv[i] + 7;
-    else if (std::strncmp(argv[i], "--mesh-dir=", 11) == 0)
-      mesh_dir = argv[i] + 11;
-    else
-      rest.push_back(argv[i]);
-  }
-  return rest;
+  return take_flags(argc, argv, {{"--mesh=", [&](const char* v) { source_mesh = v; }}, {"--mesh-dir=", [&](const char* v) { mesh_dir = v; }}});
 }
 
 /// Runs the benchmarks selected by `args` (argv[0] first, then the flags the benchmark did not take).

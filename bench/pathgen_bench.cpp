@@ -130,16 +130,8 @@ BENCHMARK(BM_PathFileText)->Unit(benchmark::kMicrosecond);
 int main(int argc, char** argv) {
   g_source_mesh = std::filesystem::path(MESHTOUR_SOURCE_DIR).parent_path() / "shared" / "meshes" / "bunny.ply";
   std::optional<std::filesystem::path> write_mesh;
-  // Our own flags first; everything else goes to Google Benchmark.
-  std::vector<char*> rest = {argv[0]};
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--mesh=", 7) == 0)
-      g_source_mesh = argv[i] + 7;
-    else if (std::strncmp(argv[i], "--write-mesh=", 13) == 0)
-      write_mesh = argv[i] + 13;
-    else
-      rest.push_back(argv[i]);
-  }
+  const std::vector<char*> rest = meshtour::bench::take_flags(
+      argc, argv, {{"--mesh=", [](const char* v) { g_source_mesh = v; }}, {"--write-mesh=", [&](const char* v) { write_mesh = v; }}});
   if (write_mesh) {
     const auto& mesh = big_mesh();
     meshtour::save_mesh(mesh, *write_mesh);
