@@ -29,7 +29,7 @@ struct RayRecording {
   struct Packet {
     RTCRayHit16 primary;  ///< camera rays, as traced (before intersection)
     ValidMask primary_valid;
-    RTCRay16 shadow, sky;  ///< lanes not in use are uninitialised
+    RTCRay16 shadow, sky;  ///< lanes not in use hold a harmless ray (tile_kernel.cpp, set_rays)
     ValidMask shadow_valid, sky_valid;
   };
   struct Tile {

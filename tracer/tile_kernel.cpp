@@ -122,15 +122,19 @@ MESHTOUR_SIMD_INLINE V3 sky_direction(const V3& n, const V3& t1, const V3& t2, F
   return {a * t1.x + b * t2.x + h * n.x, a * t1.y + b * t2.y + h * n.y, a * t1.z + b * t2.z + h * n.z};
 }
 
-// Fills a 16-ray packet's rays (RTCRay16 or the ray part of RTCRayHit16).
+// Fills a 16-ray packet's rays (RTCRay16 or the ray part of RTCRayHit16). Lanes outside `lanes`
+// get a harmless ray (from the origin along +z): Embree must ignore them, but on CPUs without
+// AVX-512 it splits a 16-ray packet into two of 8, and Debian's build then asserts that every
+// ray of a half is valid, aborting on the infinite origins of camera rays that missed.
 template <typename Packet>
-MESHTOUR_SIMD_INLINE void set_rays(Packet& p, const V3& org, const V3& dir, float tfar, unsigned mask) {
-  simd::store(p.org_x, org.x);
-  simd::store(p.org_y, org.y);
-  simd::store(p.org_z, org.z);
-  simd::store(p.dir_x, dir.x);
-  simd::store(p.dir_y, dir.y);
-  simd::store(p.dir_z, dir.z);
+MESHTOUR_SIMD_INLINE void set_rays(Packet& p, I16 lanes, const V3& org, const V3& dir, float tfar, unsigned mask) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  simd::store(p.org_x, simd::select(lanes, org.x, zero));
+  simd::store(p.org_y, simd::select(lanes, org.y, zero));
+  simd::store(p.org_z, simd::select(lanes, org.z, zero));
+  simd::store(p.dir_x, simd::select(lanes, dir.x, zero));
+  simd::store(p.dir_y, simd::select(lanes, dir.y, zero));
+  simd::store(p.dir_z, simd::select(lanes, dir.z, one));
   simd::store(p.tnear, simd::broadcast(0.0f));
   simd::store(p.tfar, simd::broadcast(tfar));
   simd::store(p.time, simd::broadcast(0.0f));
@@ -364,7 +368,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     const F16 inv_len = 1.0f / simd::sqrt(dot(dir, dir));
     dir = {dir.x * inv_len, dir.y * inv_len, dir.z * inv_len};
     RTCRayHit16& primary = scratch.primary;
-    set_rays(primary.ray, eye, dir, std::numeric_limits<float>::infinity(), f.camera_mask);
+    set_rays(primary.ray, valid, eye, dir, std::numeric_limits<float>::infinity(), f.camera_mask);
     simd::store_int(primary.hit.geomID, simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
     simd::store_int(primary.hit.instID[0], simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
     ValidMask primary_valid;
@@ -630,8 +634,8 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     simd::store_int(shadow_lanes.data(), shadow_valid);
     simd::store_int(sky_lanes.data(), sky_valid);
     const bool any_shadow = simd::any(shadow_valid), any_sky = simd::any(sky_valid);
-    if (any_shadow) set_rays(scratch.shadow, org, shadow_dir, std::numeric_limits<float>::infinity(), kModelMask | kGroundMask);
-    if (any_sky) set_rays(scratch.sky, org, sky_dir, f.ao_length, kModelMask | kGroundMask);
+    if (any_shadow) set_rays(scratch.shadow, shadow_valid, org, shadow_dir, std::numeric_limits<float>::infinity(), kModelMask | kGroundMask);
+    if (any_sky) set_rays(scratch.sky, sky_valid, org, sky_dir, f.ao_length, kModelMask | kGroundMask);
     if (rec) {
       if (any_shadow) rec->shadow = scratch.shadow;
       if (any_sky) rec->sky = scratch.sky;
