@@ -102,8 +102,9 @@ void BM_TurntableOnHull(benchmark::State& state) {
   state.counters["radius_rel_diff"] = std::abs(radius - reference_radius) / reference_radius;
 }
 
-// `--up auto` (mesh/up_axis.h): the hull, the six rests, the flat ends, the mirror test and the
-// air under each side (one pass over the triangles each); against BM_Hull of the same run.
+// `--up auto` (mesh/up_axis.h): the hull, the six rests, the flat ends, the mirror test, the
+// holes (mesh/mesh_edges.h's tally) and the air under each side (one pass over the triangles
+// each); against BM_Hull of the same run.
 void BM_UpAxis(benchmark::State& state) {
   const auto& mesh = bunny(static_cast<int>(state.range(0)));
   meshtour::UpChoice choice;

@@ -35,6 +35,7 @@
 #include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "mesh/convex_hull.h"
+#include "mesh/mesh_edges.h"
 #include "mesh/vertex_clustering.h"
 
 namespace meshtour {
@@ -234,12 +235,68 @@ constexpr double kLegsSupport = 0.5;
 constexpr double kFigureThickness[2] = {0.1, 0.35};
 constexpr double kFigureSpread = 0.7;
 
+// A hole is an open end of the model when it reaches this close (share of the model's size) to
+// the model's extreme in the direction its cap faces. Measured on open scans: the missing
+// underside of the GGG SfM vases and jug lies on their extreme (0.000 of their size), open
+// busts' chests and necks on theirs; the vessels' unscanned insides end 0.11 (the jug's neck) to
+// 0.26 (the black vase's) short of their mouths.
+constexpr double kHoleSlab = 0.05;
+
+// The holes of an open mesh, each closed by a cap: a fan from the hole's centre over its edges.
+struct Holes {
+  // Per hole at an end (kHoleSlab): the cap's vector area (area times its normal, facing out of
+  // the model). That end is the model's open base or top.
+  std::vector<Eigen::Vector3d> end_caps;
+  // The caps of the other holes, as triangles facing out of the model (like `mesh` with
+  // `outward`): a vessel's unscanned inside, closed where the scan stopped.
+  TriangleMesh inner_caps;
+};
+
+// A triangle's boundary edges run around it counter-clockwise seen from outside (`outward` = +1),
+// so a cap closing them runs the other way: its vector area is -1/2 the sum of (p_u - o) x
+// (p_v - o) over its edges, the same for any o when the loop closes (o: the hole's centre).
+Holes find_holes(const TriangleMesh& mesh, double outward, const std::vector<Eigen::Vector3d>& hull, double model_size) {
+  const EdgeTally tally = tally_edges(mesh);
+  Holes holes;
+  for (const std::vector<std::uint32_t>& loop : boundary_loops(mesh, tally)) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero(), vector_area = Eigen::Vector3d::Zero();
+    for (const std::uint32_t e : loop) centre += mesh.positions[tally.boundary[e][0]];
+    centre /= static_cast<double>(loop.size());
+    for (const std::uint32_t e : loop) {
+      const Eigen::Vector3d &p = mesh.positions[tally.boundary[e][0]], &q = mesh.positions[tally.boundary[e][1]];
+      vector_area -= 0.5 * outward * (p - centre).cross(q - centre);
+    }
+    if (!(vector_area.norm() > 0.0)) continue;
+    const Eigen::Vector3d n = vector_area.normalized();
+    double reach = -std::numeric_limits<double>::infinity(), extreme = reach;
+    for (const std::uint32_t e : loop) reach = std::max(reach, mesh.positions[tally.boundary[e][0]].dot(n));
+    for (const Eigen::Vector3d& p : hull) extreme = std::max(extreme, p.dot(n));
+    if (reach >= extreme - kHoleSlab * model_size) {
+      holes.end_caps.push_back(vector_area);
+      continue;
+    }
+    // Triangles (centre, q, p) face the way the cap does when rasterized with `outward`.
+    TriangleMesh& caps = holes.inner_caps;
+    const auto centre_index = static_cast<std::uint32_t>(caps.positions.size());
+    caps.positions.push_back(centre);
+    for (const std::uint32_t e : loop) {
+      const auto at = static_cast<std::uint32_t>(caps.positions.size());
+      caps.positions.push_back(mesh.positions[tally.boundary[e][0]]);
+      caps.positions.push_back(mesh.positions[tally.boundary[e][1]]);
+      caps.triangles.push_back({centre_index, at + 1, at});
+    }
+  }
+  return holes;
+}
+
 struct AirUnder {
   std::array<double, 6> trapped{};  // per side (as UpChoice::rests): air closed in under the model
   std::array<double, 6> open{};     // air under the model that reaches the open air around it
 };
 
-AirUnder air_under(const TriangleMesh& mesh, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double outward) {
+// `caps` closes the holes that are no open end (find_holes): seen from under a vessel on its
+// mouth, the cap where the scan of its inside stopped is its roof, as its unscanned floor would be.
+AirUnder air_under(const TriangleMesh& mesh, const TriangleMesh& caps, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double outward) {
   constexpr int G = kPocketGrid;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   // Per axis k, per column of the other two coordinates: the lowest surface point (and whether its
@@ -261,7 +318,7 @@ AirUnder air_under(const TriangleMesh& mesh, const Eigen::Vector3d& lo, const Ei
   using Grids = std::array<std::vector<Column>, 3>;
   const Eigen::Vector3d extent = (hi - lo).cwiseMax(1e-300);
   const Eigen::Vector3d to_cells = Eigen::Vector3d::Constant(G).cwiseQuotient(extent);
-  const auto rasterize = [&](std::size_t first, std::size_t last, Grids& columns) {
+  const auto rasterize = [&](const TriangleMesh& mesh, std::size_t first, std::size_t last, Grids& columns) {
     for (std::size_t f = first; f < last; ++f) {
       const auto& t = mesh.triangles[f];
       const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
@@ -308,13 +365,14 @@ AirUnder air_under(const TriangleMesh& mesh, const Eigen::Vector3d& lo, const Ei
     return into;
   };
   // Chunks of triangles in parallel, each into its own grids, merged (min and max: any order).
-  const Grids columns = tbb::parallel_reduce(
+  Grids columns = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1 << 16), empty_grids(),
       [&](const tbb::blocked_range<std::size_t>& range, Grids grids) {
-        rasterize(range.begin(), range.end(), grids);
+        rasterize(mesh, range.begin(), range.end(), grids);
         return grids;
       },
       merge);
+  rasterize(caps, 0, caps.triangles.size(), columns);
 
   AirUnder share;
   std::vector<double> roof(static_cast<std::size_t>(G * G)), escape(static_cast<std::size_t>(G * G));
@@ -419,7 +477,6 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   std::array<double, 6> flat{};  // flat[2k]: facing +k at the +k end; flat[2k + 1]: facing -k at the -k end
   const double cos_flat = std::cos(kFlatAngleDeg * std::numbers::pi / 180.0);
   const double slab = kFlatSlab * model_size;
-  Eigen::Vector3d vector_area = Eigen::Vector3d::Zero();  // sum of the triangles' area times normal
   double volume6 = 0.0;                                   // six times the signed volume (> 0: normals point out)
   constexpr int G = kSymmetryGrid;
   std::vector<unsigned char> occupied(static_cast<std::size_t>(G * G * G), 0);
@@ -435,7 +492,6 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
     const Eigen::Vector3d m = (a + b + c) / 3.0;
     centroid += w * m;
     area += w;
-    vector_area += 0.5 * cross;
     volume6 += (a - middle).dot((b - middle).cross(c - middle));
     // The surface's cells: the centroid of a triangle smaller than a cell (a scan's), else a
     // barycentric grid of points no further apart than a cell (a CAD part's long triangles: their
@@ -458,16 +514,19 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   if (!(area > 0.0)) throw InputError("--up auto: the mesh has no area, so it has no side to rest on");
   centroid /= area;
   // A mesh whose normals point in (signed volume < 0) has the ends' roles swapped.
-  if (volume6 < 0.0) {
+  const double outward = volume6 < 0.0 ? -1.0 : 1.0;  // the triangles' facing: out of the model, or into it
+  if (volume6 < 0.0)
     for (std::size_t k = 0; k < 3; ++k) std::swap(flat[2 * k], flat[2 * k + 1]);
-    vector_area = -vector_area;
-  }
-  // An open mesh: the vector areas of a closed surface's triangles sum to zero, so the sum is
-  // minus the vector area of the caps that would close the holes. A scan's largest hole is usually
-  // its base, which the scanner could not see (a bust's open chest or neck, a statue's underside),
-  // so that cap counts as flat surface at the end it faces. Closed meshes (all shared ones) have
-  // none. Measured: the open head scan (libigl face.obj) gets a base lead of 0.67 from it.
-  for (std::size_t k = 0; k < 3; ++k) flat[vector_area[static_cast<Eigen::Index>(k)] > 0.0 ? 2 * k + 1 : 2 * k] += std::abs(vector_area[static_cast<Eigen::Index>(k)]);
+  // An open mesh: a scan's hole at one end of the model is usually its base, which the scanner
+  // could not see (a bust's open chest or neck, a statue's or a vase's underside), so the cap that
+  // would close it counts as flat surface at the end it faces. A hole that does not reach an end
+  // (kHoleSlab) says nothing about the base: a vessel's unscanned inside ends in one deep in its
+  // neck or on its inner floor, facing up, and counted it would stand the vessel on its mouth.
+  // Closed meshes (all shared ones) have no holes. Measured: the open head scan (libigl face.obj)
+  // gets a base lead of 0.67 from its open neck.
+  const Holes holes = find_holes(mesh, outward, hull, model_size);
+  for (const Eigen::Vector3d& cap : holes.end_caps)
+    for (std::size_t k = 0; k < 3; ++k) flat[cap[static_cast<Eigen::Index>(k)] > 0.0 ? 2 * k : 2 * k + 1] += std::abs(cap[static_cast<Eigen::Index>(k)]);
 
   UpChoice choice;
   for (int j = 0; j < 3; ++j) {  // the plane through the centroid normal to axis j
@@ -527,8 +586,7 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
     rest.rest = rest.margin > 0.0 ? rest.support_area * rest.margin * (1.0 - rest.centroid_height) : 0.0;
   };
 
-  const double outward = volume6 < 0.0 ? -1.0 : 1.0;  // the triangles' facing: out of the model, or into it
-  const AirUnder air = air_under(mesh, lo, hi, outward);
+  const AirUnder air = air_under(mesh, holes.inner_caps, lo, hi, outward);
   for (int k = 0; k < 6; ++k) {
     UpRest& rest = choice.rests[static_cast<std::size_t>(k)];
     rest.up = Axis{k / 2, k % 2 == 1};

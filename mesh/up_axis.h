@@ -77,7 +77,8 @@ struct UpChoice {
   std::string warning;
 };
 
-/// The up axis by shape (+y when no side rests firmly and clearly ahead of the others). Deterministic; a few ms beyond the convex hull's cost.
+/// The up axis by shape (+y when no side rests firmly and clearly ahead of the others). Deterministic;
+/// linear in the triangles: 30 ms at 70k faces, 3.0 s at 17.8M (bench/framing_bench BM_UpAxis).
 /// \throw InputError if the mesh has no area (nothing to rest on).
 UpChoice choose_up_axis(const TriangleMesh& mesh);
 

@@ -124,9 +124,9 @@ struct Builder {
     }
   }
   // A surface of revolution about +y through `centre`: radius(t) at height y(t), t in [0, 1] from
-  // bottom to top, closed by flat caps where the radius is not 0.
+  // bottom to top, closed by flat caps where the radius is not 0 (left open unless `capped`).
   template <class Radius, class Height>
-  void revolution(const Eigen::Vector3d& centre, Radius radius, Height height, int rings = 24, int segments = 48) {
+  void revolution(const Eigen::Vector3d& centre, Radius radius, Height height, int rings = 24, int segments = 48, bool capped = true) {
     std::vector<std::uint32_t> ring_start;
     for (int i = 0; i <= rings; ++i) {
       const double t = static_cast<double>(i) / rings;
@@ -144,7 +144,7 @@ struct Builder {
       }
     for (const int i : {0, rings}) {
       const double t = i == 0 ? 0.0 : 1.0;
-      if (radius(t) <= 0.0) continue;
+      if (radius(t) <= 0.0 || !capped) continue;
       const std::uint32_t c = vertex(centre + Eigen::Vector3d(0.0, height(t), 0.0));
       for (int j = 0; j < segments; ++j)
         if (i == 0) mesh.triangles.push_back({c, at(i, j + 1), at(i, j)});
@@ -154,10 +154,11 @@ struct Builder {
   // A closed lathe-turned solid about +y: the profile (radius, height) runs from the centre of
   // the bottom out, up the outside, over the rim and down the inside to the centre of the inner
   // bottom (both ends at radius 0), as a potter's wheel turns a vessel with walls.
-  void lathe(const std::vector<Eigen::Vector2d>& profile, int segments = 64) {
+  // With `capped` false, ends off the axis stay open (a scan's holes).
+  void lathe(const std::vector<Eigen::Vector2d>& profile, int segments = 64, bool capped = true) {
     const int n = static_cast<int>(profile.size()) - 1;
     const auto at = [&](double t) { return profile[static_cast<std::size_t>(std::lround(t * n))]; };
-    revolution({0.0, 0.0, 0.0}, [&](double t) { return at(t).x(); }, [&](double t) { return at(t).y(); }, n, segments);
+    revolution({0.0, 0.0, 0.0}, [&](double t) { return at(t).x(); }, [&](double t) { return at(t).y(); }, n, segments, capped);
   }
   void sphere(const Eigen::Vector3d& centre, double r, int rings = 24, int segments = 48) {
     revolution(centre, [r](double t) { return r * std::sin(EIGEN_PI * t); }, [r](double t) { return -r * std::cos(EIGEN_PI * t); },
@@ -345,6 +346,30 @@ TEST(UpAxis, VesselsStandMouthUp) {
   const UpChoice d = choose_up_axis(dome.mesh);
   EXPECT_EQ(d.upside_down_air, 0.0) << d.reason;
   expect_found_in_every_orientation("dome", dome.mesh, Axis{1, false});
+}
+
+// Vessels as photogrammetry scans them: the camera never sees the underside (on the table) nor
+// deep inside, so the scan is open at the foot and its inside stops partway down. The hole at the
+// foot is the model's open base; the hole inside reaches no end of the model and counts for
+// nothing (counted, its cap, wider than the foot and facing up, stood such a jar on its mouth, as
+// it did the GGG black vase). Closed where the scan stopped, the inside traps the air a vessel on
+// its mouth does. A jar (foot as wide as its mouth) and a vase swelling above a narrow foot,
+// scanned down to a half and to a third of their height inside, stand mouth up in every orientation.
+TEST(UpAxis, OpenScansOfVesselsStandMouthUp) {
+  using P = Eigen::Vector2d;
+  const std::vector<std::pair<std::string, std::vector<P>>> vessels = {
+      {"jar", {{0.4, 0}, {0.5, 0.3}, {0.5, 0.8}, {0.38, 0.95}, {0.4, 1.0}, {0.36, 1.0}, {0.34, 0.95}, {0.46, 0.8}, {0.46, 0.5}}},
+      {"vase", {{0.25, 0}, {0.4, 0.3}, {0.5, 0.6}, {0.42, 0.9}, {0.45, 1.0}, {0.41, 1.0}, {0.38, 0.9}, {0.46, 0.6}, {0.37, 0.35}}}};
+  for (const auto& [name, profile] : vessels) {
+    Builder b;
+    b.lathe(profile, 64, false);
+    const UpChoice c = choose_up_axis(b.mesh);
+    const UpRest& upright = c.rests[2];
+    EXPECT_GT(upright.flat_base, 0.2) << name << ": the open foot is its base";
+    EXPECT_LT(upright.flat_top, 0.15) << name << ": only the lip is flat on top; the hole inside is no top";
+    EXPECT_GE(c.rests[3].trapped_air, 0.15) << name << ": on its mouth, its inside closed where the scan stopped traps air";
+    expect_found_in_every_orientation(name, b.mesh, Axis{1, false});
+  }
 }
 
 // Furniture rests more firmly on its top or seat than on its legs (flat, heavy, the whole
