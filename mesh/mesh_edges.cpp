@@ -66,6 +66,7 @@ EdgeTally tally_edges(const TriangleMesh& mesh) {
 }
 
 std::vector<std::vector<std::uint32_t>> boundary_loops(const TriangleMesh& mesh, const EdgeTally& tally) {
+  if (tally.boundary.empty()) return {};  // a closed mesh: no per-vertex tables to fill
   DisjointSets sets(mesh.positions.size());
   for (const auto& [a, b] : tally.boundary) sets.join(a, b);
   // A loop's number is its root, the lowest vertex of its edges (DisjointSets keeps the lowest).
