@@ -104,7 +104,9 @@ constexpr double kOverrideThickness = 0.1;
 //  * an end of the model: nothing of it lies more than kCutBeyond of its size beyond the
 //    region's plane (a flat face in the middle of a side is no base),
 //  * within kCutAxisDeg of facing down one of the axes, not across the plane of symmetry,
-//  * on a model at least kOverrideThickness as thick along it as its size (a flat model's face).
+//  * on a model at least kCutThickness as tall along it as its size: a bust or a fragment stands
+//    on its cut taller than it is wide, while a flat back on a thin side is where a mask, a relief
+//    or a plaque hangs on a wall (or a mask sits on a face), which says nothing of its up.
 // Where the crease lies on a rough rim depends on how the proxy's cells fall, so the regions are
 // taken at each of the kCutCreaseDeg angles and the largest that passes wins (at one angle alone,
 // the Venus neck merged with the head in one of six orientations). Measured on proxies of 2,000
@@ -121,6 +123,11 @@ constexpr double kCutMinArea = 0.03;
 constexpr double kCutFlatness = 0.9;
 constexpr double kCutBeyond = 0.05;
 constexpr double kCutAxisDeg = 30.0;
+// Measured: the busts and heads found by their cuts are 0.72 (the Fertility statuette) to 1.0
+// (Venus, Igea, a gargoyle, a Celtic skull) as tall along the cut's axis as their size; the
+// Lynx mask (a 3D-printed wearable mask, dome-experiments) is 0.45 deep behind its flat brow
+// band, which stood it on its back before this bound.
+constexpr double kCutThickness = 0.5;
 
 struct FlatCut {
   Axis up;                  // the axis opposite the side the cut faces
@@ -130,8 +137,9 @@ struct FlatCut {
 
 // The largest sawn base of `mesh` (see kCutProxyCells), if any. `outward` is +1 when the
 // triangles face out of the model, -1 when they face in (the proxy keeps their facing).
-std::optional<FlatCut> flat_cut(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& hull, double model_size,
+std::optional<FlatCut> flat_cut(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& hull, const Eigen::Vector3d& height,
                                 int symmetry_normal, double outward) {
+  const double model_size = height.maxCoeff();  // `height`: the bounding box's size along each axis
   const TriangleMesh proxy = cluster_surface(mesh, kCutProxyCells).mesh;
   const std::size_t faces = proxy.triangles.size();
   std::vector<Eigen::Vector3d> area_normal(faces);  // area times unit normal
@@ -187,7 +195,7 @@ std::optional<FlatCut> flat_cut(const TriangleMesh& mesh, const std::vector<Eige
       Eigen::Index k = 0;
       n.cwiseAbs().maxCoeff(&k);
       if (beyond > kCutBeyond * model_size || beyond - lowest < kOverrideThickness * model_size || std::abs(n[k]) < cos_axis ||
-          k == symmetry_normal)
+          k == symmetry_normal || height[k] < kCutThickness * model_size)
         continue;
       const double share = region_area[r] / total;
       if (!best || share > best->surface_share)
@@ -681,7 +689,7 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   // than its mouth's rim), but a flat region elsewhere says nothing (an armchair's back, a
   // bookcase's): +y stays, not confident.
   if (!choice.confident) {
-    cut = flat_cut(mesh, hull, model_size, choice.symmetry_normal, outward);
+    cut = flat_cut(mesh, hull, extent, choice.symmetry_normal, outward);
     if (cut && best.score >= kFirmScore && cut->up != best.up && cut->up != second.up) cut.reset();
   }
   if (cut) {

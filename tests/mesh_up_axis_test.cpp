@@ -227,6 +227,33 @@ TEST(UpAxis, HeadOnASlantedCut) {
   }
 }
 
+// A mask: a face a third as deep as it is tall, its back flattened on a plane tilted 20 degrees
+// (a wearable mask's brow band, a relief's or a plaque's back, made to lie on a face or hang on a
+// wall). The flat back looks like a head's sawn neck to the cut rule, but a bust stands on its cut
+// at least half as tall as its size (kCutThickness) and a mask is thin there: its back tells its
+// front, not its up. Before that bound, the rule stood this mask on its back in three of its six
+// orientations (and the Lynx mask of dome-experiments in four).
+TEST(UpAxis, MaskIsNotStoodOnItsFlatBack) {
+  Builder b;
+  b.sphere({0.0, 0.0, 0.0}, 1.0, 48, 96);
+  const double slope = std::tan(20.0 * EIGEN_PI / 180.0);
+  for (Eigen::Vector3d& p : b.mesh.positions) {
+    p.x() *= 0.8;
+    p.z() *= 0.45;
+    p.z() = std::max(p.z(), -0.12 - slope * p.y());  // the back, down to a plane facing back and down
+  }
+  b.box({-0.08, -0.1, 0.4}, {0.08, 0.15, 0.55});  // a nose: the mask faces +z
+  const UpChoice c = choose_up_axis(b.mesh);
+  print_rests("mask", c);
+  EXPECT_EQ(c.cut_share, 0.0) << c.reason;
+  for (const Axis to : kAllAxes) {  // turned so that its up is `to`: never stood on its back
+    const Eigen::Matrix3d r = axis_rotation(Axis{1, false}, to);
+    const UpChoice turned = choose_up_axis(rotated(b.mesh, r));
+    const Eigen::Vector3d front = r * Eigen::Vector3d::UnitZ();
+    EXPECT_FALSE(turned.confident && turned.up.vector().isApprox(front)) << "up " << to.name() << ": " << turned.reason;
+  }
+}
+
 // A standing figure: legs and feet, a body, arms held out, a head and a nose. No side rests firmly wider
 // than its feet, but the soles are flat and the head is round; its plane of symmetry (x = 0) is
 // found and x is never up.
