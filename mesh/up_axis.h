@@ -26,7 +26,8 @@
 // it keeps +y, not confident: right only by convention. The rocker arm (no natural up) lies on
 // its widest flank. On fetched models (the README lists them and the counts): it is confidently
 // wrong on two that rest on their faces and are neither vessels, furniture nor spread figures,
-// Blender's Suzanne (a head without a neck) and meshJND's open face mask (on its open back); the
+// Blender's Suzanne (a head without a neck) and meshJND's open face mask (on its open back; a flat
+// back found as a sawn cut no longer stands a mask on it, see kCutThickness); the
 // A-posed ogre and two T-posed humans stand on their feet since the figure cue. The procedural
 // vessels, furniture and T-posed figure of the tests are found in all six orientations.
 #include <array>
