@@ -72,7 +72,8 @@ inline void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem:
 }
 
 // GLB (glTF 2.0 binary): float positions and uint32 indices in one buffer, one mesh, one node.
-inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+/// `instances` > 1: the mesh drawn by that many nodes, side by side along +x (one mesh, shared).
+inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file, int instances = 1) {
   std::filesystem::create_directories(file.parent_path());
   std::vector<char> bin(12 * mesh.positions.size() + 12 * mesh.triangles.size());
   std::array<float, 3> lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
@@ -92,7 +93,12 @@ inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem:
        << R"(}],"accessors":[{"bufferView":0,"componentType":5126,"count":)" << mesh.positions.size() << R"(,"type":"VEC3","min":[)"
        << lo[0] << "," << lo[1] << "," << lo[2] << "],\"max\":[" << hi[0] << "," << hi[1] << "," << hi[2]
        << R"(]},{"bufferView":1,"componentType":5125,"count":)" << 3 * mesh.triangles.size()
-       << R"(,"type":"SCALAR"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})";
+       << R"(,"type":"SCALAR"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],"nodes":[)";
+  for (int i = 0; i < instances; ++i)
+    json << (i ? "," : "") << R"({"mesh":0,"translation":[)" << 1.5 * (hi[0] - lo[0]) * i << ",0,0]}";
+  json << R"(],"scenes":[{"nodes":[)";
+  for (int i = 0; i < instances; ++i) json << (i ? "," : "") << i;
+  json << R"(]}],"scene":0})";
   std::string text = json.str();
   while (text.size() % 4) text += ' ';
   const auto u32 = [](std::ofstream& out, std::size_t v) {

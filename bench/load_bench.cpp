@@ -6,9 +6,11 @@
 //
 //   build/bench/load_bench                                   # every size, both formats
 //   build/bench/load_bench --benchmark_filter='Glb/4$'       # the 17.8M-face GLB only
+//   build/bench/load_bench --benchmark_filter=Instanced      # one mesh drawn 1, 16, 64 times
 //   build/bench/load_bench --mesh=FILE --mesh-dir=DIR
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -50,6 +52,30 @@ void BM_LoadPly(benchmark::State& state) { load(state, ".ply"); }
 // GLB: tinygltf's parse, the accessor checks and the welding of bit-identical vertices.
 void BM_LoadGlb(benchmark::State& state) { load(state, ".glb"); }
 
+// A GLB whose one mesh (the bunny, 70k faces) is drawn by state.range(0) nodes, as written (plain
+// accessors) or Draco-compressed by Debian's draco_transcoder (skipped without it): a catalogue
+// model of repeated parts. The decoding is done once per mesh, the copying once per instance.
+void load_instanced(benchmark::State& state, bool draco) {
+  const int instances = static_cast<int>(state.range(0));
+  const auto plain = g_mesh_dir / (g_source_mesh.stem().string() + "-x" + std::to_string(instances) + ".glb");
+  if (!std::filesystem::exists(plain)) meshtour::bench::write_glb(meshtour::bench::split_mesh(g_source_mesh, 0), plain, instances);
+  auto file = plain;
+  if (draco) {
+    file = g_mesh_dir / (plain.stem().string() + "-draco.glb");
+    const std::string command = "draco_transcoder -i '" + plain.string() + "' -o '" + file.string() + "' >/dev/null 2>&1";
+    if (!std::filesystem::exists(file) && std::system(command.c_str()) != 0) {
+      state.SkipWithError("draco_transcoder is not installed (Debian package draco)");
+      return;
+    }
+  }
+  std::size_t faces = 0;
+  for (auto _ : state) faces = meshtour::load_mesh(file).triangles.size();
+  state.counters["faces"] = static_cast<double>(faces);
+  state.counters["MB"] = static_cast<double>(std::filesystem::file_size(file)) / 1e6;
+}
+void BM_LoadInstancedGlb(benchmark::State& state) { load_instanced(state, false); }
+void BM_LoadInstancedDracoGlb(benchmark::State& state) { load_instanced(state, true); }
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (int levels : {0, 2, 3, 4}) b->Arg(levels);
   b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
@@ -57,6 +83,8 @@ void sizes(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_LoadPly)->Apply(sizes);
 BENCHMARK(BM_LoadGlb)->Apply(sizes);
+BENCHMARK(BM_LoadInstancedGlb)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_LoadInstancedDracoGlb)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 
 }  // namespace
 

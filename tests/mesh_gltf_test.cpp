@@ -319,6 +319,23 @@ TEST(MeshGltf, GpuInstancesAndIgnoredLights) {
   EXPECT_NEAR((mesh.positions[4 + 1] - Eigen::Vector3d(5, 12, 0)).norm(), 0.0, 1e-6);  // (1,0,0) -> (0,2,0) + (5,10,0)
   ASSERT_EQ(report.warnings.size(), 1u);
   EXPECT_NE(report.warnings[0].find("KHR_lights_punctual"), std::string::npos) << report.warnings[0];
+  // A second node drawing the same mesh, mirrored in x, after the instanced one: the primitive is
+  // decoded once and serves all three draws, and the mirrored copy's triangles are turned so that
+  // they still face +z (the square's side).
+  {
+    GltfBuilder shared = b;
+    shared.doc["nodes"].push_back({{"mesh", 0}, {"scale", {-1, 1, 1}}, {"translation", {0, 0, 3}}});
+    shared.doc["scenes"][0]["nodes"].push_back(1);
+    shared.write_glb(dir / "shared.glb");
+    const TriangleMesh three = load_mesh(dir / "shared.glb");
+    ASSERT_EQ(three.triangles.size(), 6u);
+    for (const auto& t : three.triangles) {
+      const Eigen::Vector3d n = (three.positions[t[1]] - three.positions[t[0]]).cross(three.positions[t[2]] - three.positions[t[0]]);
+      EXPECT_GT(n.z(), 0.0);
+    }
+    EXPECT_NEAR(three.bounds().lo.x(), -1.0, 1e-6);  // the mirrored copy spans x in [-1, 0] at z = 3
+    EXPECT_NEAR(three.bounds().hi.z(), 3.0, 1e-6);
+  }
 
   b.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["SCALE"] = b.floats({1, 1, 1}, 3);  // one, for two instances
   b.write_glb(dir / "uneven.glb");
