@@ -21,7 +21,7 @@
 #include "mesh/gltf.h"
 #include "mesh/obj_materials.h"
 #include "mesh/openmesh_log.h"
-#include "mesh/ply_texture.h"
+#include "mesh/ply_contents.h"
 #include "mesh/textures.h"
 
 namespace meshtour {
@@ -183,40 +183,39 @@ namespace {
 
 namespace {
 
-// A textured PLY or one with triangle strips, built from what its check collected: positions,
-// colours, faces (fan-triangulated) and strips' triangles, with their corners' texture coordinates
-// and one material when textured: the image of its TextureFile comment, relative to the PLY.
-TriangleMesh textured_ply(const std::filesystem::path& file, ply_detail::PlyTexture texture) {
+// A PLY, built from what its check read: positions, colours, faces (fan-triangulated) and
+// strips' triangles, and when it names a texture and has coordinates, their corners' coordinates
+// and one material: the image of its TextureFile comment, relative to the PLY.
+TriangleMesh ply_mesh(const std::filesystem::path& file, ply_detail::PlyContents contents) {
   TriangleMesh mesh;
-  const bool textured = texture.per_vertex || texture.per_corner;  // else only strips brought it here
+  const bool textured = contents.per_vertex || contents.per_corner;
   if (textured) {
     MeshMaterial material;
     material.name = "TextureFile";
-    std::string name = texture.texture_file;
+    std::string name = contents.texture_file;
     std::replace(name.begin(), name.end(), '\\', '/');
     const std::filesystem::path image(name);
     material.texture_file = image.is_absolute() ? image : file.parent_path() / image;
     material.wrap_s = material.wrap_t = TextureWrap::image_default;  // as OBJ
     mesh.materials.push_back(material);
   }
-  mesh.positions = std::move(texture.positions);
-  mesh.colors = std::move(texture.colors);
-  const auto vertex_uv = [&](std::uint32_t v) -> Eigen::Vector2f {
-    return texture.per_vertex ? texture.vertex_uvs[v] : Eigen::Vector2f::Zero();
-  };
-  for (const auto& f : texture.faces) {
-    const bool corners = texture.per_corner && f.uvs.size() == f.vertices.size();
-    const auto uv = [&](std::size_t k) -> Eigen::Vector2f { return corners ? f.uvs[k] : vertex_uv(f.vertices[k]); };
-    for (std::size_t k = 1; k + 1 < f.vertices.size(); ++k) {
-      mesh.triangles.push_back({f.vertices[0], f.vertices[k], f.vertices[k + 1]});
-      if (textured)
-        for (const std::size_t c : {std::size_t{0}, k, k + 1}) mesh.corner_uvs.push_back(uv(c));
-    }
-  }
-  for (const auto& t : texture.strip_triangles) {
-    mesh.triangles.push_back(t);
-    if (textured)
-      for (const std::uint32_t v : t) mesh.corner_uvs.push_back(vertex_uv(v));
+  mesh.positions = std::move(contents.positions);
+  mesh.colors = std::move(contents.colors);
+  mesh.triangles = std::move(contents.face_triangles);
+  const std::size_t from_faces = mesh.triangles.size();
+  mesh.triangles.insert(mesh.triangles.end(), contents.strip_triangles.begin(), contents.strip_triangles.end());
+  if (textured) {
+    // A corner takes its face's own coordinate (per_corner) where the face lists one per corner,
+    // else its vertex's (per_vertex), else (0, 0).
+    const auto vertex_uv = [&](std::uint32_t v) -> Eigen::Vector2f {
+      return contents.per_vertex ? contents.vertex_uvs[v] : Eigen::Vector2f::Zero();
+    };
+    mesh.corner_uvs.reserve(3 * mesh.triangles.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      for (std::size_t k = 0; k < 3; ++k) {
+        const bool own = t < from_faces && contents.per_corner && !std::isnan(contents.face_corner_uvs[3 * t + k].x());
+        mesh.corner_uvs.push_back(own ? contents.face_corner_uvs[3 * t + k] : vertex_uv(mesh.triangles[t][k]));
+      }
   }
   if (mesh.triangles.empty()) throw InputError(file.string() + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
   return mesh;
@@ -261,17 +260,21 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
   }
 
-  ply_detail::PlyTexture ply_texture;
-  if (ext == ".ply") ply_detail::check_ply_with_texture(file, ply_texture);
-  else check_mesh_file(file);
-  if (ply_texture.per_vertex || ply_texture.per_corner || ply_texture.strips) {
+  if (ext == ".ply") {
+    ply_detail::PlyContents contents;
+    ply_detail::read_ply(file, contents);
+    const std::size_t polygons = contents.polygons;
     std::vector<std::string> warnings;
-    TriangleMesh mesh = textured_ply(file, std::move(ply_texture));
+    TriangleMesh mesh = ply_mesh(file, std::move(contents));
     check_geometry(mesh, name);
     check_material_textures(mesh, name, load_options, warnings);
-    if (report) report->warnings = warnings;
+    if (report) {
+      report->polygons_triangulated = polygons;
+      report->warnings = warnings;
+    }
     return mesh;
   }
+  check_mesh_file(file);
   if (ext == ".gltf" || ext == ".glb") {
     std::vector<std::string> warnings;
     TriangleMesh mesh = gltf_detail::load_gltf(file, warnings);

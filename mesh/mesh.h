@@ -82,7 +82,7 @@ std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh);
 /// What the loader did to the file's contents on the way in.
 struct LoadReport {
   std::size_t polygons_triangulated = 0;  ///< faces with more than 3 corners, fan-triangulated
-  std::size_t vertices_split = 0;         ///< vertices OpenMesh duplicated to keep non-manifold faces
+  std::size_t vertices_split = 0;         ///< vertices OpenMesh duplicated to keep non-manifold faces (OBJ, OFF, STL; PLY and glTF keep the file's)
   std::vector<std::string> warnings;      ///< messages from the reader, one per line
 };
 

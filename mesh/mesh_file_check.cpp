@@ -5,7 +5,8 @@
 // or make the reader fail with a message that does not say where, and a body shorter than its
 // header is read as garbage. These scans walk the file once, bounded by its size, and refuse such
 // files with a message naming the file and the line or element; they also give the counts the
-// memory estimate needs before anything is allocated.
+// memory estimate needs before anything is allocated. A PLY's walk is also its reader
+// (read_ply, mesh/ply_contents.h): load_mesh builds the model from what it reads.
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -22,7 +24,7 @@
 #include "core/error.h"
 #include "mesh/gltf.h"
 #include "mesh/mesh.h"
-#include "mesh/ply_texture.h"
+#include "mesh/ply_contents.h"
 
 namespace meshtour {
 namespace {
@@ -260,12 +262,18 @@ bool is_colour_property(const std::string& name) {
   return false;
 }
 
+// What a property means to the reader, decided once from the header (comparing its name per value
+// was a third of the time of reading a big PLY).
+enum class PlyRole : unsigned char { skip, x, y, z, red, green, blue, u, v, face_indices, face_texcoords, strip };
+
 struct PlyProperty {
   std::string name;
   int size = 0;        // bytes of a scalar, or of a list's items
   int count_size = 0;  // bytes of a list's count, 0 for scalars
   bool is_float = false, is_signed = false;
   bool count_signed = false;
+  PlyRole role = PlyRole::skip;
+  bool colour = false;  // a vertex colour component (alpha too): floats must lie in [0, 1]
 };
 struct PlyElement {
   std::string name;
@@ -296,24 +304,54 @@ bool ply_type(const std::string& type, int& size, bool& is_float, bool& is_signe
   return false;
 }
 
+// Where a value lies, for a message: built only when one is thrown.
+struct PlyWhere {
+  const std::string& element;
+  unsigned long long index;
+  std::string text() const { return element + " " + std::to_string(index); }
+};
+
+// The body's values, read through a buffer of its own (an ifstream read per value cost as much as
+// the rest of the walk).
 class PlyBody {
 public:
   PlyBody(std::ifstream& in, const std::string& name, bool ascii, bool big_endian)
-      : in_(in), name_(name), ascii_(ascii), big_endian_(big_endian) {}
+      : in_(in), name_(name), ascii_(ascii), big_endian_(big_endian), buffer_(kBuffer) {}
 
   // The next value, as a double (integers up to 2^53 are exact, enough for any index).
-  double value(int size, bool is_float, bool is_signed, const std::string& where) {
-    if (ascii_) {
-      std::string word;
-      if (!(in_ >> word)) throw InputError(name_ + ": truncated PLY: the file ends in " + where);
-      double d = 0.0;
-      if (!parse_double(word, d)) throw InputError(name_ + ": " + where + ": '" + word + "' is not a number");
-      return d;
+  double value(int size, bool is_float, bool is_signed, const PlyWhere& where) {
+    const auto n = static_cast<std::size_t>(size);
+    if (ascii_ || big_endian_ || end_ - at_ < n) return slow_value(size, is_float, is_signed, where);
+    const char* b = buffer_.data() + at_;
+    at_ += n;
+    // Fixed-size copies per type (the common case of a little-endian file, buffered): a copy of
+    // variable size was a library call per value.
+    switch (size * 4 + (is_float ? 2 : 0) + (is_signed ? 1 : 0)) {
+      case 4: return load<std::uint8_t>(b);
+      case 5: return load<std::int8_t>(b);
+      case 8: return load<std::uint16_t>(b);
+      case 9: return load<std::int16_t>(b);
+      case 16: return load<std::uint32_t>(b);
+      case 17: return load<std::int32_t>(b);
+      case 18:
+      case 19: return load<float>(b);
+      case 34:
+      case 35: return load<double>(b);
+      default: return decode(reinterpret_cast<const unsigned char*>(b), size, is_float, is_signed);
     }
-    unsigned char bytes[8] = {};
-    in_.read(reinterpret_cast<char*>(bytes), size);
-    if (!in_) throw InputError(name_ + ": truncated PLY: the file ends in " + where);
-    if (big_endian_) std::reverse(bytes, bytes + size);
+  }
+
+private:
+  static constexpr std::size_t kBuffer = std::size_t{1} << 20;
+
+  template <class T>
+  static double load(const char* b) {
+    T v;
+    std::memcpy(&v, b, sizeof v);
+    return static_cast<double>(v);
+  }
+  // Little-endian bytes of any scalar type (the host is little-endian).
+  static double decode(const unsigned char* bytes, int size, bool is_float, bool is_signed) {
     if (is_float) {
       if (size == 4) {
         float f;
@@ -325,15 +363,58 @@ public:
       return d;
     }
     std::uint64_t u = 0;
-    std::memcpy(&u, bytes, static_cast<std::size_t>(size));  // little-endian host
+    std::memcpy(&u, bytes, static_cast<std::size_t>(size));
     if (is_signed && size < 8 && (u >> (8 * size - 1)) & 1) return static_cast<double>(static_cast<std::int64_t>(u | (~0ull << (8 * size))));
     return static_cast<double>(u);
   }
+  // ASCII, big-endian, or at the buffer's end.
+  double slow_value(int size, bool is_float, bool is_signed, const PlyWhere& where) {
+    if (ascii_) return ascii_value(where);
+    const auto n = static_cast<std::size_t>(size);
+    if (end_ - at_ < n && !fill(n)) throw InputError(name_ + ": truncated PLY: the file ends in " + where.text());
+    unsigned char bytes[8] = {};
+    std::memcpy(bytes, buffer_.data() + at_, n);
+    at_ += n;
+    if (big_endian_) std::reverse(bytes, bytes + size);
+    return decode(bytes, size, is_float, is_signed);
+  }
 
-private:
+  // At least `n` bytes buffered after at_, unless the file ends first.
+  bool fill(std::size_t n) {
+    std::memmove(buffer_.data(), buffer_.data() + at_, end_ - at_);
+    end_ -= at_;
+    at_ = 0;
+    while (end_ < n && in_) {
+      in_.read(buffer_.data() + end_, static_cast<std::streamsize>(buffer_.size() - end_));
+      end_ += static_cast<std::size_t>(in_.gcount());
+    }
+    return end_ >= n;
+  }
+  bool next_byte(char& c) {
+    if (at_ == end_ && !fill(1)) return false;
+    c = buffer_[at_++];
+    return true;
+  }
+  // A whitespace-separated word, as strtod reads it (so "+1", "1e3" and "inf" mean what they did).
+  double ascii_value(const PlyWhere& where) {
+    char c = 0;
+    do {
+      if (!next_byte(c)) throw InputError(name_ + ": truncated PLY: the file ends in " + where.text());
+    } while (std::isspace(static_cast<unsigned char>(c)));
+    word_.clear();
+    do word_ += c;
+    while (next_byte(c) && !std::isspace(static_cast<unsigned char>(c)));
+    double d = 0.0;
+    if (!parse_double(word_, d)) throw InputError(name_ + ": " + where.text() + ": '" + word_ + "' is not a number");
+    return d;
+  }
+
   std::ifstream& in_;
   const std::string& name_;
   bool ascii_, big_endian_;
+  std::vector<char> buffer_;
+  std::size_t at_ = 0, end_ = 0;
+  std::string word_;
 };
 
 // A vertex index read from the file, for a message: as an integer where it is one that fits, else
@@ -348,7 +429,7 @@ std::string index_text(double v) {
 bool is_u_property(const std::string& n) { return n == "texture_u" || n == "s" || n == "u"; }
 bool is_v_property(const std::string& n) { return n == "texture_v" || n == "t" || n == "v"; }
 
-MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& name, ply_detail::PlyTexture* texture) {
+MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& name, ply_detail::PlyContents* out) {
   std::ifstream in(file, std::ios::binary);
   std::string line;
   if (!std::getline(in, line) || (strip_cr(line), line != "ply"))
@@ -366,13 +447,13 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
     // The strict grammar of the header: OpenMesh's own header parser loops forever on some
     // malformed lines (a 'format' line with extra words was found by fuzzing).
     const std::string& keyword = words[0];
-    if (keyword == "comment" && words.size() >= 3 && words[1] == "TextureFile" && texture && texture->texture_file.empty()) {
+    if (keyword == "comment" && words.size() >= 3 && words[1] == "TextureFile" && out && out->texture_file.empty()) {
       // The name is the rest of the line (it may hold spaces).
       const std::string rest = line.substr(line.find("TextureFile") + 11);
       const auto first = rest.find_first_not_of(" \t");
-      texture->texture_file = rest.substr(first);
-      while (!texture->texture_file.empty() && std::isspace(static_cast<unsigned char>(texture->texture_file.back())))
-        texture->texture_file.pop_back();
+      out->texture_file = rest.substr(first);
+      while (!out->texture_file.empty() && std::isspace(static_cast<unsigned char>(out->texture_file.back())))
+        out->texture_file.pop_back();
       continue;
     }
     if (keyword == "comment" || keyword == "obj_info") continue;
@@ -442,62 +523,71 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
   unsigned long long vertex_count = 0;
   for (const auto& e : elements)
     if (e.name == "vertex") vertex_count = e.count;
-  PlyBody reader(in, name, ascii, format == "binary_big_endian");
-  // Texture coordinates are collected only for a file that names its texture.
-  bool collect = false;
-  if (texture && !texture->texture_file.empty())
+  bool has_colour = false;
+  for (auto& e : elements)
+    for (auto& p : e.properties) {
+      const std::string& n = p.name;
+      if (e.name == "vertex" && !p.count_size) {
+        p.role = n == "x" ? PlyRole::x : n == "y" ? PlyRole::y : n == "z" ? PlyRole::z
+               : n == "red" || n == "diffuse_red" ? PlyRole::red : n == "green" || n == "diffuse_green" ? PlyRole::green
+               : n == "blue" || n == "diffuse_blue" ? PlyRole::blue : is_u_property(n) ? PlyRole::u : is_v_property(n) ? PlyRole::v
+               : PlyRole::skip;
+        p.colour = is_colour_property(n);
+        has_colour = has_colour || p.colour;
+      }
+      if (e.name == "face" && p.count_size && (n == "vertex_indices" || n == "vertex_index")) p.role = PlyRole::face_indices;
+      if (e.name == "face" && p.count_size && n == "texcoord") p.role = PlyRole::face_texcoords;
+      if (e.name == "tristrips" && p.count_size && (n == "vertex_indices" || n == "vertex_index")) p.role = PlyRole::strip;
+    }
+  // Texture coordinates count only in a file that names its texture.
+  if (out && !out->texture_file.empty())
     for (const auto& e : elements)
       for (const auto& p : e.properties) {
-        if (e.name == "vertex" && is_u_property(p.name) && !p.count_size) texture->per_vertex = true;
-        if (e.name == "face" && p.name == "texcoord" && p.count_size) texture->per_corner = true;
+        out->per_vertex = out->per_vertex || p.role == PlyRole::u;
+        out->per_corner = out->per_corner || p.role == PlyRole::face_texcoords;
       }
-  const auto is_strip_list = [](const PlyElement& e, const PlyProperty& p) {
-    return e.name == "tristrips" && p.count_size && (p.name == "vertex_indices" || p.name == "vertex_index");
-  };
-  if (texture)
-    for (const auto& e : elements)
-      for (const auto& p : e.properties)
-        if (is_strip_list(e, p)) texture->strips = true;
-  if (texture && (texture->per_vertex || texture->per_corner || texture->strips)) {
-    collect = true;
-    if (texture->per_vertex) texture->vertex_uvs.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector2f::Zero());
-    texture->positions.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector3d::Zero());
-    for (const auto& e : elements)
-      for (const auto& p : e.properties)
-        if (e.name == "vertex" && is_colour_property(p.name) && texture->colors.empty())
-          texture->colors.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector3f::Ones());
+  if (out) {
+    // The header's counts fit the body (checked above), so these allocations are bounded by the file.
+    out->positions.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector3d::Zero());
+    if (has_colour) out->colors.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector3f::Ones());
+    if (out->per_vertex) out->vertex_uvs.assign(static_cast<std::size_t>(vertex_count), Eigen::Vector2f::Zero());
   }
+  PlyBody reader(in, name, ascii, format == "binary_big_endian");
+  std::vector<std::uint32_t> corners;  // the face being read
+  std::vector<Eigen::Vector2f> corner_uvs;
+  const Eigen::Vector2f no_uv = Eigen::Vector2f::Constant(std::numeric_limits<float>::quiet_NaN());
   for (const auto& e : elements) {
     if (e.name == "vertex") s.vertices = e.count;
     if (e.name == "face") s.faces = e.count;
     for (unsigned long long i = 0; i < e.count; ++i) {
+      const PlyWhere where{e.name, i};
+      const auto at = static_cast<std::size_t>(i);
+      bool face = false;
+      corners.clear();
+      corner_uvs.clear();
       for (const auto& p : e.properties) {
-        const std::string where = e.name + " " + std::to_string(i);
         if (!p.count_size) {
           const double v = reader.value(p.size, p.is_float, p.is_signed, where);
-          if (collect && e.name == "vertex") {
-            const auto at = static_cast<std::size_t>(i);
-            if (p.name == "x" || p.name == "y" || p.name == "z") texture->positions[at][p.name[0] - 'x'] = v;
-            const float colour = static_cast<float>(p.is_float ? v : v / 255.0);
-            if (p.name == "red" || p.name == "diffuse_red") texture->colors[at].x() = colour;
-            if (p.name == "green" || p.name == "diffuse_green") texture->colors[at].y() = colour;
-            if (p.name == "blue" || p.name == "diffuse_blue") texture->colors[at].z() = colour;
+          if (p.role == PlyRole::x || p.role == PlyRole::y || p.role == PlyRole::z) {
+            if (!std::isfinite(v))
+              throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate (" + p.name + ")");
+            if (out) out->positions[at][static_cast<int>(p.role) - static_cast<int>(PlyRole::x)] = v;
           }
-          if (collect && texture->per_vertex && e.name == "vertex") {
-            if (is_u_property(p.name)) texture->vertex_uvs[static_cast<std::size_t>(i)].x() = static_cast<float>(v);
-            if (is_v_property(p.name)) texture->vertex_uvs[static_cast<std::size_t>(i)].y() = static_cast<float>(v);
-          }
-          if (e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z") && !std::isfinite(v))
-            throw InputError(name + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate (" + p.name + ")");
-          // Float colours become bytes in OpenMesh without a range check (undefined behaviour).
-          if (e.name == "vertex" && p.is_float && is_colour_property(p.name) && !(v >= 0.0 && v <= 1.0))
+          // Float colours became bytes in OpenMesh without a range check (undefined behaviour).
+          if (p.colour && p.is_float && !(v >= 0.0 && v <= 1.0))
             throw InputError(name + ": vertex " + std::to_string(i) + " has a colour component (" + p.name + ") outside 0 to 1");
+          if (out && (p.role == PlyRole::red || p.role == PlyRole::green || p.role == PlyRole::blue)) {
+            const double full = p.is_float ? 1.0 : p.size == 1 ? 255.0 : p.size == 2 ? 65535.0 : 4294967295.0;
+            out->colors[at][static_cast<int>(p.role) - static_cast<int>(PlyRole::red)] = static_cast<float>(std::clamp(v / full, 0.0, 1.0));
+          }
+          if (out && out->per_vertex && p.role == PlyRole::u) out->vertex_uvs[at].x() = static_cast<float>(v);
+          if (out && out->per_vertex && p.role == PlyRole::v) out->vertex_uvs[at].y() = static_cast<float>(v);
           continue;
         }
         const double n = reader.value(p.count_size, false, p.count_signed, where);
         if (!(n >= 0) || n > static_cast<double>(body))
-          throw InputError(name + ": " + where + ": the list '" + p.name + "' has an invalid length " + std::to_string(n));
-        if (is_strip_list(e, p)) {
+          throw InputError(name + ": " + where.text() + ": the list '" + p.name + "' has an invalid length " + std::to_string(n));
+        if (p.role == PlyRole::strip) {
           // One strip: vertex indices, -1 between strips; every index after the first two makes a triangle.
           std::uint32_t window[2] = {0, 0};
           long long in_strip = 0;
@@ -517,7 +607,7 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
               if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) {
                 ++s.faces;
                 s.corners += 3;
-                if (collect) texture->strip_triangles.push_back(t);
+                if (out) out->strip_triangles.push_back(t);
               }
             }
             window[0] = window[1];
@@ -526,24 +616,33 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
           }
           continue;
         }
-        const bool indices = e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
-        const bool corner_uvs = collect && e.name == "face" && p.name == "texcoord";
-        if (collect && e.name == "face" && (indices || corner_uvs) && texture->faces.size() <= i) texture->faces.resize(static_cast<std::size_t>(i) + 1);
-        if (indices) {
+        if (p.role == PlyRole::face_indices) {
           if (n < 3) throw InputError(name + ": face " + std::to_string(i) + " has " + std::to_string(static_cast<long long>(n)) + " corners; a face needs 3 or more");
           s.corners += static_cast<std::size_t>(n);
+          face = true;
         }
         for (double k = 0; k < n; ++k) {
           const double v = reader.value(p.size, p.is_float, p.is_signed, where);
-          if (indices && !(v >= 0 && v < static_cast<double>(vertex_count)))
-            throw InputError(name + ": face " + std::to_string(i) + " refers to vertex " + index_text(v) +
-                             " but the file has " + std::to_string(vertex_count) + " vertices");
-          if (collect && indices) texture->faces[static_cast<std::size_t>(i)].vertices.push_back(static_cast<std::uint32_t>(v));
-          if (corner_uvs) {
-            auto& uvs = texture->faces[static_cast<std::size_t>(i)].uvs;
-            if (static_cast<long long>(k) % 2 == 0) uvs.emplace_back(static_cast<float>(v), 0.0f);
-            else uvs.back().y() = static_cast<float>(v);
+          if (p.role == PlyRole::face_indices) {
+            if (!(v >= 0 && v < static_cast<double>(vertex_count)))
+              throw InputError(name + ": face " + std::to_string(i) + " refers to vertex " + index_text(v) +
+                               " but the file has " + std::to_string(vertex_count) + " vertices");
+            if (out) corners.push_back(static_cast<std::uint32_t>(v));
           }
+          if (out && out->per_corner && p.role == PlyRole::face_texcoords) {
+            if (static_cast<long long>(k) % 2 == 0) corner_uvs.emplace_back(static_cast<float>(v), 0.0f);
+            else corner_uvs.back().y() = static_cast<float>(v);
+          }
+        }
+      }
+      // The face, fan-triangulated once all its properties are read (texcoord may come first).
+      if (out && face) {
+        const bool own_uvs = corner_uvs.size() == corners.size();
+        out->polygons += corners.size() > 3 ? 1 : 0;
+        for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+          out->face_triangles.push_back({corners[0], corners[k], corners[k + 1]});
+          if (out->per_corner)
+            for (const std::size_t c : {std::size_t{0}, k, k + 1}) out->face_corner_uvs.push_back(own_uvs ? corner_uvs[c] : no_uv);
         }
       }
     }
@@ -614,8 +713,8 @@ MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
 
 namespace meshtour::ply_detail {
 
-MeshFileSummary check_ply_with_texture(const std::filesystem::path& file, PlyTexture& texture) {
-  return check_ply(file, file.string(), &texture);  // load_mesh() has checked that the file exists and is not empty
+MeshFileSummary read_ply(const std::filesystem::path& file, PlyContents& contents) {
+  return check_ply(file, file.string(), &contents);  // load_mesh() has checked that the file exists and is not empty
 }
 
 }  // namespace meshtour::ply_detail

@@ -215,6 +215,17 @@ TEST_F(BadInputCorpus, Meshes) {
                                "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
        "", 2, {}},
       {"PLY face past the vertex list", "path", write(d / "past.ply", kPlyTetHeader + past_end), "", 2, {"face", "99"}},
+      // The PLY reader's own buffer: a big-endian body cut inside a face's list, and an ASCII body
+      // cut in the middle of its last face.
+      {"big-endian PLY truncated inside a face", "path",
+       write(d / "big_endian.ply", std::string("ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n") +
+                                       std::string(36, '\0') + std::string("\x03\0\0\0\0\0\0\0", 8)),
+       "", 2, {"truncated", "face 0"}},
+      {"ASCII PLY truncated inside its last face", "path",
+       write(d / "ascii_cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                                  "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1"),
+       "", 2, {"truncated", "face 1"}},
       {"OBJ face past the vertex list", "path", write(d / "past.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\n"), "", 2,
        {"line 5", "7"}},
       {"OFF face past the vertex list", "path", write(d / "past.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n"), "", 2, {"face", "5"}},

@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
+#include <array>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
+#include <vector>
 
 #include "core/error.h"
 #include "helpers.h"
@@ -223,6 +227,95 @@ TEST(MeshLoader, OffAndStlAndBinaryPlyAgree) {
   EXPECT_EQ(from_ply.vertex_count(), 4u);
   EXPECT_EQ(from_ply.face_count(), 4u);
   EXPECT_EQ(from_ply.positions, off.positions);
+}
+
+// The PLY reader (mesh/ply_contents.h) keeps the file as it is: its vertices in order (a fin of
+// three triangles on one edge is not split, as OpenMesh split it), its faces in order with a quad
+// fan-triangulated and counted, 16-bit colours scaled by 65535, and the same numbers from ASCII,
+// little-endian and big-endian bodies, whatever the order of the face's lists. Lists longer than
+// the buffer's refill boundary are read across it (a body of 2 MB).
+TEST(MeshLoader, PlyIsReadAsStoredInEveryEncoding) {
+  const auto dir = test::scratch_dir();
+  const std::vector<std::array<double, 3>> points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}, {0.5, 0.5, -1}, {0.5, -1, 0.25}};
+  const std::vector<std::vector<std::uint32_t>> faces = {{0, 1, 2, 3}, {0, 1, 4}, {1, 0, 5}, {0, 1, 6}};  // a quad, then a fin on edge 0-1
+  const std::string header_vertices = "element vertex 7\nproperty float x\nproperty float y\nproperty float z\nproperty ushort red\n"
+                                      "property ushort green\nproperty ushort blue\nproperty float confidence\n";
+  const auto write = [&](const std::string& format) {
+    const auto file = dir / ("mesh_" + format + ".ply");
+    std::ofstream out(file, std::ios::binary);
+    out << "ply\nformat " << format << " 1.0\ncomment written by the test\n" << header_vertices
+        << "element face 4\nproperty uchar flags\nproperty list uchar int vertex_indices\nend_header\n";
+    const bool big = format == "binary_big_endian";
+    const auto put = [&](auto v) {
+      char bytes[sizeof v];
+      std::memcpy(bytes, &v, sizeof v);
+      if (big) std::reverse(bytes, bytes + sizeof v);
+      out.write(bytes, sizeof v);
+    };
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const auto c = static_cast<std::uint16_t>(9000 * i);
+      if (format == "ascii") {
+        out << points[i][0] << " " << points[i][1] << " " << points[i][2] << " " << c << " 65535 0 0.5\n";
+      } else {
+        for (const double x : points[i]) put(static_cast<float>(x));
+        put(c), put(std::uint16_t{65535}), put(std::uint16_t{0}), put(0.5f);
+      }
+    }
+    for (const auto& f : faces) {
+      if (format == "ascii") {
+        out << "7 " << f.size();
+        for (const auto v : f) out << " " << v;
+        out << "\n";
+      } else {
+        put(std::uint8_t{7}), put(static_cast<std::uint8_t>(f.size()));
+        for (const auto v : f) put(static_cast<std::int32_t>(v));
+      }
+    }
+    return file;
+  };
+  for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+    LoadReport report;
+    const TriangleMesh mesh = load_mesh(write(format), &report);
+    ASSERT_EQ(mesh.positions.size(), 7u) << format;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      EXPECT_EQ(mesh.positions[i], Eigen::Vector3d(points[i][0], points[i][1], points[i][2])) << format << " vertex " << i;
+    const std::vector<std::array<std::uint32_t, 3>> expected = {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}, {1, 0, 5}, {0, 1, 6}};
+    EXPECT_EQ(mesh.triangles, expected) << format;
+    EXPECT_EQ(report.polygons_triangulated, 1u) << format;
+    EXPECT_EQ(report.vertices_split, 0u) << format;
+    ASSERT_TRUE(mesh.has_colors()) << format;
+    EXPECT_FLOAT_EQ(mesh.colors[2].x(), 18000.0f / 65535.0f) << format;
+    EXPECT_FLOAT_EQ(mesh.colors[2].y(), 1.0f) << format;
+    EXPECT_FLOAT_EQ(mesh.colors[2].z(), 0.0f) << format;
+  }
+
+  // A big body: a band of 2 x 60000 vertices as 119998 triangles, binary (4.3 MB, across the
+  // reader's 1 MB buffer), every vertex and triangle where the file puts it.
+  const int columns = 60000;
+  const auto big = dir / "strip.ply";
+  {
+    std::ofstream out(big, std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex " << 2 * columns
+        << "\nproperty double x\nproperty double y\nproperty double z\nelement face " << 2 * (columns - 1)
+        << "\nproperty list uchar uint vertex_indices\nend_header\n";
+    for (int i = 0; i < columns; ++i)
+      for (const double y : {0.0, 1.0}) {
+        const double p[3] = {i * 0.001, y, std::sin(i * 0.01)};
+        out.write(reinterpret_cast<const char*>(p), sizeof p);
+      }
+    for (std::uint32_t i = 0; i + 1 < static_cast<std::uint32_t>(columns); ++i) {
+      const std::uint32_t a = 2 * i, t[2][3] = {{a, a + 2, a + 1}, {a + 1, a + 2, a + 3}};
+      for (const auto& tri : t) {
+        out.put(3);
+        out.write(reinterpret_cast<const char*>(tri), sizeof tri);
+      }
+    }
+  }
+  const TriangleMesh strip = load_mesh(big);
+  ASSERT_EQ(strip.positions.size(), static_cast<std::size_t>(2 * columns));
+  ASSERT_EQ(strip.triangles.size(), static_cast<std::size_t>(2 * (columns - 1)));
+  EXPECT_EQ(strip.positions[2 * 43210 + 1], Eigen::Vector3d(43210 * 0.001, 1.0, std::sin(43210 * 0.01)));
+  EXPECT_EQ(strip.triangles.back(), (std::array<std::uint32_t, 3>{2 * columns - 3, 2 * columns - 2, 2 * columns - 1}));
 }
 
 TEST(MeshLoader, MissingFileIsAnIoErrorNamingTheFile) {
