@@ -472,6 +472,10 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
       if (!parse_integer(words[2], count) || count < 0)
         throw InputError(name + ": PLY header: element '" + e.name + "' has an invalid count '" + words[2] + "'");
       e.count = static_cast<unsigned long long>(count);
+      // One vertex list: faces index it, and the reader sizes the model by it (a second one, found
+      // by fuzzing, wrote past the first's vertices).
+      if (e.name == "vertex" && std::any_of(elements.begin(), elements.end(), [](const PlyElement& x) { return x.name == "vertex"; }))
+        fail("a second 'element vertex' (a PLY has one vertex list)");
       elements.push_back(e);
     } else if (keyword == "property") {
       if (elements.empty()) fail("a property before any element");

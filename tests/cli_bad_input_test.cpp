@@ -222,6 +222,11 @@ TEST_F(BadInputCorpus, Meshes) {
                                                "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n") +
                                        std::string(36, '\0') + std::string("\x03\0\0\0\0\0\0\0", 8)),
        "", 2, {"truncated", "face 0"}},
+      {"PLY with two vertex lists (found by fuzzing)", "path",
+       write(d / "two_lists.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                                  "element vertex 2\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+                                  "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 0 0\n1 1 1\n3 0 1 2\n"),
+       "", 2, {"line 7", "second 'element vertex'"}},
       {"ASCII PLY truncated inside its last face", "path",
        write(d / "ascii_cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                                   "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1"),
