@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -65,6 +66,28 @@ inline void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem:
       face[0] = 3;
       std::memcpy(face + 1, t.data(), 12);
       out.write(face, sizeof face);
+    }
+    if (!out) throw std::runtime_error("could not write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+// OBJ text: "v x y z" with float precision (9 significant digits, as the PLY's floats) and
+// "f a b c", as scanning software writes them.
+inline void write_obj(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  const std::filesystem::path temporary = file.string() + ".partial";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    char line[128];
+    for (const auto& p : mesh.positions) {
+      const int n = std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                  static_cast<float>(p.z()));
+      out.write(line, n);
+    }
+    for (const auto& t : mesh.triangles) {
+      const int n = std::snprintf(line, sizeof line, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
+      out.write(line, n);
     }
     if (!out) throw std::runtime_error("could not write " + temporary.string());
   }

@@ -1,7 +1,7 @@
-// Loading big meshes (issue 15): meshtour::load_mesh on the same model as binary PLY and as GLB,
+// Loading big meshes (issue 15): meshtour::load_mesh on the same model as binary PLY, OBJ and GLB,
 // the bunny split 1-to-4 at edge midpoints 0, 2, 3 and 4 times (70k, 1.1M, 4.5M, 17.8M faces).
 // The files are written once to --mesh-dir (default: bench-meshes/ in the build folder, never
-// the repository); each benchmark then times reading its file back, so the two formats are
+// the repository); each benchmark then times reading its file back, so the formats are
 // compared in one run on one machine.
 //
 //   build/bench/load_bench                                   # every size, both formats
@@ -30,6 +30,7 @@ std::filesystem::path mesh_file(int levels, const std::string& extension) {
   if (!std::filesystem::exists(file)) {
     const meshtour::TriangleMesh& mesh = meshtour::bench::split_mesh(g_source_mesh, levels);
     if (extension == ".glb") meshtour::bench::write_glb(mesh, file);
+    else if (extension == ".obj") meshtour::bench::write_obj(mesh, file);
     else meshtour::bench::write_ply(mesh, file);
   }
   return file;
@@ -49,6 +50,7 @@ void load(benchmark::State& state, const std::string& extension) {
 }
 
 void BM_LoadPly(benchmark::State& state) { load(state, ".ply"); }
+void BM_LoadObj(benchmark::State& state) { load(state, ".obj"); }
 // GLB: tinygltf's parse, the accessor checks and the welding of bit-identical vertices.
 void BM_LoadGlb(benchmark::State& state) { load(state, ".glb"); }
 
@@ -82,6 +84,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_LoadPly)->Apply(sizes);
+BENCHMARK(BM_LoadObj)->Apply(sizes);
 BENCHMARK(BM_LoadGlb)->Apply(sizes);
 BENCHMARK(BM_LoadInstancedGlb)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 BENCHMARK(BM_LoadInstancedDracoGlb)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);

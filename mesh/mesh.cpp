@@ -19,7 +19,7 @@
 
 #include "core/error.h"
 #include "mesh/gltf.h"
-#include "mesh/obj_materials.h"
+#include "mesh/obj_reader.h"
 #include "mesh/openmesh_log.h"
 #include "mesh/ply_contents.h"
 #include "mesh/textures.h"
@@ -44,23 +44,6 @@ bool is_supported(const std::string& ext) {
   return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl" || ext == ".gltf" || ext == ".glb";
 }
 
-// Counts polygon faces with more than three corners in OBJ/OFF/ASCII-PLY text, so the report can
-// say how many were triangulated. Binary formats are not scanned (the count stays 0).
-std::size_t count_polygons_in_text(const std::filesystem::path& file, const std::string& ext) {
-  std::ifstream in(file);
-  std::size_t polygons = 0;
-  std::string line;
-  if (ext == ".obj") {
-    while (std::getline(in, line)) {
-      if (line.size() < 2 || line[0] != 'f' || !std::isspace(static_cast<unsigned char>(line[1]))) continue;
-      std::istringstream fields(line.substr(2));
-      std::size_t corners = 0;
-      for (std::string token; fields >> token;) ++corners;
-      if (corners > 3) ++polygons;
-    }
-  }
-  return polygons;
-}
 
 }  // namespace
 
@@ -106,77 +89,44 @@ std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh) {
 
 namespace {
 
-// Gives the mesh the OBJ's materials, each triangle its material and (with `face_texcoords`) its
-// corners' texture coordinates. OpenMesh fan-triangulates polygons but gives texture
-// coordinates only to the first triangle of each, and keeps no material; both come from the
-// file's own faces here. Not inlined: GCC's view of OpenMesh's property code inside load_mesh
-// would otherwise change (and warn).
-[[gnu::noinline]] void assign_obj_materials(LoaderMesh& om, obj_detail::ObjFaces& faces, bool face_texcoords, TriangleMesh& mesh) {
-  if (faces.materials.empty()) return;
-  {
-    // Faces before any usemtl get a material of their own, untextured (the look's colour).
-    const bool unassigned = std::any_of(faces.triangles.begin(), faces.triangles.end(), [](const auto& t) { return t.material < 0; });
-    const std::uint32_t fallback = static_cast<std::uint32_t>(faces.materials.size());
-    if (unassigned) {
-      MeshMaterial none;
-      none.name = "(faces before any usemtl)";
-      faces.materials.push_back(none);
-      faces.uv_transforms.push_back({1, 1, 0, 0});
-    }
-    const bool uvs = face_texcoords && !faces.texcoords.empty();
-    mesh.triangle_materials.reserve(mesh.triangles.size());
-    if (uvs) mesh.corner_uvs.reserve(3 * mesh.triangles.size());
-    // OpenMesh fan-triangulates polygons but gives texture coordinates only to the first
-    // triangle of each, and keeps no material; both come from the file's own faces here.
-    std::size_t cursor = 0;
-    std::uint32_t material = unassigned ? fallback : 0;
-    for (auto fh : om.faces()) {
-      std::array<OpenMesh::HalfedgeHandle, 3> corners;
-      std::array<int, 3> vertex{};
-      int k = 0;
-      for (auto heh : om.fh_range(fh))  // same order as fv_range: each halfedge's target vertex
-        if (k < 3) {
-          corners[k] = heh;
-          vertex[k++] = om.to_vertex_handle(heh).idx();
-        }
-      // OpenMesh keeps the file's order and drops faces it cannot add, so the match is ahead.
-      std::size_t match = faces.triangles.size();
-      for (std::size_t j = cursor; j < faces.triangles.size() && j < cursor + 1024; ++j)
-        if (std::is_permutation(vertex.begin(), vertex.end(), faces.triangles[j].vertex.begin())) {
-          match = j;
-          break;
-        }
-      // A face OpenMesh changed (split vertices) keeps the material of the face before it.
-      if (match != faces.triangles.size())
-        material = faces.triangles[match].material < 0 ? fallback : static_cast<std::uint32_t>(faces.triangles[match].material);
-      mesh.triangle_materials.push_back(material);
-      if (!uvs) {
-        if (match != faces.triangles.size()) cursor = match + 1;
-        continue;
-      }
-      const auto& transform = faces.uv_transforms[material];
-      for (int c = 0; c < 3; ++c) {
-        Eigen::Vector2f uv = Eigen::Vector2f::Zero();
-        if (match == faces.triangles.size()) {
-          if (om.has_halfedge_texcoords2D()) {
-            const auto& t = om.texcoord2D(corners[c]);
-            uv = {t[0], t[1]};
-          }
-        } else {
-          const auto& tri = faces.triangles[match];
-          const int at = static_cast<int>(std::find(tri.vertex.begin(), tri.vertex.end(), vertex[c]) - tri.vertex.begin());
-          const int index = tri.texcoord[at];
-          if (index >= 0 && index < static_cast<int>(faces.texcoords.size())) uv = faces.texcoords[index];
-        }
-        // map_Kd -s and -o: the texture is scaled, then moved, in texture space.
-        if (transform != std::array<float, 4>{1, 1, 0, 0})
-          uv = {uv.x() * transform[0] + transform[2], uv.y() * transform[1] + transform[3]};
-        mesh.corner_uvs.push_back(uv);
-      }
-      if (match != faces.triangles.size()) cursor = match + 1;
-    }
-    mesh.materials = std::move(faces.materials);
+// An OBJ, built from what its reader read: positions, colours, triangles, and when it names
+// materials, each triangle's material and (when its faces give them) its corners' texture
+// coordinates, with each material's map_Kd -s and -o applied.
+TriangleMesh obj_mesh(obj_detail::ObjContents& obj) {
+  TriangleMesh mesh;
+  mesh.positions = std::move(obj.positions);
+  mesh.colors = std::move(obj.colors);
+  mesh.triangles.reserve(obj.triangles.size());
+  for (const auto& t : obj.triangles)
+    mesh.triangles.push_back({static_cast<std::uint32_t>(t.vertex[0]), static_cast<std::uint32_t>(t.vertex[1]), static_cast<std::uint32_t>(t.vertex[2])});
+  if (obj.materials.empty()) return mesh;
+  // Faces before any usemtl get a material of their own, untextured (the look's colour).
+  const bool unassigned = std::any_of(obj.triangles.begin(), obj.triangles.end(), [](const auto& t) { return t.material < 0; });
+  const auto fallback = static_cast<std::uint32_t>(obj.materials.size());
+  if (unassigned) {
+    MeshMaterial none;
+    none.name = "(faces before any usemtl)";
+    obj.materials.push_back(none);
+    obj.uv_transforms.push_back({1, 1, 0, 0});
   }
+  const bool uvs = obj.corner_texcoords && !obj.texcoords.empty();
+  mesh.triangle_materials.reserve(obj.triangles.size());
+  if (uvs) mesh.corner_uvs.reserve(3 * obj.triangles.size());
+  for (const auto& t : obj.triangles) {
+    const std::uint32_t material = t.material < 0 ? fallback : static_cast<std::uint32_t>(t.material);
+    mesh.triangle_materials.push_back(material);
+    if (!uvs) continue;
+    const auto& transform = obj.uv_transforms[material];
+    for (const int index : t.texcoord) {
+      Eigen::Vector2f uv = index >= 0 && index < static_cast<int>(obj.texcoords.size()) ? obj.texcoords[static_cast<std::size_t>(index)]
+                                                                                         : Eigen::Vector2f::Zero();
+      // map_Kd -s and -o: the texture is scaled, then moved, in texture space.
+      if (transform != std::array<float, 4>{1, 1, 0, 0}) uv = {uv.x() * transform[0] + transform[2], uv.y() * transform[1] + transform[3]};
+      mesh.corner_uvs.push_back(uv);
+    }
+  }
+  mesh.materials = std::move(obj.materials);
+  return mesh;
 }
 
 }  // namespace
@@ -274,6 +224,31 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     }
     return mesh;
   }
+  if (ext == ".obj") {
+    obj_detail::ObjContents obj = obj_detail::read_obj(file, true);
+    if (obj.triangles.empty()) throw InputError(name + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
+    // A material library left behind when the OBJ was copied is the commonest way its textures go
+    // missing: the same choice as for a missing texture (mesh/textures.h), an error by default.
+    std::vector<std::string> warnings;
+    for (const std::string& library : obj.missing_libraries) {
+      const std::string what = "the material library '" + library + "' that its mtllib line names is missing or unreadable (looked for " +
+                               std::filesystem::absolute(file.parent_path() / library).lexically_normal().string() + ")";
+      if (!load_options.check_textures) continue;  // a command that does not render (path) needs no materials
+      if (!load_options.missing_textures_grey)
+        throw IoError(name + ": " + what + "; put it beside the OBJ, or pass --missing-textures grey to render the model untextured");
+      warnings.push_back(what + "; its materials' faces are rendered untextured (--missing-textures grey)");
+    }
+    warnings.insert(warnings.end(), obj.warnings.begin(), obj.warnings.end());
+    const std::size_t polygons = obj.polygons;
+    TriangleMesh mesh = obj_mesh(obj);
+    check_geometry(mesh, name);
+    check_material_textures(mesh, name, load_options, warnings);
+    if (report) {
+      report->polygons_triangulated = polygons;
+      report->warnings = warnings;
+    }
+    return mesh;
+  }
   check_mesh_file(file);
   if (ext == ".gltf" || ext == ".glb") {
     std::vector<std::string> warnings;
@@ -287,12 +262,6 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
   LoaderMesh om;
   om.request_vertex_colors();
   OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor;
-  // OBJ texture coordinates (vt) arrive per face corner, i.e. on halfedges.
-  const bool obj = ext == ".obj";
-  if (obj) {
-    om.request_halfedge_texcoords2D();
-    options += OpenMesh::IO::Options::FaceTexCoord;
-  }
   std::vector<std::string> messages;
   bool ok = false;
   try {
@@ -334,27 +303,9 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
   }
   check_geometry(mesh, name);
   std::vector<std::string> material_warnings;
-  if (obj) {
-    obj_detail::ObjFaces faces = obj_detail::read_obj_faces(file);
-    // A material library left behind when the OBJ was copied is the commonest way its textures go
-    // missing: the same choice as for a missing texture (mesh/textures.h), an error by default.
-    std::vector<std::string> library_warnings;
-    for (const std::string& library : faces.missing_libraries) {
-      const std::string what = "the material library '" + library + "' that its mtllib line names is missing or unreadable (looked for " +
-                               std::filesystem::absolute(file.parent_path() / library).lexically_normal().string() + ")";
-      if (!load_options.check_textures) continue;  // a command that does not render (path) needs no materials
-      if (!load_options.missing_textures_grey)
-        throw IoError(name + ": " + what + "; put it beside the OBJ, or pass --missing-textures grey to render the model untextured");
-      library_warnings.push_back(what + "; its materials' faces are rendered untextured (--missing-textures grey)");
-    }
-    material_warnings = std::move(faces.warnings);
-    material_warnings.insert(material_warnings.begin(), library_warnings.begin(), library_warnings.end());
-    assign_obj_materials(om, faces, options.check(OpenMesh::IO::Options::FaceTexCoord), mesh);
-  }
   check_material_textures(mesh, name, load_options, material_warnings);
 
   if (report) {
-    report->polygons_triangulated = count_polygons_in_text(file, ext);
     report->warnings = messages;
     report->warnings.insert(report->warnings.end(), material_warnings.begin(), material_warnings.end());
     // OpenMesh keeps faces it cannot add manifoldly by giving them copies of their vertices;

@@ -24,6 +24,7 @@
 #include "core/error.h"
 #include "mesh/gltf.h"
 #include "mesh/mesh.h"
+#include "mesh/obj_reader.h"
 #include "mesh/ply_contents.h"
 
 namespace meshtour {
@@ -63,80 +64,7 @@ std::vector<std::string> words_of(const std::string& line) {
   return words;
 }
 
-// ---- OBJ ------------------------------------------------------------------------------------
-
-MeshFileSummary check_obj(const std::filesystem::path& file, const std::string& name) {
-  std::ifstream in(file, std::ios::binary);
-  MeshFileSummary s;
-  std::size_t texcoords = 0, normals = 0;
-  std::string line;
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
-    strip_cr(line);
-    // OpenMesh skips leading blanks (" f /11 2 3" reached an assertion in its reader: fuzzing).
-    line.erase(0, line.find_first_not_of(" \t\r\v\f"));
-    if (line.size() < 2 || (line[0] != 'v' && line[0] != 'f')) continue;
-    const auto words = words_of(line);
-    if (words.empty()) continue;
-    const std::string& key = words[0];
-    auto fail = [&](const std::string& what) -> void {
-      throw InputError(name + ": line " + std::to_string(number) + ": " + what);
-    };
-    if (key == "v") {
-      ++s.vertices;
-      if (words.size() < 4) fail("vertex " + std::to_string(s.vertices) + " has fewer than 3 coordinates");
-      for (int k = 1; k <= 3; ++k) {
-        double c = 0.0;
-        if (!parse_double(words[k], c)) fail("vertex " + std::to_string(s.vertices) + " has a coordinate that is not a number: '" + words[k] + "'");
-        if (!std::isfinite(c))
-          fail("vertex " + std::to_string(s.vertices) + " has a NaN or infinite coordinate ('" + words[k] + "')");
-      }
-      // "v x y z r g b": OpenMesh converts the colour to bytes without a range check (undefined
-      // behaviour beyond 0..1, found by fuzzing).
-      // Every extra value must be a plain number ("0+5" would be read by OpenMesh as 0 and 5).
-      for (std::size_t k = 4; k < words.size(); ++k) {
-        double c = 0.0;
-        if (!parse_double(words[k], c) || !std::isfinite(c))
-          fail("vertex " + std::to_string(s.vertices) + " has a value that is not a number: '" + words[k] + "'");
-      }
-      if (words.size() >= 6)
-        for (std::size_t k = 4; k < words.size() && k <= 6; ++k) {
-          double c = 0.0;
-          if (!parse_double(words[k], c) || !(c >= 0.0 && c <= 1.0))
-            fail("vertex " + std::to_string(s.vertices) + " has a colour component '" + words[k] + "' outside 0 to 1");
-        }
-    } else if (key == "vt") {
-      ++texcoords;
-    } else if (key == "vn") {
-      ++normals;
-    } else if (key == "f") {
-      ++s.faces;
-      if (words.size() < 4) fail("face with fewer than 3 corners");
-      s.corners += words.size() - 1;
-      for (std::size_t k = 1; k < words.size(); ++k) {
-        // v, v/vt, v//vn or v/vt/vn; OBJ indices start at 1, negative ones count back from the end.
-        const std::string& corner = words[k];
-        const std::size_t counts[3] = {s.vertices, texcoords, normals};
-        const char* what[3] = {"vertex", "texture coordinate", "normal"};
-        std::size_t begin = 0;
-        for (int part = 0; part < 3 && begin <= corner.size(); ++part) {
-          const std::size_t end = std::min(corner.find('/', begin), corner.size());
-          const std::string index_text = corner.substr(begin, end - begin);
-          begin = end + 1;
-          if (index_text.empty() && part > 0) continue;
-          long long index = 0;
-          if (!parse_integer(index_text, index)) fail("face corner '" + corner + "' is not an index");
-          const long long count = static_cast<long long>(counts[part]);
-          if (index == 0 || index > count || index < -count)
-            fail("face refers to " + std::string(what[part]) + " " + std::to_string(index) + " but only " +
-                 std::to_string(count) + " " + (part == 0 ? "vertices" : part == 1 ? "texture coordinates" : "normals") +
-                 (count == 1 ? " is" : " are") + " defined before it");
-          if (end == corner.size()) break;
-        }
-      }
-    }
-  }
-  return s;
-}
+// ---- OBJ: its reader checks it (mesh/obj_reader.h) ----------------------------------------
 
 // ---- OFF ------------------------------------------------------------------------------------
 
@@ -705,7 +633,7 @@ MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
     if (!probe) throw IoError(name + ": cannot open for reading (check permissions)");
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
   }
-  if (ext == ".obj") return check_obj(file, name);
+  if (ext == ".obj") return obj_detail::read_obj(file, false).summary;
   if (ext == ".off") return check_off(file, name);
   if (ext == ".ply") return check_ply(file, name, nullptr);
   if (ext == ".stl") return check_stl(file, name);

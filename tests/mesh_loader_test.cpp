@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "core/error.h"
@@ -35,6 +36,42 @@ TEST(MeshLoader, ObjQuadIsTriangulated) {
   EXPECT_EQ(b.hi, Eigen::Vector3d(1, 1, 0));
   EXPECT_DOUBLE_EQ(b.diagonal(), std::sqrt(2.0));
   EXPECT_FALSE(mesh.has_colors());
+}
+
+// The OBJ reader (mesh/obj_reader.h) keeps the file as it is: vertices in order with their
+// colours (white where a line has none) and full double precision, a fin of three faces on one
+// edge not split (OpenMesh gave the third face copies of its vertices), negative and '+' indices,
+// v//vn corners, CRLF line ends, a last line without an end, comments, and a line longer than its
+// 1 MB buffer (one polygon of 200,000 corners).
+TEST(MeshLoader, ObjIsReadAsStored) {
+  const auto dir = test::scratch_dir();
+  const auto file = write_text(dir / "fin.obj",
+                               "# a fin\r\nv 0 0 0 1 0 0\r\nv 1 0 0\r\n  v 0.5 1 0.1000000000000001 0 0.5 1\r\nv 0.5 -1 0\r\nv 0.5 0 1\r\n"
+                               "vn 0 0 1\r\nf 1 2 3\r\nf -4//1 -5//1 -1//1\r\nf +1 +2 +4\r\nf 1 2 3 5");
+  LoadReport report;
+  const TriangleMesh mesh = load_mesh(file, &report);
+  ASSERT_EQ(mesh.positions.size(), 5u);
+  EXPECT_EQ(mesh.positions[2], Eigen::Vector3d(0.5, 1, 0.1000000000000001));  // not rounded to float
+  const std::vector<std::array<std::uint32_t, 3>> expected = {{0, 1, 2}, {1, 0, 4}, {0, 1, 3}, {0, 1, 2}, {0, 2, 4}};
+  EXPECT_EQ(mesh.triangles, expected);
+  EXPECT_EQ(report.polygons_triangulated, 1u);
+  EXPECT_EQ(report.vertices_split, 0u);
+  ASSERT_TRUE(mesh.has_colors());
+  EXPECT_EQ(mesh.colors[0], Eigen::Vector3f(1, 0, 0));
+  EXPECT_EQ(mesh.colors[1], Eigen::Vector3f(1, 1, 1));
+  EXPECT_EQ(mesh.colors[2], Eigen::Vector3f(0, 0.5f, 1));
+
+  // One polygon of 200,000 corners on a circle: a 1.4 MB line, fan-triangulated.
+  const int n = 200000;
+  std::ostringstream big;
+  for (int i = 0; i < n; ++i) big << "v " << std::cos(i * 2 * EIGEN_PI / n) << " " << std::sin(i * 2 * EIGEN_PI / n) << " 0\n";
+  big << "f";
+  for (int i = 1; i <= n; ++i) big << " " << i;
+  LoadReport disc_report;
+  const TriangleMesh disc = load_mesh(write_text(dir / "disc.obj", big.str() + "\n"), &disc_report);
+  ASSERT_EQ(disc.triangles.size(), static_cast<std::size_t>(n - 2));
+  EXPECT_EQ(disc.triangles.back(), (std::array<std::uint32_t, 3>{0, n - 2, n - 1}));
+  EXPECT_EQ(disc_report.polygons_triangulated, 1u);
 }
 
 // Every corner of every triangle of a fan-triangulated polygon keeps its own texture coordinate.
