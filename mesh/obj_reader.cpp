@@ -183,9 +183,10 @@ void split_words(std::string_view line, std::vector<std::string_view>& words) {
 // common forms, strtod for the rest.
 bool number_of(std::string_view word, double& value) {
   if (word.empty()) return false;
-  const char* first = word.data() + (word[0] == '+' ? 1 : 0);
+  const bool plus = word[0] == '+';  // from_chars takes no '+'; after one, no second sign ("+-1" is no number)
+  const char* first = word.data() + (plus ? 1 : 0);
   const char* last = word.data() + word.size();
-  if (first != last && *first != '-' && *first != '+') {
+  if (first != last && !(plus && (*first == '-' || *first == '+'))) {
     const auto [end, error] = std::from_chars(first, last, value);
     if (error == std::errc() && end == last) return true;
   }

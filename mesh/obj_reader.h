@@ -5,7 +5,7 @@
 // their texture coordinates and material, and the materials of every MTL file it names. It
 // replaced OpenMesh's reader and a second pass that matched OpenMesh's faces back to the file's
 // for their materials: the bunny split to 4.5M faces as OBJ loaded in 23.4 s and was checked in
-// 6.3 s more, now 1.75 s and 1.39 s (bench/load_bench BM_LoadObj: 26 ms to 8.3 s from 70k to
+// 6.3 s more, now 1.75 s and 1.39 s (bench/load_bench BM_LoadObj: 22 ms to 6.1 s from 70k to
 // 17.8M faces). Positions keep the file's double precision (OpenMesh rounded them to float), and
 // non-manifold faces keep the file's vertices (OpenMesh gave them copies).
 #include <Eigen/Core>

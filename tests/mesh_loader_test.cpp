@@ -61,6 +61,11 @@ TEST(MeshLoader, ObjIsReadAsStored) {
   EXPECT_EQ(mesh.colors[1], Eigen::Vector3f(1, 1, 1));
   EXPECT_EQ(mesh.colors[2], Eigen::Vector3f(0, 0.5f, 1));
 
+  // Numbers as strtod reads them: "-1.5e0" and "+2" are numbers, "+-1" is not.
+  const TriangleMesh signs = load_mesh(write_text(dir / "signs.obj", "v -1.5e0 +2 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  EXPECT_EQ(signs.positions[0], Eigen::Vector3d(-1.5, 2, 0));
+  EXPECT_THROW(load_mesh(write_text(dir / "sign_sign.obj", "v +-1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")), InputError);
+
   // One polygon of 200,000 corners on a circle: a 1.4 MB line, fan-triangulated.
   const int n = 200000;
   std::ostringstream big;
