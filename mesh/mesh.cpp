@@ -259,6 +259,7 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     return mesh;
   }
 
+  // OFF and STL: OpenMesh's readers (PLY, OBJ and glTF have returned above).
   LoaderMesh om;
   om.request_vertex_colors();
   OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor;
