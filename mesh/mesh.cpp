@@ -133,6 +133,11 @@ TriangleMesh obj_mesh(obj_detail::ObjContents& obj) {
 
 namespace {
 
+// Every reader refuses a file without faces with the same words.
+void require_faces(std::size_t triangles, const std::string& name) {
+  if (triangles == 0) throw InputError(name + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
+}
+
 // A PLY, built from what its check read: positions, colours, faces (fan-triangulated) and
 // strips' triangles, and when it names a texture and has coordinates, their corners' coordinates
 // and one material: the image of its TextureFile comment, relative to the PLY.
@@ -167,7 +172,7 @@ TriangleMesh ply_mesh(const std::filesystem::path& file, ply_detail::PlyContents
         mesh.corner_uvs.push_back(own ? contents.face_corner_uvs[3 * t + k] : vertex_uv(mesh.triangles[t][k]));
       }
   }
-  if (mesh.triangles.empty()) throw InputError(file.string() + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
+  require_faces(mesh.triangles.size(), file.string());
   return mesh;
 }
 
@@ -210,23 +215,28 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
   }
 
-  if (ext == ".ply") {
-    ply_detail::PlyContents contents;
-    ply_detail::read_ply(file, contents);
-    const std::size_t polygons = contents.polygons;
-    std::vector<std::string> warnings;
-    TriangleMesh mesh = ply_mesh(file, std::move(contents));
+  // What every reader's model goes through last: the geometry's and the textures' checks, and
+  // the report.
+  const auto finished = [&](TriangleMesh mesh, std::vector<std::string> warnings, std::size_t polygons, std::size_t vertices_split) {
     check_geometry(mesh, name);
     check_material_textures(mesh, name, load_options, warnings);
     if (report) {
       report->polygons_triangulated = polygons;
-      report->warnings = warnings;
+      report->vertices_split = vertices_split;
+      report->warnings = std::move(warnings);
     }
     return mesh;
+  };
+
+  if (ext == ".ply") {
+    ply_detail::PlyContents contents;
+    ply_detail::read_ply(file, contents);
+    const std::size_t polygons = contents.polygons;
+    return finished(ply_mesh(file, std::move(contents)), {}, polygons, 0);
   }
   if (ext == ".obj") {
     obj_detail::ObjContents obj = obj_detail::read_obj(file, true);
-    if (obj.triangles.empty()) throw InputError(name + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
+    require_faces(obj.triangles.size(), name);
     // A material library left behind when the OBJ was copied is the commonest way its textures go
     // missing: the same choice as for a missing texture (mesh/textures.h), an error by default.
     std::vector<std::string> warnings;
@@ -239,24 +249,13 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
       warnings.push_back(what + "; its materials' faces are rendered untextured (--missing-textures grey)");
     }
     warnings.insert(warnings.end(), obj.warnings.begin(), obj.warnings.end());
-    const std::size_t polygons = obj.polygons;
-    TriangleMesh mesh = obj_mesh(obj);
-    check_geometry(mesh, name);
-    check_material_textures(mesh, name, load_options, warnings);
-    if (report) {
-      report->polygons_triangulated = polygons;
-      report->warnings = warnings;
-    }
-    return mesh;
+    return finished(obj_mesh(obj), std::move(warnings), obj.polygons, 0);
   }
   check_mesh_file(file);
   if (ext == ".gltf" || ext == ".glb") {
     std::vector<std::string> warnings;
     TriangleMesh mesh = gltf_detail::load_gltf(file, warnings);
-    check_geometry(mesh, name);
-    check_material_textures(mesh, name, load_options, warnings);
-    if (report) report->warnings = warnings;
-    return mesh;
+    return finished(std::move(mesh), std::move(warnings), 0, 0);
   }
 
   // OFF and STL: OpenMesh's readers (PLY, OBJ and glTF have returned above).
@@ -276,8 +275,7 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     std::string why = messages.empty() ? "not a valid " + ext.substr(1) + " file" : messages.front();
     throw InputError(name + ": cannot read mesh: " + why);
   }
-  if (om.n_faces() == 0)
-    throw InputError(name + ": mesh has no faces (a point cloud or an empty file cannot be rendered)");
+  require_faces(om.n_faces(), name);
 
   TriangleMesh mesh;
   mesh.positions.reserve(om.n_vertices());
@@ -302,21 +300,12 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     }
     mesh.triangles.push_back(tri);
   }
-  check_geometry(mesh, name);
-  std::vector<std::string> material_warnings;
-  check_material_textures(mesh, name, load_options, material_warnings);
-
-  if (report) {
-    report->warnings = messages;
-    report->warnings.insert(report->warnings.end(), material_warnings.begin(), material_warnings.end());
-    // OpenMesh keeps faces it cannot add manifoldly by giving them copies of their vertices;
-    // each such copy is a vertex the file did not have.
-    std::size_t split = 0;
-    for (const auto& m : messages)
-      if (m.find("complex") != std::string::npos || m.find("non-manifold") != std::string::npos) ++split;
-    report->vertices_split = split;
-  }
-  return mesh;
+  // OpenMesh keeps faces it cannot add manifoldly by giving them copies of their vertices;
+  // each such copy is a vertex the file did not have.
+  std::size_t split = 0;
+  for (const auto& m : messages)
+    if (m.find("complex") != std::string::npos || m.find("non-manifold") != std::string::npos) ++split;
+  return finished(std::move(mesh), std::move(messages), 0, split);
 }
 
 void save_mesh(const TriangleMesh& mesh, const std::filesystem::path& file) {
