@@ -9,7 +9,6 @@
 // (read_ply, mesh/ply_contents.h): load_mesh builds the model from what it reads.
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
@@ -24,6 +23,7 @@
 #include "core/error.h"
 #include "mesh/gltf.h"
 #include "mesh/mesh.h"
+#include "mesh/number_text.h"
 #include "mesh/obj_reader.h"
 #include "mesh/ply_contents.h"
 
@@ -40,22 +40,8 @@ void strip_cr(std::string& line) {
   if (!line.empty() && line.back() == '\r') line.pop_back();
 }
 
-// strtod/strtoll over a whole word; false if the word is not entirely a number.
-bool parse_double(const std::string& word, double& value) {
-  if (word.empty()) return false;
-  char* end = nullptr;
-  errno = 0;
-  value = std::strtod(word.c_str(), &end);
-  return end == word.c_str() + word.size();
-}
-
-bool parse_integer(const std::string& word, long long& value) {
-  if (word.empty()) return false;
-  char* end = nullptr;
-  errno = 0;
-  value = std::strtoll(word.c_str(), &end, 10);
-  return end == word.c_str() + word.size() && errno == 0;
-}
+using mesh_text::parse_double;
+using mesh_text::parse_integer;
 
 std::vector<std::string> words_of(const std::string& line) {
   std::vector<std::string> words;

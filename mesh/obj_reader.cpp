@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -12,6 +11,7 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "mesh/number_text.h"
 
 namespace meshtour::obj_detail {
 namespace {
@@ -34,10 +34,8 @@ std::pair<std::string, std::string> split_statement(const std::string& line) {
 }
 
 bool is_number(const std::string& word) {
-  if (word.empty()) return false;
-  char* end = nullptr;
-  std::strtod(word.c_str(), &end);
-  return end == word.c_str() + word.size();
+  double ignored = 0.0;
+  return mesh_text::parse_double(word, ignored);
 }
 
 // Windows exporters write backslashes; a file name never holds one on the systems meshtour runs on.
@@ -179,30 +177,6 @@ void split_words(std::string_view line, std::vector<std::string_view>& words) {
   }
 }
 
-// A whole word as a number, as strtod reads one ("+1", "1e3", "inf", "0x1p3"): from_chars for the
-// common forms, strtod for the rest.
-bool number_of(std::string_view word, double& value) {
-  if (word.empty()) return false;
-  const bool plus = word[0] == '+';  // from_chars takes no '+'; after one, no second sign ("+-1" is no number)
-  const char* first = word.data() + (plus ? 1 : 0);
-  const char* last = word.data() + word.size();
-  if (first != last && !(plus && (*first == '-' || *first == '+'))) {
-    const auto [end, error] = std::from_chars(first, last, value);
-    if (error == std::errc() && end == last) return true;
-  }
-  const std::string copy(word);
-  char* end = nullptr;
-  value = std::strtod(copy.c_str(), &end);
-  return end == copy.c_str() + copy.size();
-}
-
-bool integer_of(std::string_view word, long long& value) {
-  if (word.empty()) return false;
-  const char* first = word.data() + (word[0] == '+' && word.size() > 1 && word[1] != '-' ? 1 : 0);
-  const auto [end, error] = std::from_chars(first, word.data() + word.size(), value);
-  return error == std::errc() && end == word.data() + word.size();
-}
-
 }  // namespace
 
 ObjContents read_obj(const std::filesystem::path& file, bool read) {
@@ -230,7 +204,7 @@ ObjContents read_obj(const std::filesystem::path& file, bool read) {
       double value[7] = {};
       for (std::size_t k = 1; k < words.size(); ++k) {
         double c = 0.0;
-        const bool parsed = number_of(words[k], c);
+        const bool parsed = mesh_text::parse_double(words[k], c);
         if (k <= 3) {
           if (!parsed) fail("vertex " + std::to_string(s.vertices) + " has a coordinate that is not a number: '" + std::string(words[k]) + "'");
           if (!std::isfinite(c)) fail("vertex " + std::to_string(s.vertices) + " has a NaN or infinite coordinate ('" + std::string(words[k]) + "')");
@@ -257,8 +231,8 @@ ObjContents read_obj(const std::filesystem::path& file, bool read) {
       ++texcoords;
       if (read) {
         double u = 0.0, v = 0.0;
-        if (words.size() > 1) number_of(words[1], u);
-        if (words.size() > 2) number_of(words[2], v);
+        if (words.size() > 1) mesh_text::parse_double(words[1], u);
+        if (words.size() > 2) mesh_text::parse_double(words[2], v);
         faces.texcoords.emplace_back(static_cast<float>(u), static_cast<float>(v));
       }
     } else if (key == "vn") {
@@ -281,7 +255,7 @@ ObjContents read_obj(const std::filesystem::path& file, bool read) {
           begin = end + 1;
           if (index_text.empty() && part > 0) continue;
           long long index = 0;
-          if (!integer_of(index_text, index)) fail("face corner '" + std::string(corner) + "' is not an index");
+          if (!mesh_text::parse_integer(index_text, index)) fail("face corner '" + std::string(corner) + "' is not an index");
           const long long count = static_cast<long long>(counts[part]);
           if (index == 0 || index > count || index < -count)
             fail("face refers to " + std::string(what[part]) + " " + std::to_string(index) + " but only " + std::to_string(count) + " " +
