@@ -28,7 +28,7 @@
 // wrong on two that rest on their faces and are neither vessels, furniture nor spread figures,
 // Blender's Suzanne (a head without a neck) and meshJND's open face mask (on its open back; a flat
 // back found as a sawn cut no longer stands a mask on it, see kCutThickness); the
-// A-posed ogre and two T-posed humans stand on their feet since the figure cue. The procedural
+// A-posed ogre and three T-posed humans stand on their feet since the figure cue. The procedural
 // vessels, furniture and T-posed figure of the tests are found in all six orientations.
 #include <array>
 #include <filesystem>
@@ -71,8 +71,8 @@ struct UpChoice {
   /// The air the firmest rest would trap under the model, when that turned it over (a bowl, cup
   /// or plate stands mouth up); else 0.
   double upside_down_air = 0.0;
-  /// True when the firmest rest laid a figure with spread limbs on its front or back, and it was
-  /// stood on its feet instead.
+  /// True when a figure with spread limbs lay on its front or back (the firmest rest, or almost
+  /// as firm as its feet), and it was stood on its feet instead.
   bool lying_figure = false;
   /// Not empty when the shape overrode the up its file format prescribes (glTF: +y), saying so.
   std::string warning;

@@ -429,18 +429,19 @@ TEST(UpAxis, FurnitureStandsOnItsLegs) {
 
 // A figure with its arms spread (a T-pose: as wide as it is tall, a fifth as thick) rests far more
 // firmly on its back than on its feet; its mirror plane (x = 0) tells it from a thing that lies
-// flat, and it stands on its feet in every orientation. A lizard lying on its belly (as thick, but
+// flat, and it stands on its feet in every orientation, also where its feet are the firmer rest
+// but not clearly so. A lizard lying on its belly (as thick, but
 // much longer than its legs are wide) keeps lying.
 TEST(UpAxis, FigureWithSpreadArmsStandsOnItsFeet) {
-  const auto figure = [](double depth) {
+  const auto figure = [](double depth, double sole = 0.0) {
     Builder b;
     const double d = depth / 2;
     // Front and back differ as a body's do (the mirror test must not find a front-back plane):
     // legs and seat to the back, chest, head and feet to the front.
     b.box({-0.2, 0.0, -d}, {-0.05, 0.9, 0.2 * d});        // legs
     b.box({0.05, 0.0, -d}, {0.2, 0.9, 0.2 * d});
-    b.box({-0.2, 0.0, -d}, {-0.05, 0.08, 2.2 * d});       // feet, pointing to +z
-    b.box({0.05, 0.0, -d}, {0.2, 0.08, 2.2 * d});
+    b.box({-0.2 - sole, 0.0, -d}, {-0.05, 0.08, 2.2 * d + sole});  // feet, pointing to +z
+    b.box({0.05, 0.0, -d}, {0.2 + sole, 0.08, 2.2 * d + sole});
     b.box({-0.25, 0.9, -d}, {0.25, 1.5, 0.6 * d});        // body
     b.box({-0.22, 1.1, 0.6 * d}, {0.22, 1.45, 1.6 * d});  // chest
     b.box({-0.85, 1.38, -0.4 * d}, {-0.25, 1.48, 0.6 * d}); // arms, straight out
@@ -455,6 +456,14 @@ TEST(UpAxis, FigureWithSpreadArmsStandsOnItsFeet) {
   EXPECT_TRUE(c.lying_figure) << c.reason;
   EXPECT_GT(c.rests[4].score, c.rests[2].score) << "lying on its back is the firmer rest, so the figure rule decides";
   expect_found_in_every_orientation("T-pose", person.mesh, Axis{1, false});
+  // Wide soles make the feet the firmest rest, but not clearly (less than 1.5x the back): the
+  // same figure, so it stands on its feet in every orientation all the same.
+  const Builder shod = figure(0.24, 0.1);
+  const UpChoice f = choose_up_axis(shod.mesh);
+  EXPECT_GT(f.rests[2].score, f.rests[4].score) << f.reason;
+  EXPECT_LT(f.rests[2].score, 1.5 * f.rests[4].score) << f.reason;
+  EXPECT_TRUE(f.lying_figure) << f.reason;
+  expect_found_in_every_orientation("T-pose on wide soles", shod.mesh, Axis{1, false});
 
   Builder lizard;
   lizard.box({-0.15, 0.0, -1.0}, {0.15, 0.3, 1.0});  // body, head to tail along z
