@@ -94,6 +94,38 @@ inline void write_obj(const meshtour::TriangleMesh& mesh, const std::filesystem:
   std::filesystem::rename(temporary, file);
 }
 
+// Binary STL: an 80-byte header, the triangle count, then per triangle a float normal, three
+// float corners and a 2-byte attribute (every corner written out: STL shares no vertices).
+inline void write_stl(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  const std::filesystem::path temporary = file.string() + ".partial";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    char header[80] = "meshtour bench";
+    out.write(header, sizeof header);
+    const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
+    out.write(reinterpret_cast<const char*>(&count), 4);
+    for (const auto& t : mesh.triangles) {
+      const Eigen::Vector3d& a = mesh.positions[t[0]];
+      const Eigen::Vector3d& b = mesh.positions[t[1]];
+      const Eigen::Vector3d& c = mesh.positions[t[2]];
+      const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+      float record[12];
+      for (int k = 0; k < 3; ++k) {
+        record[k] = static_cast<float>(n[k]);
+        record[3 + k] = static_cast<float>(a[k]);
+        record[6 + k] = static_cast<float>(b[k]);
+        record[9 + k] = static_cast<float>(c[k]);
+      }
+      char bytes[50] = {};
+      std::memcpy(bytes, record, sizeof record);
+      out.write(bytes, sizeof bytes);
+    }
+    if (!out) throw std::runtime_error("could not write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, file);
+}
+
 // GLB (glTF 2.0 binary): float positions and uint32 indices in one buffer, one mesh, one node.
 /// `instances` > 1: the mesh drawn by that many nodes, side by side along +x (one mesh, shared).
 inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file, int instances = 1) {

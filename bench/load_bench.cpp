@@ -1,11 +1,12 @@
-// Loading big meshes (issue 15): meshtour::load_mesh on the same model as binary PLY, OBJ and GLB,
-// the bunny split 1-to-4 at edge midpoints 0, 2, 3 and 4 times (70k, 1.1M, 4.5M, 17.8M faces).
+// Loading big meshes (issue 15): meshtour::load_mesh on the same model as binary PLY, OBJ, binary
+// STL and GLB, the bunny split 1-to-4 at edge midpoints 0, 2, 3 and 4 times (70k, 1.1M, 4.5M,
+// 17.8M faces).
 // The files are written once to --mesh-dir (default: bench-meshes/ in the build folder, never
 // the repository); each benchmark then times reading its file back, so the formats are
 // compared in one run on one machine.
 //
-//   build/bench/load_bench                                   # every size, both formats
-//   build/bench/load_bench --benchmark_filter='Glb/4$'       # the 17.8M-face GLB only
+//   build/bench/load_bench                                   # every size, every format
+//   build/bench/load_bench --benchmark_filter='Glb/4/'       # the 17.8M-face GLB only
 //   build/bench/load_bench --benchmark_filter=Instanced      # one mesh drawn 1, 16, 64 times
 //   build/bench/load_bench --mesh=FILE --mesh-dir=DIR
 #include <benchmark/benchmark.h>
@@ -24,13 +25,14 @@ namespace {
 std::filesystem::path g_source_mesh;
 std::filesystem::path g_mesh_dir;
 
-// The split mesh's file in `extension` (".ply" or ".glb"), written on first use.
+// The split mesh's file in `extension` (".ply", ".obj", ".stl" or ".glb"), written on first use.
 std::filesystem::path mesh_file(int levels, const std::string& extension) {
   const auto file = g_mesh_dir / (g_source_mesh.stem().string() + "-split" + std::to_string(levels) + extension);
   if (!std::filesystem::exists(file)) {
     const meshtour::TriangleMesh& mesh = meshtour::bench::split_mesh(g_source_mesh, levels);
     if (extension == ".glb") meshtour::bench::write_glb(mesh, file);
     else if (extension == ".obj") meshtour::bench::write_obj(mesh, file);
+    else if (extension == ".stl") meshtour::bench::write_stl(mesh, file);
     else meshtour::bench::write_ply(mesh, file);
   }
   return file;
@@ -51,6 +53,8 @@ void load(benchmark::State& state, const std::string& extension) {
 
 void BM_LoadPly(benchmark::State& state) { load(state, ".ply"); }
 void BM_LoadObj(benchmark::State& state) { load(state, ".obj"); }
+// Binary STL: every corner stored, so the loader welds the corners back into vertices.
+void BM_LoadStl(benchmark::State& state) { load(state, ".stl"); }
 // GLB: tinygltf's parse, the accessor checks and the welding of bit-identical vertices.
 void BM_LoadGlb(benchmark::State& state) { load(state, ".glb"); }
 
@@ -85,6 +89,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_LoadPly)->Apply(sizes);
 BENCHMARK(BM_LoadObj)->Apply(sizes);
+BENCHMARK(BM_LoadStl)->Apply(sizes);
 BENCHMARK(BM_LoadGlb)->Apply(sizes);
 BENCHMARK(BM_LoadInstancedGlb)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 BENCHMARK(BM_LoadInstancedDracoGlb)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);

@@ -16,10 +16,6 @@
 #include <string_view>
 #include <tuple>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
-
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -27,6 +23,7 @@
 
 #include "core/error.h"
 #include "mesh/tinygltf_config.h"
+#include "mesh/vertex_weld.h"
 
 namespace meshtour::gltf_detail {
 namespace {
@@ -304,7 +301,11 @@ tinygltf::Model read_model(const std::filesystem::path& file, const std::string&
   try {
     std::ifstream in(file, std::ios::binary);
     if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
-    std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    // One read of the whole file (through istreambuf_iterator, a byte at a time, it was a fifth of
+    // loading a big GLB).
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(std::filesystem::file_size(file)));
+    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (static_cast<std::size_t>(in.gcount()) != bytes.size()) throw IoError(name + ": could not read the whole file");
     // A required extension meshtour does not read is named before the reader sees the file: such
     // files are often unreadable without it (a compression extension's views have no data of
     // their own), and the reader's own complaint would not say why.
@@ -705,21 +706,29 @@ PrimitiveData decode_draco(const tinygltf::Model& model, const tinygltf::Value& 
 }
 
 // The triangles of a primitive's index list (or 0..n-1) in its mode: list, strip or fan.
+// Room for `more` items, growing geometrically (many small primitives must not reallocate each time;
+// one big scan reserves once, exactly).
+template <class T>
+void grow_for(std::vector<T>& items, std::size_t more) {
+  if (items.size() + more > items.capacity()) items.reserve(std::max(items.size() + more, 2 * items.capacity()));
+}
+
 std::vector<std::array<std::uint32_t, 3>> triangles_of(const std::vector<std::uint32_t>& indices, std::size_t vertex_count, int mode) {
-  std::vector<std::uint32_t> list = indices;
-  if (list.empty()) {
-    list.resize(vertex_count);
-    for (std::size_t i = 0; i < vertex_count; ++i) list[i] = static_cast<std::uint32_t>(i);
-  }
+  // Without indices the vertices are drawn in order.
+  const std::size_t n = indices.empty() ? vertex_count : indices.size();
+  const auto at = [&](std::size_t i) { return indices.empty() ? static_cast<std::uint32_t>(i) : indices[i]; };
   std::vector<std::array<std::uint32_t, 3>> out;
   if (mode == TINYGLTF_MODE_TRIANGLES) {
-    for (std::size_t i = 0; i + 2 < list.size(); i += 3) out.push_back({list[i], list[i + 1], list[i + 2]});
+    out.reserve(n / 3);
+    for (std::size_t i = 0; i + 2 < n; i += 3) out.push_back({at(i), at(i + 1), at(i + 2)});
   } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-    for (std::size_t i = 0; i + 2 < list.size(); ++i)
-      out.push_back(i % 2 == 0 ? std::array<std::uint32_t, 3>{list[i], list[i + 1], list[i + 2]}
-                               : std::array<std::uint32_t, 3>{list[i + 1], list[i], list[i + 2]});
+    out.reserve(n);
+    for (std::size_t i = 0; i + 2 < n; ++i)
+      out.push_back(i % 2 == 0 ? std::array<std::uint32_t, 3>{at(i), at(i + 1), at(i + 2)}
+                               : std::array<std::uint32_t, 3>{at(i + 1), at(i), at(i + 2)});
   } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-    for (std::size_t i = 1; i + 1 < list.size(); ++i) out.push_back({list[i], list[i + 1], list[0]});
+    out.reserve(n);
+    for (std::size_t i = 1; i + 1 < n; ++i) out.push_back({at(i), at(i + 1), at(0)});
   }
   return out;
 }
@@ -908,46 +917,28 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
 
 // glTF splits a vertex wherever its texture coordinates or material change (every UV seam of a
 // scan's atlas); OBJ shares the position. The tracer's smooth normals come from shared vertices,
-// so vertices with bit-identical positions (and colours) are merged, and the model shades as
-// its OBJ form does. Texture coordinates are per triangle corner and stay as they are.
+// so vertices with bit-identical positions (and colours) are merged (mesh/vertex_weld.h), and the
+// model shades as its OBJ form does. Texture coordinates are per triangle corner and stay as they
+// are.
 void weld_identical_vertices(TriangleMesh& mesh) {
-  // Sorted, not hashed into a tree: one allocation, and a parallel sort (a std::map was 28 % of
-  // loading a 4.5M-face GLB). Ties in the key are ordered by index, so the order is total and the
-  // result the same on any thread count.
-  struct Entry {
-    std::array<std::uint64_t, 3> position{};
-    std::array<std::uint32_t, 3> color{};
-    std::uint32_t index = 0;
-    bool operator<(const Entry& o) const { return std::tie(position, color, index) < std::tie(o.position, o.color, o.index); }
-    bool same_place(const Entry& o) const { return position == o.position && color == o.color; }
-  };
   const std::size_t n = mesh.positions.size();
-  std::vector<Entry> entries(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      Entry& e = entries[i];
-      e.index = static_cast<std::uint32_t>(i);
-      for (int k = 0; k < 3; ++k) {
-        const double p = mesh.positions[i][k] == 0.0 ? 0.0 : mesh.positions[i][k];  // -0 and +0 are one place
-        std::memcpy(&e.position[static_cast<std::size_t>(k)], &p, sizeof p);
-        if (!mesh.colors.empty()) std::memcpy(&e.color[static_cast<std::size_t>(k)], &mesh.colors[i][k], sizeof(float));
-      }
-    }
-  });
-  tbb::parallel_sort(entries.begin(), entries.end());
-  std::vector<std::uint32_t> first(n);  // each vertex's first vertex at the same place
-  for (std::size_t j = 0; j < n; ++j)
-    first[entries[j].index] = j > 0 && entries[j].same_place(entries[j - 1]) ? first[entries[j - 1].index] : entries[j].index;
+  const bool coloured = !mesh.colors.empty();
+  weld_detail::VertexWelder<9> welder(n);  // a position's 3 doubles and a colour's 3 floats
   std::vector<std::uint32_t> remap(n);
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3f> colors;
   for (std::size_t i = 0; i < n; ++i) {
-    if (first[i] == i) {  // numbered in the order of first appearance, as before
-      remap[i] = static_cast<std::uint32_t>(positions.size());
+    weld_detail::VertexWelder<9>::Key key{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint64_t bits = weld_detail::key_bits(mesh.positions[i][static_cast<Eigen::Index>(k)]);
+      key[2 * k] = static_cast<std::uint32_t>(bits);
+      key[2 * k + 1] = static_cast<std::uint32_t>(bits >> 32);
+      if (coloured) key[6 + k] = weld_detail::key_bits(mesh.colors[i][static_cast<Eigen::Index>(k)]);
+    }
+    remap[i] = welder.vertex(key);
+    if (remap[i] == positions.size()) {  // first seen: numbered in the order of first appearance
       positions.push_back(mesh.positions[i]);
-      if (!mesh.colors.empty()) colors.push_back(mesh.colors[i]);
-    } else {
-      remap[i] = remap[first[i]];
+      if (coloured) colors.push_back(mesh.colors[i]);
     }
   }
   for (auto& t : mesh.triangles)
@@ -1073,6 +1064,7 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
       const auto base = static_cast<std::uint32_t>(mesh.positions.size());
       if (mesh.positions.size() + count > std::numeric_limits<std::uint32_t>::max()) throw InputError(name + ": too many vertices");
       std::vector<bool> vertex_mirrored;  // skinned: per vertex; else the node's `mirrored`
+      grow_for(mesh.positions, count);
       for (std::size_t i = 0; i < count; ++i) {
         const auto& v = data.positions[i];
         const Matrix& m = skinned.empty() ? world : skinned[i];
@@ -1088,16 +1080,26 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
           vertex_has_color[base + i] = true;
         }
       }
-      for (auto t : triangles_of(data.indices, count, mode)) {
+      const std::vector<std::array<std::uint32_t, 3>> triangles = triangles_of(data.indices, count, mode);
+      // Corner coordinates are kept only once some primitive has them (zeros for those before and
+      // after that have none): a scan without UVs does not hold 3 of them per triangle.
+      if (!data.uvs.empty() && !any_uvs) {
+        any_uvs = true;
+        mesh.corner_uvs.resize(3 * mesh.triangles.size(), Eigen::Vector2f::Zero());
+      }
+      grow_for(mesh.triangles, triangles.size());
+      grow_for(mesh.triangle_materials, triangles.size());
+      if (any_uvs) grow_for(mesh.corner_uvs, 3 * triangles.size());
+      for (auto t : triangles) {
         if (vertex_mirrored.empty() ? mirrored : vertex_mirrored[t[0]]) std::swap(t[1], t[2]);
         mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
         mesh.triangle_materials.push_back(material);
+        if (!any_uvs) continue;
         for (const auto corner : t) {
           Eigen::Vector2f uv = Eigen::Vector2f::Zero();
           if (!data.uvs.empty()) {
             const Eigen::Vector2d st = uv_transform * Eigen::Vector3d(data.uvs[corner][0], data.uvs[corner][1], 1.0);
             uv = {static_cast<float>(st.x()), static_cast<float>(1.0 - st.y())};  // glTF's v runs down the image
-            any_uvs = true;
           }
           mesh.corner_uvs.push_back(uv);
         }

@@ -5,7 +5,8 @@
 // or make the reader fail with a message that does not say where, and a body shorter than its
 // header is read as garbage. These scans walk the file once, bounded by its size, and refuse such
 // files with a message naming the file and the line or element; they also give the counts the
-// memory estimate needs before anything is allocated. A PLY's walk is also its reader
+// memory estimate needs before anything is allocated. OBJ and STL are checked by their readers'
+// pass (mesh/obj_reader.h, mesh/stl_reader.h) without reading. A PLY's walk is also its reader
 // (read_ply, mesh/ply_contents.h): load_mesh builds the model from what it reads.
 #include <algorithm>
 #include <cctype>
@@ -23,9 +24,10 @@
 #include "core/error.h"
 #include "mesh/gltf.h"
 #include "mesh/mesh.h"
-#include "mesh/number_text.h"
+#include "mesh/mesh_text.h"
 #include "mesh/obj_reader.h"
 #include "mesh/ply_contents.h"
+#include "mesh/stl_reader.h"
 
 namespace meshtour {
 namespace {
@@ -568,43 +570,7 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
   return s;
 }
 
-// ---- STL ------------------------------------------------------------------------------------
-
-MeshFileSummary check_stl(const std::filesystem::path& file, const std::string& name) {
-  const unsigned long long size = std::filesystem::file_size(file);
-  std::ifstream in(file, std::ios::binary);
-  char header[84] = {};
-  in.read(header, sizeof header);
-  const std::size_t got = static_cast<std::size_t>(in.gcount());
-  std::string start(header, std::min<std::size_t>(got, 80));
-  start.erase(0, start.find_first_not_of(" \t\r\n"));
-  const bool says_solid = start.rfind("solid", 0) == 0;
-  if (got == 84) {
-    std::uint32_t triangles = 0;
-    std::memcpy(&triangles, header + 80, 4);
-    const unsigned long long binary_size = 84ull + 50ull * triangles;
-    // Binary STL files may also begin with "solid"; the exact size tells them apart, as in OpenMesh.
-    if (binary_size == size || !says_solid) {
-      if (binary_size > size)
-        throw InputError(name + ": truncated or corrupt binary STL: the header announces " + std::to_string(triangles) +
-                         " triangles (" + std::to_string(binary_size) + " bytes) but the file holds " + std::to_string(size) + " bytes");
-      return MeshFileSummary{3ull * triangles, triangles, 3ull * triangles};
-    }
-  } else if (!says_solid) {
-    throw InputError(name + ": truncated or corrupt STL: " + std::to_string(size) + " bytes, shorter than a binary STL header");
-  }
-  // ASCII: count the facets (one "facet" line each); coordinates are checked after reading.
-  in.clear();
-  in.seekg(0);
-  MeshFileSummary s;
-  std::string line;
-  while (std::getline(in, line)) {
-    const auto first = line.find_first_not_of(" \t");
-    if (first != std::string::npos && line.compare(first, 5, "facet") == 0) ++s.faces;
-  }
-  s.vertices = s.corners = 3 * s.faces;
-  return s;
-}
+// ---- STL: its reader checks it (mesh/stl_reader.h) ----------------------------------------
 
 }  // namespace
 
@@ -622,7 +588,7 @@ MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
   if (ext == ".obj") return obj_detail::read_obj(file, false).summary;
   if (ext == ".off") return check_off(file, name);
   if (ext == ".ply") return check_ply(file, name, nullptr);
-  if (ext == ".stl") return check_stl(file, name);
+  if (ext == ".stl") return stl_detail::read_stl(file, false).summary;
   if (ext == ".gltf" || ext == ".glb") return gltf_detail::gltf_summary(file);
   throw InputError(name + ": unknown mesh format '" + ext + "' (supported: " + supported_mesh_formats() + ")");
 }

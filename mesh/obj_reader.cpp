@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "core/error.h"
-#include "mesh/number_text.h"
+#include "mesh/mesh_text.h"
 
 namespace meshtour::obj_detail {
 namespace {
@@ -123,68 +123,12 @@ MapStatement parse_map_statement(const std::string& argument) {
   return map;
 }
 
-namespace {
-
-// The file's lines, through a buffer of its own (a getline and a string stream per line was most of
-// the time of reading a big OBJ). A line longer than the buffer grows it.
-class LineReader {
-public:
-  explicit LineReader(const std::filesystem::path& file) : in_(file, std::ios::binary), buffer_(std::size_t{1} << 20) {}
-
-  // The next line without its end ("\n" or "\r\n"); false at the end of the file.
-  bool next(std::string_view& line) {
-    for (;;) {
-      if (const void* found = std::memchr(buffer_.data() + at_, '\n', end_ - at_)) {
-        const auto stop = static_cast<std::size_t>(static_cast<const char*>(found) - buffer_.data());
-        line = std::string_view(buffer_.data() + at_, stop - at_);
-        at_ = stop + 1;
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        return true;
-      }
-      if (!in_) {  // the last line, without an end
-        if (at_ == end_) return false;
-        line = std::string_view(buffer_.data() + at_, end_ - at_);
-        at_ = end_;
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        return true;
-      }
-      std::memmove(buffer_.data(), buffer_.data() + at_, end_ - at_);
-      end_ -= at_;
-      at_ = 0;
-      if (end_ == buffer_.size()) buffer_.resize(2 * buffer_.size());
-      in_.read(buffer_.data() + end_, static_cast<std::streamsize>(buffer_.size() - end_));
-      end_ += static_cast<std::size_t>(in_.gcount());
-    }
-  }
-
-private:
-  std::ifstream in_;
-  std::vector<char> buffer_;
-  std::size_t at_ = 0, end_ = 0;
-};
-
-bool blank(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
-
-// The line's whitespace-separated words, into `words` (reused: no allocation per line).
-void split_words(std::string_view line, std::vector<std::string_view>& words) {
-  words.clear();
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && blank(line[i])) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !blank(line[i])) ++i;
-    if (i > start) words.push_back(line.substr(start, i - start));
-  }
-}
-
-}  // namespace
-
 ObjContents read_obj(const std::filesystem::path& file, bool read) {
   const std::string name = file.string();
   ObjContents faces;
   MeshFileSummary& s = faces.summary;
   std::map<std::string, int> by_name;
-  LineReader lines(file);
+  mesh_text::LineReader lines(file);
   std::size_t texcoords = 0, normals = 0;
   int current = -1;
   std::vector<std::string_view> words;
@@ -194,7 +138,7 @@ ObjContents read_obj(const std::filesystem::path& file, bool read) {
     // OpenMesh skipped leading blanks (" f /11 2 3" reached an assertion in its reader: fuzzing).
     while (!line.empty() && (line[0] == ' ' || line[0] == '\t' || line[0] == '\r' || line[0] == '\v' || line[0] == '\f')) line.remove_prefix(1);
     if (line.size() < 2 || line[0] == '#') continue;
-    split_words(line, words);
+    mesh_text::split_words(line, words);
     if (words.empty()) continue;
     const std::string_view key = words[0];
     auto fail = [&](const std::string& what) -> void { throw InputError(name + ": line " + std::to_string(number) + ": " + what); };

@@ -209,6 +209,11 @@ TEST_F(BadInputCorpus, Meshes) {
       {"empty OBJ (only a comment)", "path", write(d / "comment.obj", "# nothing\n"), "", 2, {"no faces"}},
       {"truncated binary PLY", "path", write(d / "truncated.ply", kPlyTetHeader + tet_body.substr(0, 40)), "", 2, {"truncated"}},
       {"truncated binary STL", "path", write(d / "truncated.stl", stl), "", 2, {"truncated"}},
+      {"ASCII STL facet with two corners", "path",
+       write(d / "two_corners.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid s\n"), "", 2,
+       {"two_corners.stl", "line 6", "facet 0 has 2 corners"}},
+      {"ASCII STL cut inside a facet", "path", write(d / "cut.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"), "", 2,
+       {"cut.stl", "truncated: the file ends inside facet 0"}},
       {"garbage body, valid PLY header", "path", write(d / "garbage.ply", kPlyTetHeader + garbage), "", 2, {}},
       {"PLY announces more vertices than it has", "path",
        write(d / "counts.ply", "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -111,6 +112,89 @@ TEST(MeshLoader, ObjPolygonsKeepEveryCornersUv) {
       const Eigen::Vector2f expected(static_cast<float>(0.5 + 0.25 * p.x()), static_cast<float>(0.5 + 0.25 * p.y()));
       EXPECT_NEAR((mesh.corner_uvs[3 * f + c] - expected).norm(), 0.0f, 1e-5f) << "face " << f << " corner " << c;
     }
+}
+
+// The STL reader (mesh/stl_reader.h) merges the corners STL repeats per facet into vertices,
+// numbered by first appearance: a cube's 12 facets give its 8 corners, as binary (whose header
+// begins with "solid", as many writers' do: its exact size says binary) and as ASCII with what
+// writers vary (upper case, a facet on one line, CRLF, a 4-corner loop, two solids, -0, no final
+// endsolid). Faults name the facet or the line.
+TEST(MeshLoader, StlCornersAreMergedIntoVertices) {
+  const auto dir = test::scratch_dir();
+  const std::array<Eigen::Vector3f, 8> corner{{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}};
+  const std::array<std::array<int, 4>, 6> quads{{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}}};
+  std::vector<std::array<int, 3>> facets;
+  for (const auto& q : quads) facets.push_back({q[0], q[1], q[2]}), facets.push_back({q[0], q[2], q[3]});
+  const auto binary_stl = [&](const std::vector<std::array<int, 3>>& tris, float poison = 0.0f) {
+    std::string bytes = "solid cube (binary)";
+    bytes.resize(80, ' ');
+    const auto count = static_cast<std::uint32_t>(tris.size());
+    bytes.append(reinterpret_cast<const char*>(&count), 4);
+    for (std::size_t f = 0; f < tris.size(); ++f) {
+      float record[12] = {};
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) record[3 + 3 * c + k] = corner[static_cast<std::size_t>(tris[f][c])][k];
+      if (f == 3 && poison != 0.0f) record[7] = poison;
+      bytes.append(reinterpret_cast<const char*>(record), sizeof record);
+      bytes.append(2, '\0');
+    }
+    return bytes;
+  };
+  LoadReport report;
+  const TriangleMesh binary = load_mesh(write_text(dir / "cube_binary.stl", binary_stl(facets)), &report);
+  EXPECT_EQ(binary.vertex_count(), 8u);
+  ASSERT_EQ(binary.face_count(), 12u);
+  EXPECT_TRUE(report.warnings.empty());
+  // First appearance numbers the vertices: corner 0, 3, 2, 1 of the first facets, then 4...
+  EXPECT_EQ(binary.positions[1], Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(binary.triangles[0], (std::array<std::uint32_t, 3>{0, 1, 2}));
+  for (std::size_t f = 0; f < facets.size(); ++f)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(binary.positions[binary.triangles[f][c]], corner[static_cast<std::size_t>(facets[f][c])].cast<double>()) << f;
+
+  const auto vertex = [&](int v, bool negative_zero = false) {
+    std::string line = "  vertex";
+    for (int k = 0; k < 3; ++k) {
+      const float c = corner[static_cast<std::size_t>(v)][k];
+      line += ' ';
+      line += c == 0.0f && negative_zero ? std::string("-0") : std::to_string(c);
+    }
+    return line + "\r\n";
+  };
+  std::string ascii = "solid cube\r\n";
+  ascii += "FACET NORMAL 0 0 -1\r\n OUTER LOOP\r\n" + vertex(0) + vertex(3) + vertex(2) + vertex(1) + " ENDLOOP\r\nENDFACET\r\n";
+  for (std::size_t f = 2; f < facets.size(); ++f) {
+    if (f == 6) ascii += "endsolid cube\nsolid second part\n";
+    ascii += f == 4 ? "facet normal 0 0 0 outer loop" : "facet normal 0 0 0\nouter loop\n";
+    for (int c = 0; c < 3; ++c) ascii += vertex(facets[f][c], f == 9);
+    ascii += "endloop\nendfacet\n";
+  }
+  const TriangleMesh text = load_mesh(write_text(dir / "cube_ascii.stl", ascii), &report);
+  EXPECT_EQ(text.positions, binary.positions);
+  EXPECT_EQ(text.triangles, binary.triangles);
+  EXPECT_EQ(report.polygons_triangulated, 1u);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("without 'endsolid' after 11 facets"), std::string::npos) << report.warnings[0];
+  EXPECT_EQ(check_mesh_file(dir / "cube_ascii.stl").faces, 11u);
+
+  const auto fails = [&](const std::string& file, const std::string& bytes, const std::string& message) {
+    try {
+      load_mesh(write_text(dir / file, bytes));
+      ADD_FAILURE() << file << " was read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  };
+  fails("nan.stl", binary_stl(facets, std::numeric_limits<float>::quiet_NaN()), "facet 3 has a NaN or infinite corner");
+  const std::string head = "solid bad\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n";
+  fails("short_corner.stl", head + "vertex 1 0\nendloop\n", "line 6: a corner of facet 0 is not a number: 'endloop'");
+  fails("two_corners.stl", head + "vertex 1 0 0\nendloop\nendfacet\n", "line 6: facet 0 has 2 corners; a facet needs 3");
+  fails("cut.stl", head + "vertex 1 0 0\n", "truncated: the file ends inside facet 0");
+  fails("inner.stl", "solid bad\nfacet normal 0 0 1\ninner loop\n", "line 3: expected 'outer' in facet 0, found 'inner'");
+  fails("binary_tail.stl", "solid name\n" + std::string("facet \x01\x02", 8), "binary data in an ASCII STL");
+  fails("not_stl.stl", "ply\nformat ascii 1.0\n" + std::string(100, ' '), "corrupt binary STL: the header announces");
+  fails("misnamed.stl", "s0lid x\nfacet normal 0 0 1\n", "shorter than a binary STL header");
+  fails("other_statement.stl", "solid x\nvertex 0 0 0\n", "line 2: expected 'facet' or 'endsolid', found 'vertex'");
 }
 
 // An OBJ copied without its MTL file: an error naming the library, the OBJ and the way out, as
