@@ -102,12 +102,13 @@ TriangleMesh obj_mesh(obj_detail::ObjContents& obj) {
   TriangleMesh mesh;
   mesh.positions = std::move(obj.positions);
   mesh.colors = std::move(obj.colors);
-  mesh.triangles.reserve(obj.triangles.size());
-  for (const auto& t : obj.triangles)
-    mesh.triangles.push_back({static_cast<std::uint32_t>(t.vertex[0]), static_cast<std::uint32_t>(t.vertex[1]), static_cast<std::uint32_t>(t.vertex[2])});
+  const std::size_t triangles = obj.triangles.size();
+  mesh.triangles = std::move(obj.triangles);
   if (obj.materials.empty()) return mesh;
   // Faces before any usemtl get a material of their own, untextured (the look's colour).
-  const bool unassigned = std::any_of(obj.triangles.begin(), obj.triangles.end(), [](const auto& t) { return t.material < 0; });
+  const auto material_of = [&](std::size_t t) { return obj.triangle_materials.empty() ? -1 : obj.triangle_materials[t]; };
+  const bool unassigned = obj.triangle_materials.empty() ||
+                          std::any_of(obj.triangle_materials.begin(), obj.triangle_materials.end(), [](int m) { return m < 0; });
   const auto fallback = static_cast<std::uint32_t>(obj.materials.size());
   if (unassigned) {
     MeshMaterial none;
@@ -115,15 +116,16 @@ TriangleMesh obj_mesh(obj_detail::ObjContents& obj) {
     obj.materials.push_back(none);
     obj.uv_transforms.push_back({1, 1, 0, 0});
   }
-  const bool uvs = obj.corner_texcoords && !obj.texcoords.empty();
-  mesh.triangle_materials.reserve(obj.triangles.size());
-  if (uvs) mesh.corner_uvs.reserve(3 * obj.triangles.size());
-  for (const auto& t : obj.triangles) {
-    const std::uint32_t material = t.material < 0 ? fallback : static_cast<std::uint32_t>(t.material);
+  const bool uvs = obj.corner_texcoords && !obj.texcoords.empty() && !obj.triangle_texcoords.empty();
+  mesh.triangle_materials.reserve(triangles);
+  if (uvs) mesh.corner_uvs.reserve(3 * triangles);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    const int m = material_of(t);
+    const std::uint32_t material = m < 0 ? fallback : static_cast<std::uint32_t>(m);
     mesh.triangle_materials.push_back(material);
     if (!uvs) continue;
     const auto& transform = obj.uv_transforms[material];
-    for (const int index : t.texcoord) {
+    for (const int index : obj.triangle_texcoords[t]) {
       Eigen::Vector2f uv = index >= 0 && index < static_cast<int>(obj.texcoords.size()) ? obj.texcoords[static_cast<std::size_t>(index)]
                                                                                          : Eigen::Vector2f::Zero();
       // map_Kd -s and -o: the texture is scaled, then moved, in texture space.

@@ -130,6 +130,7 @@ ObjContents read_obj(const std::filesystem::path& file, bool read) {
   std::map<std::string, int> by_name;
   mesh_text::LineReader lines(file);
   std::size_t texcoords = 0, normals = 0;
+  bool keep_texcoords = false, keep_materials = false;
   int current = -1;
   std::vector<std::string_view> words;
   std::vector<std::pair<int, int>> corners;
@@ -213,10 +214,22 @@ ObjContents read_obj(const std::filesystem::path& file, bool read) {
       }
       if (!read) continue;
       faces.polygons += corners.size() > 3 ? 1 : 0;
-      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-        faces.triangles.push_back({{corners[0].first, corners[k].first, corners[k + 1].first},
-                                   {corners[0].second, corners[k].second, corners[k + 1].second},
-                                   current});
+      // Texture coordinate indices and materials are kept from the first face that has them on
+      // (the triangles before get none).
+      if (!keep_texcoords && std::any_of(corners.begin(), corners.end(), [](const auto& c) { return c.second >= 0; })) {
+        keep_texcoords = true;
+        faces.triangle_texcoords.resize(faces.triangles.size(), {-1, -1, -1});
+      }
+      if (!keep_materials && current >= 0) {
+        keep_materials = true;
+        faces.triangle_materials.resize(faces.triangles.size(), -1);
+      }
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+        faces.triangles.push_back({static_cast<std::uint32_t>(corners[0].first), static_cast<std::uint32_t>(corners[k].first),
+                                   static_cast<std::uint32_t>(corners[k + 1].first)});
+        if (keep_texcoords) faces.triangle_texcoords.push_back({corners[0].second, corners[k].second, corners[k + 1].second});
+        if (keep_materials) faces.triangle_materials.push_back(current);
+      }
     } else if (read && (key == "mtllib" || key == "usemtl")) {
       const auto [statement, rest] = split_statement(std::string(line));
       if (statement == "mtllib" && !rest.empty()) {

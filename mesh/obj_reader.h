@@ -7,10 +7,13 @@
 // for their materials: the bunny split to 4.5M faces as OBJ loaded in 23.4 s and was checked in
 // 6.3 s more, now 1.75 s and 1.39 s (bench/load_bench BM_LoadObj: 22 ms to 6.1 s from 70k to
 // 17.8M faces). Positions keep the file's double precision (OpenMesh rounded them to float), and
-// non-manifold faces keep the file's vertices (OpenMesh gave them copies).
+// non-manifold faces keep the file's vertices (OpenMesh gave them copies). Loading the 17.8M-face
+// OBJ peaks at 0.73 GB (1.28 GB while every triangle carried texture coordinate and material
+// slots, and was copied into the model's form; /usr/bin/time -v on a load_mesh call).
 #include <Eigen/Core>
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -24,11 +27,16 @@ struct ObjContents {
   std::vector<Eigen::Vector3d> positions;
   /// Per vertex, when a vertex line carries a colour ("v x y z r g b"); white where one does not.
   std::vector<Eigen::Vector3f> colors;
-  struct Triangle {
-    std::array<int, 3> vertex, texcoord;  // 0-based; texcoord -1 = none
-    int material = -1;                    // index into `materials`, -1 = before any usemtl
-  };
-  std::vector<Triangle> triangles;  // v0 v1 v2, v0 v2 v3, ... per face
+  /// Vertex indices (0-based) per triangle: v0 v1 v2, v0 v2 v3, ... per face; the model's own
+  /// form, moved into it. What only some files have is held only by them (a 17.8M-face scan
+  /// without texture coordinates or materials held 28 bytes per triangle, now 12):
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  /// Per triangle, its corners' texture coordinate indices (0-based, -1 = none); empty when no
+  /// face corner names one (-1 for the triangles before the first that does).
+  std::vector<std::array<int, 3>> triangle_texcoords;
+  /// Per triangle, its index into `materials` (-1 = before any usemtl); empty when no face
+  /// follows a usemtl.
+  std::vector<int> triangle_materials;
   std::size_t polygons = 0;         ///< faces with more than 3 corners
   bool corner_texcoords = false;    ///< some face corner names a texture coordinate
   std::vector<Eigen::Vector2f> texcoords;

@@ -184,7 +184,7 @@ StlContents read_stl(const std::filesystem::path& file, bool read) {
   const std::string name = file.string();
   const unsigned long long size = std::filesystem::file_size(file);
   StlContents out;
-  char header[84] = {};
+  char header[512] = {};  // the binary header (84 bytes) and enough of the facets to tell text
   {
     std::ifstream in(file, std::ios::binary);
     if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
@@ -194,19 +194,28 @@ StlContents read_stl(const std::filesystem::path& file, bool read) {
   std::string start(header, std::min<std::size_t>(got, 80));
   start.erase(0, start.find_first_not_of(" \t\r\n"));
   const bool says_solid = start.size() >= 5 && keyword_is(std::string_view(start).substr(0, 5), "solid");
-  if (got == 84) {
+  // Text has no control characters but line ends and blanks; a binary count and floats soon do.
+  const bool binary_bytes = std::any_of(header, header + got, [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return (u < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\v' && c != '\f') || u == 0x7f;
+  });
+  if (got >= 84) {
     std::uint32_t facets = 0;
     std::memcpy(&facets, header + 80, 4);
     if constexpr (std::endian::native == std::endian::big) facets = __builtin_bswap32(facets);
     const unsigned long long binary_size = 84ull + 50ull * facets;
-    // Binary STL files may also begin with "solid" (many writers put the part name there); the
-    // exact size tells them apart.
-    if (binary_size == size || !says_solid) {
+    // Binary STL files may also begin with "solid" (many writers put the part name there): the
+    // exact size tells them apart, or, where bytes follow the facets, bytes no text holds.
+    const bool trailing = says_solid && binary_size < size && binary_bytes;
+    if (binary_size == size || !says_solid || trailing) {
       if (binary_size > size)
         throw InputError(name + ": truncated or corrupt binary STL: the header announces " + std::to_string(facets) +
                          " triangles (" + std::to_string(binary_size) + " bytes) but the file holds " + std::to_string(size) + " bytes");
       out.binary = true;
       out.summary = MeshFileSummary{3ull * facets, facets, 3ull * facets};
+      if (binary_size < size)
+        out.warnings.push_back(std::to_string(size - binary_size) + " bytes after the " + std::to_string(facets) +
+                               " facets its header announces are ignored");
       if (read) read_binary(file, name, facets, out);
       return out;
     }

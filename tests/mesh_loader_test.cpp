@@ -116,7 +116,7 @@ TEST(MeshLoader, ObjPolygonsKeepEveryCornersUv) {
 
 // The STL reader (mesh/stl_reader.h) merges the corners STL repeats per facet into vertices,
 // numbered by first appearance: a cube's 12 facets give its 8 corners, as binary (whose header
-// begins with "solid", as many writers' do: its exact size says binary) and as ASCII with what
+// begins with "solid", as many writers' do: its exact size or its bytes say binary) and as ASCII with what
 // writers vary (upper case, a facet on one line, CRLF, a 4-corner loop, two solids, -0, no final
 // endsolid). Faults name the facet or the line.
 TEST(MeshLoader, StlCornersAreMergedIntoVertices) {
@@ -151,6 +151,12 @@ TEST(MeshLoader, StlCornersAreMergedIntoVertices) {
   for (std::size_t f = 0; f < facets.size(); ++f)
     for (int c = 0; c < 3; ++c)
       EXPECT_EQ(binary.positions[binary.triangles[f][c]], corner[static_cast<std::size_t>(facets[f][c])].cast<double>()) << f;
+
+  // Bytes after the facets (some writers pad): binary all the same, though its header says solid.
+  const TriangleMesh padded = load_mesh(write_text(dir / "cube_padded.stl", binary_stl(facets) + std::string(100, '\0')), &report);
+  EXPECT_EQ(padded.triangles, binary.triangles);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("100 bytes after the 12 facets"), std::string::npos) << report.warnings[0];
 
   const auto vertex = [&](int v, bool negative_zero = false) {
     std::string line = "  vertex";
