@@ -15,7 +15,10 @@ namespace meshtour::gltf_detail {
 TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::string>& warnings);
 
 /// Counts as check_mesh_file() reports them (vertices and triangles of every instance), from the
-/// accessors' counts without decoding Draco data. \throw InputError for a file tinygltf refuses.
+/// JSON alone: the accessors' counts, nothing decoded, no buffer read (only the GLB's chunks and
+/// the buffer files' sizes checked against what the JSON says they hold).
+/// \throw InputError for a truncated file or buffer, a missing buffer file, invalid JSON, an
+/// unsupported required extension, or a reference to nothing.
 MeshFileSummary gltf_summary(const std::filesystem::path& file);
 
 }  // namespace meshtour::gltf_detail

@@ -75,6 +75,18 @@ TEST(MeshGltf, NodeTransformsMaterialsAndExternalFiles) {
   const MeshFileSummary summary = check_mesh_file(dir / "square.gltf");
   EXPECT_EQ(summary.vertices, 8u);
   EXPECT_EQ(summary.triangles(), 4u);
+  {  // The check reads no buffer, but finds one that is shorter than the JSON says.
+    GltfBuilder cut = b;
+    cut.write_gltf(dir / "cut.gltf");
+    const std::string bin = "cut.bin";  // the writer's buffer file: the .gltf's name
+    std::filesystem::resize_file(dir / bin, std::filesystem::file_size(dir / bin) - 4);
+    try {
+      check_mesh_file(dir / "cut.gltf");
+      ADD_FAILURE() << "a truncated buffer file passed the check";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("buffer 0's file '" + bin + "' holds"), std::string::npos) << e.what();
+    }
+  }
 
   const TriangleMesh mesh = load_mesh(dir / "square.gltf");
   ASSERT_EQ(mesh.triangles.size(), 4u);
@@ -329,6 +341,10 @@ TEST(MeshGltf, GpuInstancesAndIgnoredLights) {
     shared.write_glb(dir / "shared.glb");
     const TriangleMesh three = load_mesh(dir / "shared.glb");
     ASSERT_EQ(three.triangles.size(), 6u);
+    // The check counts the same draws from the JSON alone (two GPU instances, one node).
+    const MeshFileSummary counted = check_mesh_file(dir / "shared.glb");
+    EXPECT_EQ(counted.triangles(), 6u);
+    EXPECT_EQ(counted.vertices, 12u);
     for (const auto& t : three.triangles) {
       const Eigen::Vector3d n = (three.positions[t[1]] - three.positions[t[0]]).cross(three.positions[t[2]] - three.positions[t[0]]);
       EXPECT_GT(n.z(), 0.0);
