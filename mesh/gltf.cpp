@@ -22,6 +22,7 @@
 #include <iterator>
 
 #include "core/error.h"
+#include "mesh/file_extension.h"
 #include "mesh/tinygltf_config.h"
 #include "mesh/vertex_weld.h"
 
@@ -287,6 +288,18 @@ std::vector<std::string> required_extensions(const nlohmann::json& doc) {
   return out;
 }
 
+// The whole file in one read (through istreambuf_iterator, a byte at a time, it was a fifth of
+// loading a big GLB).
+template <class Bytes>
+Bytes whole_file(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
+  Bytes bytes(static_cast<std::size_t>(std::filesystem::file_size(file)), 0);
+  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (static_cast<std::size_t>(in.gcount()) != bytes.size()) throw IoError(name + ": could not read the whole file");
+  return bytes;
+}
+
 tinygltf::Model read_model(const std::filesystem::path& file, const std::string& name) {
   tinygltf::TinyGLTF reader;
   reader.SetImageLoader(keep_encoded_image, nullptr);
@@ -295,17 +308,10 @@ tinygltf::Model read_model(const std::filesystem::path& file, const std::string&
   std::string error, warning;
   bool ok = false;
   Prepared prepared;
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lower_extension(file);
   const std::string base_dir = file.parent_path().string();
   try {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
-    // One read of the whole file (through istreambuf_iterator, a byte at a time, it was a fifth of
-    // loading a big GLB).
-    std::vector<unsigned char> bytes(static_cast<std::size_t>(std::filesystem::file_size(file)));
-    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (static_cast<std::size_t>(in.gcount()) != bytes.size()) throw IoError(name + ": could not read the whole file");
+    std::vector<unsigned char> bytes = whole_file<std::vector<unsigned char>>(file, name);
     // A required extension meshtour does not read is named before the reader sees the file: such
     // files are often unreadable without it (a compression extension's views have no data of
     // their own), and the reader's own complaint would not say why.
@@ -1174,8 +1180,7 @@ std::int64_t index_of(const nlohmann::json& o, const char* key, const std::strin
 // scan took 0.34 s and 750 MB), only their sizes checked against what the JSON says they hold.
 MeshFileSummary gltf_summary(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lower_extension(file);
   const unsigned long long size = std::filesystem::file_size(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
@@ -1206,7 +1211,7 @@ MeshFileSummary gltf_summary(const std::filesystem::path& file) {
       }
     }
   } else {
-    json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    json = whole_file<std::string>(file, name);  // the JSON is the file (data URIs can make it big)
   }
   const nlohmann::json doc = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
   if (doc.is_discarded() || !doc.is_object()) throw InputError(name + ": cannot read glTF: its JSON is not valid");

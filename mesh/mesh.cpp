@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "mesh/file_extension.h"
 #include "mesh/gltf.h"
 #include "mesh/obj_reader.h"
 #include "mesh/openmesh_log.h"
@@ -34,12 +35,6 @@ struct LoaderTraits : OpenMesh::DefaultTraits {
   FaceAttributes(OpenMesh::Attributes::Status);
 };
 using LoaderMesh = OpenMesh::TriMesh_ArrayKernelT<LoaderTraits>;
-
-std::string lower_extension(const std::filesystem::path& file) {
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 bool is_supported(const std::string& ext) {
   return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl" || ext == ".gltf" || ext == ".glb";

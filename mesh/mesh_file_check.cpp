@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "mesh/file_extension.h"
 #include "mesh/gltf.h"
 #include "mesh/mesh.h"
 #include "mesh/mesh_text.h"
@@ -31,12 +32,6 @@
 
 namespace meshtour {
 namespace {
-
-std::string lower_extension(const std::filesystem::path& file) {
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 void strip_cr(std::string& line) {
   if (!line.empty() && line.back() == '\r') line.pop_back();

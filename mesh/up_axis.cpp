@@ -35,6 +35,7 @@
 #include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "mesh/convex_hull.h"
+#include "mesh/file_extension.h"
 #include "mesh/mesh_edges.h"
 #include "mesh/vertex_clustering.h"
 
@@ -757,8 +758,7 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
 }
 
 std::optional<Axis> format_up_axis(const std::filesystem::path& file) {
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = lower_extension(file);
   if (ext == ".gltf" || ext == ".glb") return Axis{1, false};
   return std::nullopt;
 }
