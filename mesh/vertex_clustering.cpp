@@ -212,7 +212,7 @@ std::uint32_t ClusteredMesh::vertex_near(const Eigen::Vector3d& p) const {
   return best;
 }
 
-ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells) {
+ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells, bool centred_grid) {
   if (target_cells < 1) throw InputError("surface clustering needs at least one cell");
   double total = 0.0;
   for (const auto& t : mesh.triangles) {
@@ -227,6 +227,12 @@ ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells
   const Bounds bounds = mesh.bounds();
   out.cell_size = std::sqrt(total / static_cast<double>(target_cells));
   out.grid_origin = bounds.lo - Eigen::Vector3d::Constant(0.5 * out.cell_size);
+  if (centred_grid) {
+    // Cell boundaries at the centre +- (k + 1/2) cells: a set that mirrors onto itself.
+    const Eigen::Vector3d centre = 0.5 * (bounds.lo + bounds.hi);
+    const Eigen::Vector3d half_cells = (0.5 * (bounds.hi - bounds.lo) / out.cell_size).array().ceil();
+    out.grid_origin = centre - (half_cells + Eigen::Vector3d::Constant(0.5)) * out.cell_size;
+  }
   const double inverse = 1.0 / out.cell_size;
   auto grid = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d { return (p - out.grid_origin) * inverse; };
 

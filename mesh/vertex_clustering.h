@@ -42,6 +42,11 @@ struct ClusteredMesh {
 /// Clusters the surface of `mesh` into cells of the size that would give about `target_cells` cells
 /// if the surface were flat (cell = sqrt(area / target_cells)). Deterministic: the same bits for any
 /// thread count. \throw InputError if the mesh has no area.
-ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells);
+///
+/// The grid starts half a cell below the mesh's bounds. With `centred_grid`, it is placed
+/// symmetrically about the centre of the bounds instead (a cell boundary or a cell centre on each
+/// of its mid-planes), so a mesh turned by a quarter turn or mirrored about an axis gets the same
+/// cells, turned: for measures that must not depend on which way the model is stored.
+ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells, bool centred_grid = false);
 
 }  // namespace meshtour

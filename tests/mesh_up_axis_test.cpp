@@ -254,6 +254,49 @@ TEST(UpAxis, MaskIsNotStoodOnItsFlatBack) {
   }
 }
 
+// An open end is flat surface at the end it faces only where a flat triangle would be: facing
+// within kFlatAngle of the axis. A ball open at its bottom (a scan's open neck or underside)
+// stands on its opening in every orientation. Turned 25 degrees off the axis, the opening is no
+// base of any axis, and the ball rests on no side: not confident. Before, the cap counted its
+// shadow on every axis, and a lion's head scan open at its throat 27 degrees off its back stood on
+// its throat, confidently, in all six orientations.
+TEST(UpAxis, OpenEndIsABaseOnlyFacingAnAxis) {
+  const auto open_ball = [](double tilt_deg) {
+    Builder b;
+    const double from = 1.0 / 6.0;  // the opening: 30 degrees around the bottom pole
+    const auto angle = [from](double t) { return EIGEN_PI * (from + (1.0 - from) * t); };
+    b.revolution({0.0, 0.0, 0.0}, [&](double t) { return std::sin(angle(t)); }, [&](double t) { return -std::cos(angle(t)); }, 24, 48, false);
+    const Eigen::Matrix3d tilt = Eigen::AngleAxisd(tilt_deg * EIGEN_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    return rotated(b.mesh, tilt);
+  };
+  expect_found_in_every_orientation("ball open at its foot", open_ball(0.0), Axis{1, false});
+  const TriangleMesh tilted = open_ball(25.0);
+  print_rests("tilted opening", choose_up_axis(tilted));
+  for (const Axis to : kAllAxes) {
+    const UpChoice c = choose_up_axis(rotated(tilted, axis_rotation(Axis{1, false}, to)));
+    EXPECT_FALSE(c.confident) << "turned to " << to.name() << ": " << c.reason;
+  }
+}
+
+// A column whose capital is the same disc as its base rests as firmly on either end, and
+// nothing tells up from down: +y, not confident, in every orientation. The flat-cut rule may
+// break a tie between two firm ends only where its cut's end is clearly the flatter
+// (kConfidentRatio), as a vase's foot is against its mouth's rim; between ends alike it tossed a
+// coin: it stood this column on one end, confidently, and a column scan (kTDS Column03, flat ends
+// 0.83 and 0.76 of its footprint) on its capital in two of its six orientations.
+TEST(UpAxis, ColumnWithEndsAlikeIsNotTurnedByACut) {
+  Builder b;
+  b.frustum({0.0, 0.0, 0.0}, 0.5, 0.5, 0.2);   // the base
+  b.frustum({0.0, 0.2, 0.0}, 0.3, 0.3, 2.0);   // the shaft
+  b.frustum({0.0, 2.2, 0.0}, 0.5, 0.5, 0.2);   // the capital
+  for (const Axis to : kAllAxes) {
+    const UpChoice c = choose_up_axis(rotated(b.mesh, axis_rotation(Axis{1, false}, to)));
+    if (to.index == 1 && !to.negative) print_rests("column", c);
+    EXPECT_FALSE(c.confident) << "turned to " << to.name() << ": " << c.reason;
+    EXPECT_EQ(c.cut_share, 0.0) << "turned to " << to.name() << ": " << c.reason;
+  }
+}
+
 // A standing figure: legs and feet, a body, arms held out, a head and a nose. No side rests firmly wider
 // than its feet, but the soles are flat and the head is round; its plane of symmetry (x = 0) is
 // found and x is never up.

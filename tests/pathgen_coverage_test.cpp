@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -222,6 +223,34 @@ TEST(VertexClustering, CellsFollowTheAreaAndAFinerTessellationGivesTheSameProxy)
   }
   for (std::size_t v = 0; v < fine.positions.size(); ++v)
     ASSERT_LT((fine.positions[v] - b.mesh.positions[b.vertex_near(fine.positions[v])]).norm(), 2.0 * b.cell_size);
+}
+
+// With the grid centred on the bounds (mesh/up_axis.cpp's flat-cut proxy), a mesh mirrored and
+// turned by a signed permutation of its axes gets the same cells and the same proxy, turned. With
+// the grid started at the bounds' corner, the cells shift by up to a cell under a mirror: --up auto
+// then found a column's capital as a sawn base in two of its six orientations and not in the others.
+TEST(VertexClustering, CentredGridTurnsWithTheMesh) {
+  TriangleMesh mesh = test_meshes::icosphere(4);
+  for (Eigen::Vector3d& p : mesh.positions) p = Eigen::Vector3d(1.3 * p.x() + 0.3 * p.y() * p.y(), 0.8 * p.y(), p.z() + 0.2 * p.x() * p.y());
+  const Eigen::Matrix3d turn = (Eigen::Matrix3d() << 0, 0, -1, 1, 0, 0, 0, -1, 0).finished();  // a signed permutation
+  TriangleMesh turned = mesh;
+  for (Eigen::Vector3d& p : turned.positions) p = turn * p;
+  for (const bool centred : {true, false}) {
+    const ClusteredMesh a = cluster_surface(mesh, 400, centred), b = cluster_surface(turned, 400, centred);
+    std::size_t matched = 0;
+    for (const Eigen::Vector3d& p : a.mesh.positions) {
+      const Eigen::Vector3d q = turn * p;
+      matched += std::any_of(b.mesh.positions.begin(), b.mesh.positions.end(),
+                             [&](const Eigen::Vector3d& r) { return (r - q).norm() < 1e-9 * a.cell_size; });
+    }
+    if (centred) {
+      EXPECT_EQ(a.mesh.positions.size(), b.mesh.positions.size());
+      EXPECT_EQ(a.mesh.triangles.size(), b.mesh.triangles.size());
+      EXPECT_EQ(matched, a.mesh.positions.size());
+    } else {
+      EXPECT_LT(matched, a.mesh.positions.size() / 2) << "the corner-anchored grid was expected to move under the turn";
+    }
+  }
 }
 
 TEST(VertexClustering, SameBitsForAnyThreadCount) {
