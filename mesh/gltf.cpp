@@ -232,18 +232,54 @@ void decode_meshopt(tinygltf::Model& model, const Prepared& prepared, const std:
   }
 }
 
+InputError glb_truncated(const std::string& name, const std::string& what, unsigned long long size) {
+  return InputError(name + ": truncated GLB: " + what + " but the file holds " + std::to_string(size) + " bytes");
+}
+
 std::uint32_t read_u32(const std::vector<unsigned char>& bytes, std::size_t at) {
   return static_cast<std::uint32_t>(bytes[at]) | static_cast<std::uint32_t>(bytes[at + 1]) << 8 |
          static_cast<std::uint32_t>(bytes[at + 2]) << 16 | static_cast<std::uint32_t>(bytes[at + 3]) << 24;
 }
 
-// The JSON text of a .gltf file or of a GLB's JSON chunk ("" when the container is malformed).
-std::string json_text_of(const std::vector<unsigned char>& bytes, bool glb) {
+// The GLB container (glTF 2.0, "Binary glTF Layout"): a 12-byte header (magic 'glTF', version 2,
+// total length), then chunks of (length, type, data), the JSON chunk first at byte 12 (its data
+// at 20), then optionally the binary one. Checked in one place for the loader, which holds the
+// whole file, and the check before it (gltf_summary), which reads only the headers.
+constexpr std::uint32_t kGlbMagic = 0x46546C67u, kJsonChunk = 0x4E4F534Au, kBinChunk = 0x004E4942u;
+struct GlbLayout {
+  unsigned long long length = 0;  // the total the header announces (<= the file's size)
+  std::uint32_t json_length = 0;  // the JSON chunk's data, from byte 20
+};
+
+// `head`: the file's first 20 bytes, or all of it when shorter; `size`: the file's size.
+GlbLayout glb_layout(const std::vector<unsigned char>& head, unsigned long long size, const std::string& name) {
+  if (head.size() < 12 || read_u32(head, 0) != kGlbMagic) throw InputError(name + ": cannot read glTF: not a GLB file (it does not begin with 'glTF')");
+  if (read_u32(head, 4) != 2) throw InputError(name + ": cannot read glTF: GLB version " + std::to_string(read_u32(head, 4)) + " (meshtour reads glTF 2.0)");
+  GlbLayout layout;
+  layout.length = read_u32(head, 8);
+  if (layout.length > size) throw glb_truncated(name, "its header announces " + std::to_string(layout.length) + " bytes", size);
+  if (head.size() < 20 || read_u32(head, 16) != kJsonChunk) throw InputError(name + ": cannot read glTF: the GLB's first chunk is not its JSON");
+  layout.json_length = read_u32(head, 12);
+  if (20 + static_cast<unsigned long long>(layout.json_length) > layout.length)
+    throw glb_truncated(name, "its JSON chunk announces " + std::to_string(layout.json_length) + " bytes", size);
+  return layout;
+}
+
+// `chunk_head`: the 8 bytes after the JSON chunk, where the binary chunk's header is if there is one.
+std::optional<std::uint32_t> glb_bin_length(const std::vector<unsigned char>& chunk_head, const GlbLayout& layout, unsigned long long size,
+                                            const std::string& name) {
+  if (chunk_head.size() < 8 || 20ull + layout.json_length + 8 > layout.length || read_u32(chunk_head, 4) != kBinChunk) return std::nullopt;
+  const std::uint32_t bin_length = read_u32(chunk_head, 0);
+  if (20ull + layout.json_length + 8 + bin_length > layout.length)
+    throw glb_truncated(name, "its binary chunk announces " + std::to_string(bin_length) + " bytes", size);
+  return bin_length;
+}
+
+// The JSON text of a .gltf file or of a GLB's JSON chunk.
+std::string json_text_of(const std::vector<unsigned char>& bytes, bool glb, const std::string& name) {
   if (!glb) return std::string(bytes.begin(), bytes.end());
-  if (bytes.size() < 20 || read_u32(bytes, 0) != 0x46546C67u || read_u32(bytes, 16) != 0x4E4F534Au) return {};
-  const std::size_t json_length = read_u32(bytes, 12);
-  if (json_length > bytes.size() - 20) return {};
-  return std::string(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length));
+  const GlbLayout layout = glb_layout(bytes, bytes.size(), name);
+  return std::string(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(layout.json_length));
 }
 
 // The GLB `bytes` with its JSON chunk replaced by `json` (the container was checked by json_text_of()).
@@ -256,7 +292,7 @@ std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& bytes
   };
   out.resize(20);
   put(12, static_cast<std::uint32_t>(json.size()));
-  put(16, 0x4E4F534Au);
+  put(16, kJsonChunk);
   out.insert(out.end(), json.begin(), json.end());
   out.insert(out.end(), bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_length), bytes.end());
   put(8, static_cast<std::uint32_t>(out.size()));
@@ -316,14 +352,14 @@ tinygltf::Model read_model(const std::filesystem::path& file, const std::string&
     // files are often unreadable without it (a compression extension's views have no data of
     // their own), and the reader's own complaint would not say why.
     const bool glb = ext == ".glb";
-    const std::string json = json_text_of(bytes, glb);
-    // Parsed once, for the required extensions and for the rewrites; a malformed container ("")
-    // or JSON is left to the reader to refuse.
+    const std::string json = json_text_of(bytes, glb, name);
+    // Parsed once, for the required extensions and for the rewrites; malformed JSON is left to
+    // the reader to refuse.
     nlohmann::json doc = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
     refuse_unsupported(required_extensions(doc), name);
     prepared = prepare_json(std::move(doc), json, name);
     if (glb) {
-      if (!json.empty() && prepared.json != json) bytes = glb_with_json(bytes, prepared.json);
+      if (prepared.json != json) bytes = glb_with_json(bytes, prepared.json);
       ok = reader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
     } else {
       ok = reader.LoadASCIIFromString(&model, &error, &warning, prepared.json.c_str(), static_cast<unsigned>(prepared.json.size()), base_dir);
@@ -1187,29 +1223,16 @@ MeshFileSummary gltf_summary(const std::filesystem::path& file) {
   std::string json;
   std::optional<unsigned long long> bin_length;  // the GLB's binary chunk
   if (ext == ".glb") {
-    std::vector<unsigned char> head(20, 0);
-    in.read(reinterpret_cast<char*>(head.data()), 20);
-    const auto got = static_cast<std::size_t>(in.gcount());
-    if (got < 12 || read_u32(head, 0) != 0x46546C67u) throw InputError(name + ": cannot read glTF: not a GLB file (it does not begin with 'glTF')");
-    if (read_u32(head, 4) != 2) throw InputError(name + ": cannot read glTF: GLB version " + std::to_string(read_u32(head, 4)) + " (meshtour reads glTF 2.0)");
-    const unsigned long long length = read_u32(head, 8);
-    const auto truncated = [&](const std::string& what) {
-      return InputError(name + ": truncated GLB: " + what + " but the file holds " + std::to_string(size) + " bytes");
+    const auto read_up_to = [&in](std::size_t count) {
+      std::vector<unsigned char> bytes(count, 0);
+      in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(count));
+      bytes.resize(static_cast<std::size_t>(in.gcount()));
+      return bytes;
     };
-    if (length > size) throw truncated("its header announces " + std::to_string(length) + " bytes");
-    if (got < 20 || read_u32(head, 16) != 0x4E4F534Au) throw InputError(name + ": cannot read glTF: the GLB's first chunk is not its JSON");
-    const unsigned long long json_length = read_u32(head, 12);
-    if (20 + json_length > length) throw truncated("its JSON chunk announces " + std::to_string(json_length) + " bytes");
-    json.resize(static_cast<std::size_t>(json_length));
-    in.read(json.data(), static_cast<std::streamsize>(json_length));
-    if (20 + json_length + 8 <= length) {
-      std::vector<unsigned char> chunk(8, 0);
-      in.read(reinterpret_cast<char*>(chunk.data()), 8);
-      if (read_u32(chunk, 4) == 0x004E4942u) {
-        bin_length = read_u32(chunk, 0);
-        if (20 + json_length + 8 + *bin_length > length) throw truncated("its binary chunk announces " + std::to_string(*bin_length) + " bytes");
-      }
-    }
+    const GlbLayout layout = glb_layout(read_up_to(20), size, name);
+    json.resize(layout.json_length);
+    in.read(json.data(), static_cast<std::streamsize>(layout.json_length));
+    bin_length = glb_bin_length(read_up_to(8), layout, size, name);
   } else {
     json = whole_file<std::string>(file, name);  // the JSON is the file (data URIs can make it big)
   }

@@ -364,8 +364,9 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
   s.render_tile = choose_tile_kernel();
   s.options = options;
   s.filter = ReconstructionFilter(options.filter_radius);
-  s.origin = mesh.bounds().center();
-  s.scale = static_cast<float>(std::max(mesh.bounds().diagonal(), 1e-30));
+  const Bounds bounds = mesh.bounds();  // a pass over every vertex: once
+  s.origin = bounds.center();
+  s.scale = static_cast<float>(std::max(bounds.diagonal(), 1e-30));
   s.positions.reserve(mesh.positions.size() + 1);
   for (const auto& p : mesh.positions) s.positions.push_back((p - s.origin).cast<float>());
   s.triangles = mesh.triangles;
