@@ -94,6 +94,28 @@ inline void write_obj(const meshtour::TriangleMesh& mesh, const std::filesystem:
   std::filesystem::rename(temporary, file);
 }
 
+// Text OFF: the keyword, the counts, a line per vertex and per triangle (0-based indices).
+inline void write_off(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  const std::filesystem::path temporary = file.string() + ".partial";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << "OFF\n" << mesh.positions.size() << ' ' << mesh.triangles.size() << " 0\n";
+    char line[128];
+    for (const auto& p : mesh.positions) {
+      const int n = std::snprintf(line, sizeof line, "%.9g %.9g %.9g\n", static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                  static_cast<float>(p.z()));
+      out.write(line, n);
+    }
+    for (const auto& t : mesh.triangles) {
+      const int n = std::snprintf(line, sizeof line, "3 %u %u %u\n", t[0], t[1], t[2]);
+      out.write(line, n);
+    }
+    if (!out) throw std::runtime_error("could not write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, file);
+}
+
 // Binary STL: an 80-byte header, the triangle count, then per triangle a float normal, three
 // float corners and a 2-byte attribute (every corner written out: STL shares no vertices).
 inline void write_stl(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {

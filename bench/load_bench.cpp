@@ -25,7 +25,7 @@ namespace {
 std::filesystem::path g_source_mesh;
 std::filesystem::path g_mesh_dir;
 
-// The split mesh's file in `extension` (".ply", ".obj", ".stl" or ".glb"), written on first use.
+// The split mesh's file in `extension` (".ply", ".obj", ".off", ".stl" or ".glb"), written on first use.
 std::filesystem::path mesh_file(int levels, const std::string& extension) {
   const auto file = g_mesh_dir / (g_source_mesh.stem().string() + "-split" + std::to_string(levels) + extension);
   if (!std::filesystem::exists(file)) {
@@ -33,6 +33,7 @@ std::filesystem::path mesh_file(int levels, const std::string& extension) {
     if (extension == ".glb") meshtour::bench::write_glb(mesh, file);
     else if (extension == ".obj") meshtour::bench::write_obj(mesh, file);
     else if (extension == ".stl") meshtour::bench::write_stl(mesh, file);
+    else if (extension == ".off") meshtour::bench::write_off(mesh, file);
     else meshtour::bench::write_ply(mesh, file);
   }
   return file;
@@ -53,6 +54,8 @@ void load(benchmark::State& state, const std::string& extension) {
 
 void BM_LoadPly(benchmark::State& state) { load(state, ".ply"); }
 void BM_LoadObj(benchmark::State& state) { load(state, ".obj"); }
+// Text OFF: meshtour's reader (OpenMesh's before, 81 ms at 70k faces).
+void BM_LoadOff(benchmark::State& state) { load(state, ".off"); }
 // Binary STL: every corner stored, so the loader welds the corners back into vertices.
 void BM_LoadStl(benchmark::State& state) { load(state, ".stl"); }
 // GLB: tinygltf's parse, the accessor checks and the welding of bit-identical vertices.
@@ -89,6 +92,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_LoadPly)->Apply(sizes);
 BENCHMARK(BM_LoadObj)->Apply(sizes);
+BENCHMARK(BM_LoadOff)->Apply(sizes);
 BENCHMARK(BM_LoadStl)->Apply(sizes);
 BENCHMARK(BM_LoadGlb)->Apply(sizes);
 BENCHMARK(BM_LoadInstancedGlb)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);

@@ -23,6 +23,7 @@
 #include "mesh/obj_reader.h"
 #include "mesh/openmesh_log.h"
 #include "mesh/ply_contents.h"
+#include "mesh/off_reader.h"
 #include "mesh/stl_reader.h"
 #include "mesh/textures.h"
 
@@ -220,12 +221,11 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
 
   // What every reader's model goes through last: the geometry's and the textures' checks, and
   // the report.
-  const auto finished = [&](TriangleMesh mesh, std::vector<std::string> warnings, std::size_t polygons, std::size_t vertices_split) {
+  const auto finished = [&](TriangleMesh mesh, std::vector<std::string> warnings, std::size_t polygons) {
     check_geometry(mesh, name);
     check_material_textures(mesh, name, load_options, warnings);
     if (report) {
       report->polygons_triangulated = polygons;
-      report->vertices_split = vertices_split;
       report->warnings = std::move(warnings);
     }
     return mesh;
@@ -235,7 +235,7 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     ply_detail::PlyContents contents;
     ply_detail::read_ply(file, contents);
     const std::size_t polygons = contents.polygons;
-    return finished(ply_mesh(file, std::move(contents)), {}, polygons, 0);
+    return finished(ply_mesh(file, std::move(contents)), {}, polygons);
   }
   if (ext == ".obj") {
     obj_detail::ObjContents obj = obj_detail::read_obj(file, true);
@@ -252,7 +252,7 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
       warnings.push_back(what + "; its materials' faces are rendered untextured (--missing-textures grey)");
     }
     warnings.insert(warnings.end(), obj.warnings.begin(), obj.warnings.end());
-    return finished(obj_mesh(obj), std::move(warnings), obj.polygons, 0);
+    return finished(obj_mesh(obj), std::move(warnings), obj.polygons);
   }
   if (ext == ".stl") {
     stl_detail::StlContents stl = stl_detail::read_stl(file, true);
@@ -260,64 +260,22 @@ TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report, co
     TriangleMesh mesh;
     mesh.positions = std::move(stl.positions);
     mesh.triangles = std::move(stl.triangles);
-    return finished(std::move(mesh), std::move(stl.warnings), stl.polygons, 0);
+    return finished(std::move(mesh), std::move(stl.warnings), stl.polygons);
   }
   if (ext == ".gltf" || ext == ".glb") {  // its reader checks as it reads (check_mesh_file would parse it twice)
     std::vector<std::string> warnings;
     TriangleMesh mesh = gltf_detail::load_gltf(file, warnings);
-    return finished(std::move(mesh), std::move(warnings), 0, 0);
+    return finished(std::move(mesh), std::move(warnings), 0);
   }
 
-  // OFF: OpenMesh's reader (PLY, OBJ, STL and glTF have returned above), after the structural check
-  // it needs (mesh/mesh_file_check.cpp).
-  check_mesh_file(file);
-  LoaderMesh om;
-  om.request_vertex_colors();
-  OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor;
-  std::vector<std::string> messages;
-  bool ok = false;
-  try {
-    OpenMeshLogCapture log;
-    ok = OpenMesh::IO::read_mesh(om, name, options);
-    messages = log.lines();
-  } catch (const std::bad_alloc&) {
-    throw InputError(name + ": the mesh is too large for the memory of this machine, or its header is corrupt");
-  }
-  if (!ok) {
-    std::string why = messages.empty() ? "not a valid " + ext.substr(1) + " file" : messages.front();
-    throw InputError(name + ": cannot read mesh: " + why);
-  }
-  require_faces(om.n_faces(), name);
-
+  // OFF (PLY, OBJ, STL and glTF have returned above).
+  off_detail::OffContents off = off_detail::read_off(file, true);
+  require_faces(off.triangles.size(), name);
   TriangleMesh mesh;
-  mesh.positions.reserve(om.n_vertices());
-  for (auto vh : om.vertices()) {
-    const auto& p = om.point(vh);
-    mesh.positions.emplace_back(p[0], p[1], p[2]);
-  }
-  if (options.check(OpenMesh::IO::Options::VertexColor)) {
-    mesh.colors.reserve(om.n_vertices());
-    for (auto vh : om.vertices()) {
-      const auto c = om.color(vh);
-      mesh.colors.emplace_back(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f);
-    }
-  }
-  mesh.triangles.reserve(om.n_faces());
-  for (auto fh : om.faces()) {
-    std::array<std::uint32_t, 3> tri{};
-    int k = 0;
-    for (auto vh : om.fv_range(fh)) {
-      if (k < 3) tri[k] = static_cast<std::uint32_t>(vh.idx());
-      ++k;
-    }
-    mesh.triangles.push_back(tri);
-  }
-  // OpenMesh keeps faces it cannot add manifoldly by giving them copies of their vertices;
-  // each such copy is a vertex the file did not have.
-  std::size_t split = 0;
-  for (const auto& m : messages)
-    if (m.find("complex") != std::string::npos || m.find("non-manifold") != std::string::npos) ++split;
-  return finished(std::move(mesh), std::move(messages), 0, split);
+  mesh.positions = std::move(off.positions);
+  mesh.colors = std::move(off.colors);
+  mesh.triangles = std::move(off.triangles);
+  return finished(std::move(mesh), {}, off.polygons);
 }
 
 void save_mesh(const TriangleMesh& mesh, const std::filesystem::path& file) {

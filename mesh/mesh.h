@@ -82,7 +82,6 @@ std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh);
 /// What the loader did to the file's contents on the way in.
 struct LoadReport {
   std::size_t polygons_triangulated = 0;  ///< faces with more than 3 corners, fan-triangulated
-  std::size_t vertices_split = 0;         ///< vertices OpenMesh duplicated to keep non-manifold faces (OBJ, OFF, STL; PLY and glTF keep the file's)
   std::vector<std::string> warnings;      ///< messages from the reader, one per line
 };
 
@@ -124,14 +123,16 @@ MeshFileSummary check_mesh_file(const std::filesystem::path& file);
 /// Mesh formats the loader understands, for help texts: "obj, ply, off, stl".
 std::string supported_mesh_formats();
 
-/// Loads OBJ, PLY (ASCII or binary), OFF or STL through OpenMesh. Polygons are fan-triangulated
-/// and per-vertex colours are kept when the file has them.
+/// Loads OBJ, PLY (ASCII or binary), OFF (text or binary), STL (ASCII or binary), glTF or GLB
+/// with meshtour's own readers (tinygltf parses glTF). Polygons are fan-triangulated, per-vertex
+/// colours are kept when the file has them, and the file's vertices are kept as it lists them
+/// (STL's per-facet corners merged where bit-identical, glTF's where every attribute agrees).
 /// \throw IoError if the file is missing or unreadable, InputError if it holds no usable triangle
 ///        or its extension is not a supported format.
 TriangleMesh load_mesh(const std::filesystem::path& file, LoadReport* report = nullptr, const LoadOptions& options = {});
 
-/// Writes a mesh (PLY with vertex colours when present, or any format OpenMesh writes, by
-/// extension). Used by tests and debug output. \throw IoError on failure.
+/// Writes a mesh through OpenMesh (PLY with vertex colours when present, or any format OpenMesh
+/// writes, by extension). Used by tests and debug output. \throw IoError on failure.
 void save_mesh(const TriangleMesh& mesh, const std::filesystem::path& file);
 
 /// The built-in sculpture of the default scene: a pedestal with flat and curved faces, a ring

@@ -1,13 +1,11 @@
-// Structural checks of mesh files before OpenMesh reads them (see check_mesh_file in mesh.h).
+// Structural checks of mesh files before anything is allocated (see check_mesh_file in mesh.h).
 //
-// OpenMesh's readers trust their input: a header's counts are reserved before the body is read
-// (a billion-face OFF header allocated 23 GB), faces that name vertices past the list are dropped
-// or make the reader fail with a message that does not say where, and a body shorter than its
-// header is read as garbage. These scans walk the file once, bounded by its size, and refuse such
-// files with a message naming the file and the line or element; they also give the counts the
-// memory estimate needs before anything is allocated. OBJ and STL are checked by their readers'
-// pass (mesh/obj_reader.h, mesh/stl_reader.h) without reading. A PLY's walk is also its reader
-// (read_ply, mesh/ply_contents.h): load_mesh builds the model from what it reads.
+// Each walks the file once, bounded by its size, and refuses a file whose header announces more
+// than it holds, whose faces name vertices past the list or whose numbers are not numbers, with
+// a message naming the file and the line or element; it also gives the counts the memory estimate
+// needs. OBJ, OFF and STL are checked by their readers' pass without reading (mesh/obj_reader.h,
+// mesh/off_reader.h, mesh/stl_reader.h), glTF from its JSON (mesh/gltf.h). A PLY's walk is also
+// its reader (read_ply, mesh/ply_contents.h): load_mesh builds the model from what it reads.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -27,6 +25,7 @@
 #include "mesh/mesh.h"
 #include "mesh/mesh_text.h"
 #include "mesh/obj_reader.h"
+#include "mesh/off_reader.h"
 #include "mesh/ply_contents.h"
 #include "mesh/stl_reader.h"
 
@@ -49,121 +48,7 @@ std::vector<std::string> words_of(const std::string& line) {
 
 // ---- OBJ: its reader checks it (mesh/obj_reader.h) ----------------------------------------
 
-// ---- OFF ------------------------------------------------------------------------------------
-
-MeshFileSummary check_off(const std::filesystem::path& file, const std::string& name) {
-  std::ifstream in(file, std::ios::binary);
-  const auto size = std::filesystem::file_size(file);
-  std::string line;
-  std::size_t number = 0;
-  // The next line that is neither empty nor a comment, as words. In the vertex and face lists
-  // (`body`) a line that is only a comment is refused: OpenMesh's reader takes it for data and
-  // loses every face after it (blank lines and comments after the numbers it handles).
-  auto next = [&](std::vector<std::string>& words, bool body = false) {
-    while (std::getline(in, line)) {
-      ++number;
-      strip_cr(line);
-      for (unsigned char c : line)
-        if (c < 0x20 && c != '\t')
-          throw InputError(name + ": line " + std::to_string(number) + ": binary data in a text OFF file (control character " +
-                           std::to_string(c) + ")");
-      const auto hash = line.find('#');
-      if (hash != std::string::npos) line.resize(hash);
-      words = words_of(line);
-      if (!words.empty()) return true;
-      if (body && hash != std::string::npos)
-        throw InputError(name + ": line " + std::to_string(number) +
-                         ": a comment line inside the vertex or face list, which the OFF reader cannot skip; remove it");
-    }
-    return false;
-  };
-  auto fail = [&](const std::string& what) -> void {
-    throw InputError(name + ": line " + std::to_string(number) + ": " + what);
-  };
-  std::vector<std::string> words;
-  if (!next(words)) throw InputError(name + ": not an OFF file (no header)");
-  const std::string& keyword = words[0];
-  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0)
-    fail("not an OFF file: the first word is '" + keyword + "', not OFF (or COFF, NOFF, STOFF, ...)");
-  const bool binary = words.size() > 1 && words[1] == "BINARY";
-  const bool four_d = keyword.find('4') != std::string::npos;
-  if (keyword.find('n') != std::string::npos) fail("nOFF (vertices of any dimension) is not supported");
-  if (binary) {
-    // Binary OFF: the counts follow as 32-bit integers; OpenMesh checks the rest as it reads,
-    // but would allocate for the counts first.
-    const std::size_t after_header = static_cast<std::size_t>(in.tellg() < 0 ? 0 : static_cast<std::size_t>(in.tellg()));
-    std::uint32_t counts[3] = {};
-    in.read(reinterpret_cast<char*>(counts), sizeof counts);
-    if (!in) throw InputError(name + ": truncated binary OFF: the header has no vertex and face counts");
-    for (auto& c : counts) c = __builtin_bswap32(c);  // binary OFF is big-endian
-    MeshFileSummary s{counts[0], counts[1], 3ull * counts[1]};
-    const long double needed = 12.0L * counts[0] + 16.0L * counts[1];
-    if (needed > static_cast<long double>(size - after_header - 12))
-      throw InputError(name + ": truncated or corrupt binary OFF: the header announces " + std::to_string(counts[0]) +
-                       " vertices and " + std::to_string(counts[1]) + " faces but the file holds only " +
-                       std::to_string(size) + " bytes");
-    return s;
-  }
-  // OpenMesh skips the rest of the keyword's line and reads the counts from the next line with
-  // no comment handling, so counts anywhere else would be misread (a 'COFF 0 0 0' line with no
-  // line after it made it reserve 4.6 GB: found by fuzzing). Require what it reads.
-  if (words.size() > 1) fail("the vertex, face and edge counts must be on the line after '" + keyword + "', not on its line");
-  std::vector<std::string> count_words;
-  while (count_words.empty() && std::getline(in, line)) {
-    ++number;
-    strip_cr(line);
-    count_words = words_of(line);
-  }
-  long long nv = -1, nf = -1, ne = -1;
-  if (count_words.size() != 3 || !parse_integer(count_words[0], nv) || !parse_integer(count_words[1], nf) ||
-      !parse_integer(count_words[2], ne) || nv < 0 || nf < 0 || ne < 0)
-    fail("the header's counts must be three non-negative numbers: vertices, faces, edges");
-  // Each vertex needs at least three numbers and separators, each face a count and 3 indices.
-  const long double needed = 6.0L * nv + 8.0L * nf;
-  if (needed > static_cast<long double>(size))
-    throw InputError(name + ": truncated or corrupt OFF: the header announces " + std::to_string(nv) + " vertices and " +
-                     std::to_string(nf) + " faces but the file holds only " + std::to_string(size) + " bytes");
-  MeshFileSummary s{static_cast<std::size_t>(nv), static_cast<std::size_t>(nf), 0};
-  const int dimensions = four_d ? 4 : 3;
-  // The keyword's prefixes say what follows the coordinates: [ST][C][N][4]OFF.
-  const std::string prefix = keyword.substr(0, keyword.size() - 3);
-  const bool coloured = prefix.find('C') != std::string::npos;
-  const std::size_t colour_start = static_cast<std::size_t>(dimensions) * (prefix.find('N') != std::string::npos ? 2 : 1);
-  for (long long v = 0; v < nv; ++v) {
-    if (!next(words, true)) fail("truncated: the file ends after " + std::to_string(v) + " of its " + std::to_string(nv) + " vertices");
-    if (static_cast<int>(words.size()) < dimensions) fail("vertex " + std::to_string(v) + " has fewer than " + std::to_string(dimensions) + " coordinates");
-    for (int k = 0; k < dimensions; ++k) {
-      double c = 0.0;
-      if (!parse_double(words[k], c)) fail("vertex " + std::to_string(v) + " has a coordinate that is not a number: '" + words[k] + "'");
-      if (!std::isfinite(c)) fail("vertex " + std::to_string(v) + " has a NaN or infinite coordinate ('" + words[k] + "')");
-    }
-    // Colours (after the coordinates and, for NOFF, the normal) become bytes in OpenMesh without
-    // a range check: floats must lie in 0..1, integers in 0..255.
-    if (coloured)
-      for (std::size_t k = colour_start; k < words.size() && k < colour_start + 4; ++k) {
-        double c = 0.0;
-        if (!parse_double(words[k], c)) break;  // texture coordinates or comments: not colours
-        const bool is_float = words[k].find_first_of(".eE") != std::string::npos;
-        if (!(c >= 0.0 && c <= (is_float ? 1.0 : 255.0)))
-          fail("vertex " + std::to_string(v) + " has a colour component '" + words[k] + "' outside " + (is_float ? "0 to 1" : "0 to 255"));
-      }
-  }
-  for (long long f = 0; f < nf; ++f) {
-    if (!next(words, true)) fail("truncated: the file ends after " + std::to_string(f) + " of its " + std::to_string(nf) + " faces");
-    long long corners = 0;
-    if (!parse_integer(words[0], corners) || corners < 3 || static_cast<long long>(words.size()) < corners + 1)
-      fail("face " + std::to_string(f) + " is not a corner count (3 or more) followed by that many vertex indices");
-    s.corners += static_cast<std::size_t>(corners);
-    for (long long k = 1; k <= corners; ++k) {
-      long long index = 0;
-      if (!parse_integer(words[k], index)) fail("face " + std::to_string(f) + " has an index that is not a number: '" + words[k] + "'");
-      if (index < 0 || index >= nv)
-        fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(index) + " but the file has " +
-             std::to_string(nv) + " vertices (0 to " + std::to_string(nv - 1) + ")");
-    }
-  }
-  return s;
-}
+// ---- OFF: its reader checks it (mesh/off_reader.h) ------------------------------------------
 
 // ---- PLY ------------------------------------------------------------------------------------
 
@@ -581,7 +466,7 @@ MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
     if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
   }
   if (ext == ".obj") return obj_detail::read_obj(file, false).summary;
-  if (ext == ".off") return check_off(file, name);
+  if (ext == ".off") return off_detail::read_off(file, false).summary;
   if (ext == ".ply") return check_ply(file, name, nullptr);
   if (ext == ".stl") return stl_detail::read_stl(file, false).summary;
   if (ext == ".gltf" || ext == ".glb") return gltf_detail::gltf_summary(file);

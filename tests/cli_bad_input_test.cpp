@@ -6,6 +6,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -105,6 +106,32 @@ std::string mixed_line_endings(const std::string& text) {
   for (char c : text) {
     if (c == '\n' && line++ % 2 == 0) out += '\r';
     out += c;
+  }
+  return out;
+}
+
+// A binary OFF: Geomview's 'OFF BINARY' (big-endian counts, float coordinates, per face its
+// corner count, indices and a colour of no components), or with `pmp` the dialect PMP and
+// OpenMesh write (little-endian, no face colours).
+std::string binary_off(const std::vector<std::array<float, 3>>& vertices, const std::vector<std::array<std::uint32_t, 3>>& faces,
+                       bool pmp = false) {
+  std::string out = "OFF BINARY\n";
+  const auto put = [&out, pmp](std::uint32_t w) {
+    for (int k = 0; k < 4; ++k) out += static_cast<char>((w >> (pmp ? 8 * k : 24 - 8 * k)) & 0xFF);
+  };
+  put(static_cast<std::uint32_t>(vertices.size()));
+  put(static_cast<std::uint32_t>(faces.size()));
+  put(0);
+  for (const auto& v : vertices)
+    for (const float c : v) {
+      std::uint32_t bits = 0;
+      std::memcpy(&bits, &c, 4);
+      put(bits);
+    }
+  for (const auto& f : faces) {
+    put(3);
+    for (const std::uint32_t i : f) put(i);
+    if (!pmp) put(0);
   }
   return out;
 }
@@ -249,10 +276,17 @@ TEST_F(BadInputCorpus, Meshes) {
       {"COFF float colour outside 0..1", "path",
        write(d / "colour.off", "COFF\n4 4 0\n0 0 0 0 0 0\n1 0 0 -3.5 0 0\n0 1 0 0 0 0\n0 0 1 0 0 0\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n"),
        "", 2, {"line 4", "'-3.5'", "outside 0 to 1"}},
-      // OpenMesh's OFF reader takes a whole-line comment in the lists for data and drops the faces.
-      {"OFF comment line between the faces", "path",
-       write(d / "comment.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n# faces\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n"), "", 2,
-       {"line 7", "comment line"}},
+      {"OFF face with two corners", "path", write(d / "two.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n"), "", 2,
+       {"line 6", "face 0", "corner count"}},
+      {"OFF counts that are not numbers", "path", write(d / "counts.off", "OFF\nfour 4 0\n"), "", 2, {"line 2", "counts"}},
+      {"OFF unknown keyword prefix", "path", write(d / "xoff.off", "XOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), "", 2,
+       {"XOFF", "ST, C, N and 4"}},
+      {"COFF vertex without a colour", "path",
+       write(d / "nocolour.off", "COFF\n3 1 0\n0 0 0 255 0 0\n1 0 0\n0 1 0 0 0 255\n3 0 1 2\n"), "", 2, {"line 4", "vertex 1", "no colour"}},
+      {"binary OFF with a face past the vertex list", "path",
+       write(d / "past_binary.off", binary_off({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 7}})), "", 2, {"face 0", "vertex 7"}},
+      {"binary OFF cut short", "path",
+       write(d / "short_binary.off", binary_off({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}).substr(0, 40)), "", 2, {"binary OFF"}},
       {"NaN coordinate", "path", write(d / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n"), "", 2,
        {"NaN", "vertex 3"}},
       {"infinite coordinate", "path", write(d / "inf.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1e999 0\n0 0 1\n3 0 1 2\n3 0 1 3\n"), "", 2,
@@ -315,6 +349,14 @@ TEST_F(BadInputCorpus, OddButValidMeshes) {
       {"OFF with blank lines and comments after the numbers", "path",
        write(d / "commented.off", "OFF # a tetrahedron\n4 4 0\n0 0 0 # origin\n\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3 # side\n3 0 2 3\n3 1 2 3\n"),
        "", 0, {}, false},
+      {"OFF with comment lines inside its lists and the counts on the keyword's line", "path",
+       write(d / "comment.off", "OFF 4 4 0\n# vertices\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n# faces\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n"), "", 0,
+       {"4 faces"}, false},
+      {"binary OFF", "path", write(d / "binary.off", binary_off({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}})),
+       "", 0, {"4 faces"}, false},
+      {"binary OFF as PMP and OpenMesh write it", "path",
+       write(d / "binary_pmp.off", binary_off({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}}, true)),
+       "", 0, {"4 faces"}, false},
       {"mixed CRLF and LF line endings", "path", write(d / "mixed.obj", mixed_line_endings(sphere_obj())),
        "", 0, {}, false},
       {"non-ASCII file and folder names", "path",
