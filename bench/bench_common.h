@@ -48,12 +48,38 @@ inline const TriangleMesh& split_mesh(const std::filesystem::path& source, int l
   return cache.emplace(levels, std::move(mesh)).first->second;
 }
 
-// Binary little-endian PLY, float coordinates (what scanners write).
-inline void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+// Writes `file` whole or not at all: `body` fills a temporary beside it, renamed when complete
+// (an interrupted bench leaves no half mesh for the next run to read).
+template <class Body>
+void write_whole(const std::filesystem::path& file, Body body) {
   std::filesystem::create_directories(file.parent_path());
   const std::filesystem::path temporary = file.string() + ".partial";
   {
     std::ofstream out(temporary, std::ios::binary);
+    body(out);
+    if (!out) throw std::runtime_error("could not write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+// A text mesh's lines: `vertex` and three float coordinates (9 significant digits, as the PLY's
+// floats) per vertex, then `face` and three indices counted from `first` per triangle.
+inline void write_text_lines(std::ofstream& out, const meshtour::TriangleMesh& mesh, const char* vertex, const char* face, unsigned first) {
+  char line[128];
+  for (const auto& p : mesh.positions) {
+    const int n = std::snprintf(line, sizeof line, "%s%.9g %.9g %.9g\n", vertex, static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                static_cast<float>(p.z()));
+    out.write(line, n);
+  }
+  for (const auto& t : mesh.triangles) {
+    const int n = std::snprintf(line, sizeof line, "%s%u %u %u\n", face, t[0] + first, t[1] + first, t[2] + first);
+    out.write(line, n);
+  }
+}
+
+// Binary little-endian PLY, float coordinates (what scanners write).
+inline void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
+  write_whole(file, [&](std::ofstream& out) {
     out << "ply\nformat binary_little_endian 1.0\nelement vertex " << mesh.positions.size()
         << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << mesh.triangles.size()
         << "\nproperty list uchar int vertex_indices\nend_header\n";
@@ -67,62 +93,27 @@ inline void write_ply(const meshtour::TriangleMesh& mesh, const std::filesystem:
       std::memcpy(face + 1, t.data(), 12);
       out.write(face, sizeof face);
     }
-    if (!out) throw std::runtime_error("could not write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, file);
+  });
 }
 
 // OBJ text: "v x y z" with float precision (9 significant digits, as the PLY's floats) and
 // "f a b c", as scanning software writes them.
 inline void write_obj(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
-  std::filesystem::create_directories(file.parent_path());
-  const std::filesystem::path temporary = file.string() + ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    char line[128];
-    for (const auto& p : mesh.positions) {
-      const int n = std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                  static_cast<float>(p.z()));
-      out.write(line, n);
-    }
-    for (const auto& t : mesh.triangles) {
-      const int n = std::snprintf(line, sizeof line, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
-      out.write(line, n);
-    }
-    if (!out) throw std::runtime_error("could not write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, file);
+  write_whole(file, [&](std::ofstream& out) { write_text_lines(out, mesh, "v ", "f ", 1); });
 }
 
 // Text OFF: the keyword, the counts, a line per vertex and per triangle (0-based indices).
 inline void write_off(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
-  std::filesystem::create_directories(file.parent_path());
-  const std::filesystem::path temporary = file.string() + ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary);
+  write_whole(file, [&](std::ofstream& out) {
     out << "OFF\n" << mesh.positions.size() << ' ' << mesh.triangles.size() << " 0\n";
-    char line[128];
-    for (const auto& p : mesh.positions) {
-      const int n = std::snprintf(line, sizeof line, "%.9g %.9g %.9g\n", static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                  static_cast<float>(p.z()));
-      out.write(line, n);
-    }
-    for (const auto& t : mesh.triangles) {
-      const int n = std::snprintf(line, sizeof line, "3 %u %u %u\n", t[0], t[1], t[2]);
-      out.write(line, n);
-    }
-    if (!out) throw std::runtime_error("could not write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, file);
+    write_text_lines(out, mesh, "", "3 ", 0);
+  });
 }
 
 // Binary STL: an 80-byte header, the triangle count, then per triangle a float normal, three
 // float corners and a 2-byte attribute (every corner written out: STL shares no vertices).
 inline void write_stl(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file) {
-  std::filesystem::create_directories(file.parent_path());
-  const std::filesystem::path temporary = file.string() + ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary);
+  write_whole(file, [&](std::ofstream& out) {
     char header[80] = "meshtour bench";
     out.write(header, sizeof header);
     const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
@@ -143,15 +134,12 @@ inline void write_stl(const meshtour::TriangleMesh& mesh, const std::filesystem:
       std::memcpy(bytes, record, sizeof record);
       out.write(bytes, sizeof bytes);
     }
-    if (!out) throw std::runtime_error("could not write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, file);
+  });
 }
 
 // GLB (glTF 2.0 binary): float positions and uint32 indices in one buffer, one mesh, one node.
 /// `instances` > 1: the mesh drawn by that many nodes, side by side along +x (one mesh, shared).
 inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem::path& file, int instances = 1) {
-  std::filesystem::create_directories(file.parent_path());
   std::vector<char> bin(12 * mesh.positions.size() + 12 * mesh.triangles.size());
   std::array<float, 3> lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
   char* at = bin.data();
@@ -182,9 +170,7 @@ inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem:
     const std::uint32_t w = static_cast<std::uint32_t>(v);
     out.write(reinterpret_cast<const char*>(&w), 4);
   };
-  const std::filesystem::path temporary = file.string() + ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary);
+  write_whole(file, [&](std::ofstream& out) {
     u32(out, 0x46546C67);  // "glTF"
     u32(out, 2);
     u32(out, 12 + 8 + text.size() + 8 + bin.size());
@@ -194,9 +180,7 @@ inline void write_glb(const meshtour::TriangleMesh& mesh, const std::filesystem:
     u32(out, bin.size());
     u32(out, 0x004E4942);  // "BIN"
     out.write(bin.data(), static_cast<std::streamsize>(bin.size()));
-    if (!out) throw std::runtime_error("could not write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, file);
+  });
 }
 
 /// argv without the flags of `flags` ("--mesh=" -> what to do with its value), for run_benchmarks():

@@ -1218,11 +1218,11 @@ MeshFileSummary gltf_summary(const std::filesystem::path& file) {
   const std::string name = file.string();
   const std::string ext = lower_extension(file);
   const unsigned long long size = std::filesystem::file_size(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
   std::string json;
   std::optional<unsigned long long> bin_length;  // the GLB's binary chunk
   if (ext == ".glb") {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw IoError(name + ": cannot open for reading (check permissions)");
     const auto read_up_to = [&in](std::size_t count) {
       std::vector<unsigned char> bytes(count, 0);
       in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(count));

@@ -24,6 +24,8 @@ struct OffLayout {
   bool normals = false;    // NOFF: a normal after the coordinates (as many numbers)
   bool colours = false;    // COFF: a colour after the coordinates (and the normal)
   bool texcoords = false;  // STOFF: a texture coordinate pair last (not used)
+
+  std::size_t colour_at() const { return static_cast<std::size_t>(dimensions) * (normals ? 2 : 1); }  // the colour's first number
 };
 
 OffLayout layout_of(std::string_view keyword, const std::string& where) {
@@ -49,6 +51,19 @@ void check_counts(long long vertices, long long faces, long double needed, unsig
   if (needed > static_cast<long double>(size))
     throw InputError(name + ": truncated or corrupt " + kind + ": the header announces " + std::to_string(vertices) + " vertices and " +
                      std::to_string(faces) + " faces but the file holds only " + std::to_string(size) + " bytes");
+}
+
+// Checks the counts against the file's size (`needed`: the least they take), then records them
+// and, when reading, makes room for what they announce.
+void start_lists(long long nv, long long nf, long double needed, unsigned long long size, const std::string& name, const char* kind,
+                 const OffLayout& layout, bool read, OffContents& out) {
+  check_counts(nv, nf, needed, size, name, kind);
+  out.summary.vertices = static_cast<std::size_t>(nv);
+  out.summary.faces = static_cast<std::size_t>(nf);
+  if (!read) return;
+  out.positions.reserve(static_cast<std::size_t>(nv));
+  if (layout.colours) out.colors.reserve(static_cast<std::size_t>(nv));
+  out.triangles.reserve(static_cast<std::size_t>(nf));
 }
 
 // Fans a polygon's corners into triangles (a triangle stays as it is).
@@ -104,16 +119,8 @@ void read_text(const std::filesystem::path& file, const std::string& name, unsig
     text.fail("the header's counts must be two or three non-negative numbers: vertices, faces (and edges)");
   if (nv > static_cast<long long>(std::numeric_limits<std::uint32_t>::max()))
     text.fail("the header announces " + std::to_string(nv) + " vertices, more than meshtour can index (2^32 - 1)");
-  check_counts(nv, nf, 6.0L * nv + 8.0L * nf, size, name, "OFF");
-  out.summary.vertices = static_cast<std::size_t>(nv);
-  out.summary.faces = static_cast<std::size_t>(nf);
-  if (read) {
-    out.positions.reserve(static_cast<std::size_t>(nv));
-    if (layout.colours) out.colors.reserve(static_cast<std::size_t>(nv));
-    out.triangles.reserve(static_cast<std::size_t>(nf));
-  }
-
-  const std::size_t colour_at = static_cast<std::size_t>(layout.dimensions) * (layout.normals ? 2 : 1);
+  start_lists(nv, nf, 6.0L * nv + 8.0L * nf, size, name, "OFF", layout, read, out);
+  const std::size_t colour_at = layout.colour_at();
   for (long long v = 0; v < nv; ++v) {
     if (!text.next()) text.fail("truncated: the file ends after " + std::to_string(v) + " of its " + std::to_string(nv) + " vertices");
     const auto& words = text.words();
@@ -177,6 +184,13 @@ void read_text(const std::filesystem::path& file, const std::string& name, unsig
 // little-endian order, no face colours; pmp-data's beetle and amo). The byte order is the one
 // whose counts fit the file; the face layout the one that reads the faces to the file's end.
 
+std::uint32_t big_endian_word(const unsigned char* b) {
+  return static_cast<std::uint32_t>(b[0]) << 24 | static_cast<std::uint32_t>(b[1]) << 16 | static_cast<std::uint32_t>(b[2]) << 8 | b[3];
+}
+std::uint32_t little_endian_word(const unsigned char* b) {
+  return static_cast<std::uint32_t>(b[3]) << 24 | static_cast<std::uint32_t>(b[2]) << 16 | static_cast<std::uint32_t>(b[1]) << 8 | b[0];
+}
+
 class BinaryOff {
 public:
   BinaryOff(std::ifstream& in, std::string name, bool big_endian) : in_(in), name_(std::move(name)), big_endian_(big_endian) {}
@@ -185,8 +199,7 @@ public:
     unsigned char b[4];
     in_.read(reinterpret_cast<char*>(b), 4);
     if (in_.gcount() != 4) throw InputError(name_ + ": truncated binary OFF: the file ends inside " + what);
-    if (!big_endian_) std::swap(b[0], b[3]), std::swap(b[1], b[2]);
-    return static_cast<std::uint32_t>(b[0]) << 24 | static_cast<std::uint32_t>(b[1]) << 16 | static_cast<std::uint32_t>(b[2]) << 8 | b[3];
+    return big_endian_ ? big_endian_word(b) : little_endian_word(b);
   }
   float number(const std::string& what) { return std::bit_cast<float>(word(what)); }
 
@@ -195,13 +208,6 @@ private:
   std::string name_;
   bool big_endian_;
 };
-
-std::uint32_t big_endian_word(const unsigned char* b) {
-  return static_cast<std::uint32_t>(b[0]) << 24 | static_cast<std::uint32_t>(b[1]) << 16 | static_cast<std::uint32_t>(b[2]) << 8 | b[3];
-}
-std::uint32_t little_endian_word(const unsigned char* b) {
-  return static_cast<std::uint32_t>(b[3]) << 24 | static_cast<std::uint32_t>(b[2]) << 16 | static_cast<std::uint32_t>(b[1]) << 8 | b[0];
-}
 
 // The faces from the stream's position, with or without a colour after each; out's triangles and
 // corner count are this layout's.
@@ -248,17 +254,10 @@ void read_binary(std::ifstream& in, const std::string& name, unsigned long long 
     nf = little_endian_word(head + 4);
     big_endian = false;
   }
-  check_counts(nv, nf, needed(nv, nf), size, name, "binary OFF");
+  start_lists(nv, nf, needed(nv, nf), size, name, "binary OFF", layout, read, out);
   BinaryOff data(in, name, big_endian);
-  out.summary.vertices = static_cast<std::size_t>(nv);
-  out.summary.faces = static_cast<std::size_t>(nf);
-  if (read) {
-    out.positions.reserve(static_cast<std::size_t>(nv));
-    if (layout.colours) out.colors.reserve(static_cast<std::size_t>(nv));
-    out.triangles.reserve(static_cast<std::size_t>(nf));
-  }
   std::vector<float> values(static_cast<std::size_t>(per_vertex));
-  const std::size_t colour_at = static_cast<std::size_t>(layout.dimensions) * (layout.normals ? 2 : 1);
+  const std::size_t colour_at = layout.colour_at();
   for (long long v = 0; v < nv; ++v) {
     const std::string what = "vertex " + std::to_string(v);
     for (float& x : values) x = data.number(what);
@@ -272,40 +271,25 @@ void read_binary(std::ifstream& in, const std::string& name, unsigned long long 
     out.positions.emplace_back(values[0], values[1], values[2]);
     if (layout.colours) out.colors.emplace_back(values[colour_at], values[colour_at + 1], values[colour_at + 2]);
   }
-  // The dialect's face layout first (Geomview's colours when big-endian); the other where that
-  // fails or stops short of the file's end.
+  // The dialect's face layout first (Geomview's colours when big-endian), then the other: the first
+  // that reads the faces to the file's end. Where neither does, the dialect's own layout decides:
+  // its error, or its faces with data after them.
   const std::streampos faces = in.tellg();
-  const auto at_end = [&] { return in.peek() == std::ifstream::traits_type::eof(); };
-  try {
-    read_binary_faces(data, nv, nf, size, big_endian, name, read, out);
-    if (at_end()) return;
-  } catch (const InputError&) {
+  const auto read_faces = [&](bool face_colours) {
     in.clear();
     in.seekg(faces);
+    read_binary_faces(data, nv, nf, size, face_colours, name, read, out);
+  };
+  const auto reads_to_end = [&](bool face_colours) {
     try {
-      read_binary_faces(data, nv, nf, size, !big_endian, name, read, out);
-      if (at_end()) return;
+      read_faces(face_colours);
+      return in.peek() == std::ifstream::traits_type::eof();
     } catch (const InputError&) {
+      return false;
     }
-    in.clear();
-    in.seekg(faces);
-    read_binary_faces(data, nv, nf, size, big_endian, name, read, out);  // its error, not the other layout's
-    return;
-  }
-  // Read, but not to the end: the other layout if it reads to the end, else this one.
-  in.clear();
-  in.seekg(faces);
-  OffContents other;
-  other.summary = out.summary;
-  try {
-    read_binary_faces(data, nv, nf, size, !big_endian, name, read, other);
-    if (at_end()) {
-      out.triangles = std::move(other.triangles);
-      out.polygons = other.polygons;
-      out.summary.corners = other.summary.corners;
-    }
-  } catch (const InputError&) {
-  }
+  };
+  if (reads_to_end(big_endian) || reads_to_end(!big_endian)) return;
+  read_faces(big_endian);
 }
 
 }  // namespace

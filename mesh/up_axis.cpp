@@ -730,7 +730,7 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   if (!choice.confident) {
     cut = flat_cut(mesh, hull, extent, choice.symmetry_normal, outward);
     if (cut && best.score >= kFirmScore) {
-      const UpRest& on_cut = choice.rests[static_cast<std::size_t>(2 * cut->up.index + (cut->up.negative ? 1 : 0))];  // standing on the cut
+      const UpRest& on_cut = choice.rest(cut->up);  // standing on the cut
       if ((cut->up != best.up && cut->up != second.up) || on_cut.flat_base < kConfidentRatio * on_cut.flat_top) cut.reset();
     }
   }
@@ -799,13 +799,8 @@ UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& f
   UpChoice choice = choose_up_axis(mesh);
   const std::optional<Axis> prescribed = format_up_axis(file);
   if (!prescribed) return choice;
-  const auto score_of = [&](const Axis& up) {
-    for (const UpRest& rest : choice.rests)
-      if (rest.up == up) return rest.score;
-    return 0.0;
-  };
-  const double shape = choice.confident ? score_of(choice.up) : 0.0;
-  const double format = score_of(*prescribed);
+  const double shape = choice.confident ? choice.rest(choice.up).score : 0.0;
+  const double format = choice.rest(*prescribed).score;
   const std::string name = file.filename().string();
   const Eigen::Vector3d extent = mesh.bounds().extent();
   const bool thick = extent[choice.up.index] >= kOverrideThickness * extent.maxCoeff();

@@ -62,6 +62,8 @@ struct UpChoice {
   std::string reason;  ///< one line for the user, e.g. "rests on its -y side: support 47% of the footprint, ..."
   bool confident = false;  ///< some side rests firmly and clearly (see up_axis.cpp) ahead of the others; else up is +y
   std::array<UpRest, 6> rests;
+  /// The rest with `up` up.
+  const UpRest& rest(const Axis& up) const { return rests[static_cast<std::size_t>(2 * up.index + (up.negative ? 1 : 0))]; }
   std::array<double, 3> symmetry{};  ///< share of the surface mirrored across the plane through the centroid normal to x, y, z
   int symmetry_normal = -1;          ///< the axis normal to the clear plane of symmetry (never up), or -1
   double margin = 0.0;               ///< best score / second best score
