@@ -1,4 +1,4 @@
-// Timing of the toroidal-patch path (ALGORITHM.md §3–§14) on a large scanned mesh: bunny.ply
+// Timing of the toroidal-patch path (docs/METHOD.md §3–§14) on a large scanned mesh: bunny.ply
 // Loop-subdivided twice (557k vertices, 1.1M faces). Targets (2 cores): every stage together
 // under 3 s, the whole `meshtour path` command under 5 s and 1.5 GB peak memory.
 //

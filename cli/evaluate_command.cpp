@@ -39,7 +39,7 @@ void add_evaluate_command(CLI::App& app) {
       "outside the image. A sample is seen well in a frame when it is inside the image, not hidden by the "
       "surface, and the angle between its normal and the direction to the camera is below the seen-well "
       "angle (either side of the surface). Features are judged eight ways, so no path wins by one yardstick: "
-      "two measures computed on a fixed-resolution proxy of the mesh (patch density = w(f) of ALGORITHM.md "
+      "two measures computed on a fixed-resolution proxy of the mesh (patch density = w(f) of docs/METHOD.md "
       "§8; saliency = mesh saliency of Lee, Varshney & Jacobs 2005), each at four seen-well angles "
       "(--seen-angle 75, --strict-angle 60, --stricter-angle 45, --strictest-angle 30); the samples at or "
       "above the --feature-quantile of a measure are its features. Changing them here changes only the "

@@ -1,4 +1,4 @@
-// meshtour path: the camera path of a mesh by the toroidal-patch method (ALGORITHM.md), written
+// meshtour path: the camera path of a mesh by the toroidal-patch method (docs/METHOD.md), written
 // as a JSON path file, with an optional plot and debug outputs. No rendering.
 #include <tbb/global_control.h>
 
@@ -31,13 +31,13 @@ void add_path_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "path",
       "Computes the camera path of a mesh by the toroidal-patch method of Choi et al. 2024 "
-      "(see ALGORITHM.md) and writes it as a JSON path file; no rendering. The mesh is "
+      "(see docs/METHOD.md) and writes it as a JSON path file; no rendering. The mesh is "
       "normalized (bounding-box diagonal = 1) and smoothed, split into toroidal patches; faces "
       "where many small patches meet are 'interesting'. A cylinder around the up axis is cut "
       "into a grid, each column's most interesting cell becomes a control point, and a closed "
       "B-spline through them gives the height of the camera as it circles the model. Lengths "
       "in options are in units of the bounding-box diagonal; I-n refers to the interpretations "
-      "in ALGORITHM.md §15.");
+      "in docs/METHOD.md §15.");
   cmd->option_defaults()->always_capture_default();
   cmd->add_option("mesh", args->mesh, "Mesh file (" + supported_mesh_formats() + ")")
       ->required()

@@ -19,7 +19,7 @@ namespace {
 constexpr unsigned kRendering = tour | render | batch | farm;  // commands that render a tour
 constexpr unsigned kToTasks = render_tasks | batch_tasks;
 
-const std::string_view kPatches = "Toroidal patches (ALGORITHM.md §3-§8)";
+const std::string_view kPatches = "Toroidal patches (docs/METHOD.md §3-§8)";
 const std::string_view kGrid = "Cylinder and grid (§9-§11)";
 const std::string_view kCurve = "Curve and camera (§12-§13)";
 
@@ -181,7 +181,7 @@ std::vector<Option> make_registry() {
   add({.id = "page-only", .flag = "--page-only", .kind = Kind::flag,
        .help = "Write only the contact sheet (index.html) from the batch summaries already in --out-dir (the farm's last job)",
        .commands = batch});
-  // ---- The toroidal-patch path (ALGORITHM.md); the feature orbit uses the patch options too.
+  // ---- The toroidal-patch path (docs/METHOD.md); the feature orbit uses the patch options too.
   const unsigned kPathCommands = kRendering | path | evaluate;
   add({.id = "tolerance", .flag = "--tolerance", .kind = Kind::positive, .default_text = "0.001",
        .help = "Patch tolerance epsilon: largest distance between a face and the torus of its patch, "

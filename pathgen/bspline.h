@@ -1,5 +1,5 @@
 #pragma once
-// §12 of ALGORITHM.md: the closed (periodic) uniform B-spline of the control heights, with its
+// §12 of docs/METHOD.md: the closed (periodic) uniform B-spline of the control heights, with its
 // derivatives, exact range and extreme-point count (§14).
 #include <utility>
 #include <vector>

@@ -10,7 +10,7 @@
 //    cell of it (a proxy of the surface at a fixed resolution, made of the surface and not of the
 //    input's vertices, so a finer tessellation gives the same proxy: mesh/vertex_clustering.h; a
 //    smooth kernel of the distance, so not the face it lies on decides), under two independent
-//    measures: the paper's patch density w(f) (ALGORITHM.md §8) and mesh saliency (Lee, Varshney
+//    measures: the paper's patch density w(f) (docs/METHOD.md §8) and mesh saliency (Lee, Varshney
 //    & Jacobs 2005, pathgen/saliency.h). The top `feature_quantile` of the samples by value are the features.
 //  - Seen well: in the frame, unoccluded, and facing the camera within an angle; four angles,
 //    the evaluation's traditional 75° and stricter 60°, 45° and 30° (a path tuned at the lenient

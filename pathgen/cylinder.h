@@ -1,5 +1,5 @@
 #pragma once
-// §9 of ALGORITHM.md: the up direction (I-18) and the bounding cylinder the camera circles, with
+// §9 of docs/METHOD.md: the up direction (I-18) and the bounding cylinder the camera circles, with
 // its angular frame; in normalized units (AABB diagonal of the smoothed model = 1).
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -1,6 +1,6 @@
 #pragma once
 // The feature orbit: a path mode beyond the paper. Like the paper's path it follows the mesh's
-// features (the faces with a high weight w(f), ALGORITHM.md §8), but it chooses the camera's
+// features (the faces with a high weight w(f), docs/METHOD.md §8), but it chooses the camera's
 // height by what the camera would actually see instead of by where the heaviest grid cell is:
 //
 //  - the camera circles the model once on a sphere around the bounding-box centre, looking at

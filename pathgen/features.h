@@ -1,5 +1,5 @@
 #pragma once
-// Feature faces: the faces whose weight w(f) (ALGORITHM.md §8) is at or above an area-weighted
+// Feature faces: the faces whose weight w(f) (docs/METHOD.md §8) is at or above an area-weighted
 // quantile of all the weights. Shared by the evaluation (what a tour should show) and the
 // feature-orbit path (what it tries to show), so both judge by the same faces.
 #include <cstddef>

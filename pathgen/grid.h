@@ -1,5 +1,5 @@
 #pragma once
-// §10-§11 and §13.2 of ALGORITHM.md: the m×n grid of cell weights on the bounding cylinder, one
+// §10-§11 and §13.2 of docs/METHOD.md: the m×n grid of cell weights on the bounding cylinder, one
 // control point per column, and the start cell.
 #include <utility>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// Stages §9–§14 of ALGORITHM.md: the bounding cylinder, the m×n grid of cell weights, one control
+// Stages §9–§14 of docs/METHOD.md: the bounding cylinder, the m×n grid of cell weights, one control
 // point per column, the periodic B-spline base curve, the gaze and position paths, the start
 // point and the reported metrics. Built on the surface analysis of §3–§8 (pathgen/surface.h).
 //

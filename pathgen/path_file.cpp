@@ -76,7 +76,7 @@ std::string path_file_text(const PaperPathResult& r, const std::string& source) 
   const int F = static_cast<int>(s.triangles.size());
   OrderedJson j;
   j["format_version"] = kPathFormatVersion;
-  j["generator"] = "meshtour path (ALGORITHM.md, Choi et al. 2024 toroidal patches)";
+  j["generator"] = "meshtour path (docs/METHOD.md, Choi et al. 2024 toroidal patches)";
   if (!source.empty()) j["source"] = source;
   j["units"] = "normalized: AABB diagonal of the smoothed model = 1; model = transform.scale * p + transform.offset";
   j["faces"] = F;

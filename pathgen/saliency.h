@@ -1,6 +1,6 @@
 #pragma once
 // Mesh saliency (Lee, Varshney & Jacobs, "Mesh Saliency", SIGGRAPH 2005): a definition of "feature"
-// independent of the toroidal patches (ALGORITHM.md §8), so that `evaluate` can judge paths by a
+// independent of the toroidal patches (docs/METHOD.md §8), so that `evaluate` can judge paths by a
 // second, unrelated yardstick. A vertex is salient where the mean curvature around it at a small
 // scale differs from the mean curvature at twice that scale. See docs/SALIENCY.md.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Stages §3–§8 of ALGORITHM.md: clean-up, normalization, smoothing, normals and principal
+// Stages §3–§8 of docs/METHOD.md: clean-up, normalization, smoothing, normals and principal
 // curvatures, osculating tori, the toroidal-patch decomposition and the per-face weights.
 // Everything here is in normalized units (AABB diagonal of the smoothed model = 1).
 #include <Eigen/Core>
@@ -77,7 +77,7 @@ struct VertexDifferential {
   double k2 = 0.0;
 };
 
-/// Options of §3–§8 (defaults as in ALGORITHM.md §2).
+/// Options of §3–§8 (defaults as in docs/METHOD.md §2).
 struct SurfaceOptions {
   double tolerance = 1e-3;  ///< ε, in `tolerance_unit`s (> 0; +infinity allowed)
   ToleranceUnit tolerance_unit = ToleranceUnit::diagonal;  ///< I-34 (docs/FIDELITY.md)

@@ -26,7 +26,7 @@ struct Scene {
   bool missing_textures_grey = false;  ///< --missing-textures grey
 
   // Camera and timing.
-  std::string path_mode = "feature-orbit";  ///< "feature-orbit" (pathgen/feature_orbit.h), "paper" (toroidal patches, ALGORITHM.md) or "turntable"
+  std::string path_mode = "feature-orbit";  ///< "feature-orbit" (pathgen/feature_orbit.h), "paper" (toroidal patches, docs/METHOD.md) or "turntable"
   std::optional<std::filesystem::path> path_file;
   double vertical_fov_deg = 35.0;
   /// "fov": "auto": geometry-driven paths keep their camera distance and the field of view is

@@ -1,5 +1,5 @@
 #pragma once
-// Generated test meshes of ALGORITHM.md §17.1 (no files needed) and the transforms §17.8 applies
+// Generated test meshes of docs/METHOD.md §17.1 (no files needed) and the transforms §17.8 applies
 // to them: similarity transforms, vertex/face permutations, corner rotations.
 // Header-only: only tests/<part>_*test.cpp files are compiled into the runners.
 #include <Eigen/Core>

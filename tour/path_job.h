@@ -1,5 +1,5 @@
 #pragma once
-// The path job of `meshtour path`: the camera path of a mesh by the toroidal-patch method (ALGORITHM.md), written
+// The path job of `meshtour path`: the camera path of a mesh by the toroidal-patch method (docs/METHOD.md), written
 // as a JSON path file, with an optional plot and debug outputs. No rendering.
 #include <filesystem>
 #include <optional>
