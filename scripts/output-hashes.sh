@@ -76,10 +76,10 @@ run help_top --help
 # text outputs lose their timing fields (JSON keys, "times" lines, the batch table's seconds
 # column) and the run's folder; an EXR is hashed as its pixels and header without renderSeconds.
 normalise() {
-  python3 - "$1" "$work" <<'PY'
+  python3 - "$1" "$work" "$bin" <<'PY'
 import json, re, sys
-path, work = sys.argv[1], sys.argv[2]
-text = open(path, encoding="utf-8", errors="replace").read().replace(work, "WORK")
+path, work, binary = sys.argv[1], sys.argv[2], sys.argv[3]
+text = open(path, encoding="utf-8", errors="replace").read().replace(work, "WORK").replace(binary, "MESHTOUR")
 timing = re.compile(r"^(times?|timings?|elapsed|seconds|duration|started|finished|date|render_?seconds)([_a-z]*)$", re.I)
 def strip(v):
     if isinstance(v, dict):
@@ -97,7 +97,7 @@ for line in text.splitlines():
     if re.match(r"^\s*times\b", line):
         continue
     if path.endswith("batch.stdout"):
-        line = re.sub(r"^(\d+\s+\S+\s+)\d+(\.\d+)?", r"\1T", line)
+        line = " ".join(re.sub(r"^(\d+\s+\S+\s+)\d+(\.\d+)?", r"\1T", line).split())
     line = re.sub(r"\b\d+(\.\d+)? ?(ms|s|min)\b", "T", line)
     lines.append(line)
 sys.stdout.write("\n".join(lines))
