@@ -46,7 +46,7 @@ namespace {
 // exactly perpendicular to the axis, and a hull facet spanning feet tilts by a few degrees.
 constexpr double kSupportAngleDeg = 12.0;
 // The winner decides when its score is at least kFirmScore and this factor ahead of the runner-up.
-// Measured (tests/mesh_up_axis_test.cpp and the fetched models of the README): the models found
+// Measured (tests/mesh_up_axis_test.cpp and the fetched models of docs/EVALUATION.md): the models found
 // score 0.016-0.82 and most beat the next side by 4x or more (a scorpion on its legs over its
 // flank by 1.6x); the Venus head's best side scores 0.0003, the bear's 0. Between 0.005 and 0.01
 // lay only guesses: a Max Planck head scan (libigl's tutorial data) on its bald crown, 0.0079

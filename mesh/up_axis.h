@@ -24,7 +24,7 @@
 // bases, and of the Venus head by its sawn neck (no side rests on it: tilted 17 degrees, as rough
 // as the crown); the bear (upright on one hind leg) gives no side a clear lead and has no cut, so
 // it keeps +y, not confident: right only by convention. The rocker arm (no natural up) lies on
-// its widest flank. On fetched models (the README lists them and the counts): it is confidently
+// its widest flank. On fetched models (docs/EVALUATION.md lists them and the counts): it is confidently
 // wrong on two that rest on their faces and are neither vessels, furniture nor spread figures,
 // Blender's Suzanne (a head without a neck) and meshJND's open face mask (on its open back; a flat
 // back found as a sawn cut no longer stands a mask on it, see kCutThickness); the

@@ -1,8 +1,8 @@
-// Writes the markdown table of scripts/evaluate-table.sh into README.md.
-// Usage: node scripts/evaluate-table.js DIR README.md  (DIR holds <mesh>.json and `order`)
+// Writes the markdown table of scripts/evaluate-table.sh into docs/EVALUATION.md.
+// Usage: node scripts/evaluate-table.js DIR docs/EVALUATION.md  (DIR holds <mesh>.json and `order`)
 const fs = require('fs');
 const path = require('path');
-const [dir, readme] = process.argv.slice(2);
+const [dir, document] = process.argv.slice(2);
 const names = fs.readFileSync(path.join(dir, 'order'), 'utf8').split('\n').filter(Boolean);
 const modes = ['turntable', 'paper', 'feature-orbit'];
 const percent = (x) => (100 * x).toFixed(2) + ' %';
@@ -44,10 +44,10 @@ if (keys.length) {
   }
 }
 const begin = '<!-- evaluate-table:begin -->', end = '<!-- evaluate-table:end -->';
-const text = fs.readFileSync(readme, 'utf8');
+const text = fs.readFileSync(document, 'utf8');
 const a = text.indexOf(begin), b = text.indexOf(end);
 if (a < 0 || b < a) {
-  console.error(readme + ': the ' + begin + ' and ' + end + ' markers are missing');
+  console.error(document + ': the ' + begin + ' and ' + end + ' markers are missing');
   process.exit(1);
 }
-fs.writeFileSync(readme, text.slice(0, a + begin.length) + '\n' + lines.join('\n') + '\n' + text.slice(b));
+fs.writeFileSync(document, text.slice(0, a + begin.length) + '\n' + lines.join('\n') + '\n' + text.slice(b));

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the evaluation table of README.md: `meshtour evaluate --compare` on every mesh of
+# Regenerates the evaluation table of docs/EVALUATION.md: `meshtour evaluate --compare` on every mesh of
 # ../shared/meshes (up axes from its meshes.tsv), then the markdown between the
 # <!-- evaluate-table:begin --> and <!-- evaluate-table:end --> markers is replaced.
 # Usage: scripts/evaluate-table.sh [MESHES_DIR]   (after scripts/build.sh; about 2 minutes)
@@ -22,5 +22,5 @@ tail -n +2 "$meshes/meshes.tsv" | while IFS=$'\t' read -r name file _v _f _c _b 
   echo "$name" >>"$out/order"
 done
 
-node scripts/evaluate-table.js "$out" README.md
-echo "evaluate-table: README.md updated" >&2
+node scripts/evaluate-table.js "$out" docs/EVALUATION.md
+echo "evaluate-table: docs/EVALUATION.md updated" >&2

@@ -41,7 +41,7 @@ struct MemoryEstimate {
   double peak = 0.0;
 };
 
-/// Estimates (deliberately generous; calibrated on the Stanford bunny, see README.md).
+/// Estimates (deliberately generous; calibrated on the Stanford bunny, see docs/USAGE.md, "Resource limits").
 double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices);  ///< loading: OpenMesh + arrays
 double estimate_path_bytes(std::size_t triangles);                        ///< toroidal-patch path stages
 double estimate_bvh_bytes(std::size_t triangles);                         ///< Embree BVH + shading data

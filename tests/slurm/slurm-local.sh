@@ -2,7 +2,7 @@
 # A real single-node Slurm cluster (munged + slurmctld + slurmd from Debian 12's packages),
 # started by hand in one temporary directory, for the farm integration test. No systemd, no
 # cgroups, no DNS, no slurmdbd, nothing outside DIR. Needs root (the daemons run as root).
-# Adapted from the notes in ../shared/docs/SLURM.md, whose pitfalls are marked PITFALL below.
+# Each pitfall of running Slurm this way is marked PITFALL below, where it is handled.
 #
 #   slurm-local.sh start DIR   configure and start the daemons in DIR; writes DIR/env.sh (SLURM_CONF)
 #   slurm-local.sh stop DIR    cancel our jobs, stop the daemons we started, by the PIDs in DIR
