@@ -20,8 +20,8 @@ set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_CONTACT "${MESHTOUR_PACKAGE_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${MESHTOUR_PACKAGE_MAINTAINER}")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "offline renderer of camera tours around 3D meshes")
-set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "offline renderer of camera tours around 3D meshes
-meshtour turns a triangle mesh (OBJ, PLY, OFF, STL, glTF or GLB) into a tour video with no human
+# The summary above is the Description's first line; this is the rest.
+set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "meshtour turns a triangle mesh (OBJ, PLY, OFF, STL, glTF or GLB) into a tour video with no human
 in the loop: the camera path is computed from the mesh's geometry (toroidal patches or a feature
 orbit) or is a turntable, the frames are ray traced on the CPU with Embree, and FFmpeg's
 libraries encode them (H.264, VP9, ProRes, FFV1 or GIF). Without input it renders a built-in scene.")

@@ -28,7 +28,7 @@ case "$mode" in
     work="$build/package-test"
     rm -rf "$work"
     mkdir -p "$work"
-    (cd "$build" && cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work") >"$work/cpack.log" ||
+    (cd "$build" && cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work") >"$work/cpack.log" 2>&1 ||
       { cat "$work/cpack.log" >&2; fail "cpack could not make the package"; }
     debs=("$work"/meshtour_"$version"_*.deb)
     [ -f "${debs[0]}" ] || fail "cpack wrote no meshtour_${version}_*.deb into $work (see $work/cpack.log)"
