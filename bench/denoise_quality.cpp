@@ -1,11 +1,11 @@
 // denoise_quality: how close raw and denoised frames come to a 4096-spp reference, what the
 // denoiser costs, and how much frames flicker. Run by hand (not a test), from the repository root:
 //
-//   build/bench/denoise_quality                       # every case; references cached in build/denoise-references
-//   build/bench/denoise_quality --case bunny          # one case (bunny, default, textured, vertex-colours, transparent)
-//   build/bench/denoise_quality --case bunny --size 640x360    # another frame size (default 1280x720, the tours')
-//   build/bench/denoise_quality --compare-exr bunny=old/frame_000030.exr   # another renderer's raw frame vs the reference
-//   build/bench/denoise_quality --case bunny --dump /tmp/dq  # also write every frame (linear RGBA EXR) to look at
+//   build-test/bench/denoise_quality                       # every case; references cached in build-test/denoise-references
+//   build-test/bench/denoise_quality --case bunny          # one case (bunny, default, textured, vertex-colours, transparent)
+//   build-test/bench/denoise_quality --case bunny --size 640x360    # another frame size (default 1280x720, the tours')
+//   build-test/bench/denoise_quality --compare-exr bunny=old/frame_000030.exr   # another renderer's raw frame vs the reference
+//   build-test/bench/denoise_quality --case bunny --dump /tmp/dq  # also write every frame (linear RGBA EXR) to look at
 //
 // Per case (1280x720 unless --size): raw 4, 16, 64, 128, 256 spp and denoised 4, 16, 64 spp,
 // each with its relative RMSE (linear RGB:

@@ -1,7 +1,7 @@
 // encoder_bench: time per frame and file size of every codec on real frames. Reads the PNG frames
 // of a directory into memory first (so only the encoder is timed), then encodes them with each
 // codec at its default settings and prints one line per codec.
-//   build/bench/encoder_bench FRAMES_DIR [OUT_DIR]     (e.g. frames of `meshtour tour --frames-dir`)
+//   build-test/bench/encoder_bench FRAMES_DIR [OUT_DIR]     (e.g. frames of `meshtour tour --frames-dir`)
 #include <OpenImageIO/imageio.h>
 
 #include <chrono>

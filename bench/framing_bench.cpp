@@ -5,9 +5,9 @@
 // framings agree (counter same_path = 1 when radius and centre are bit-identical); and the
 // `--up auto` rule, which shares the hull (issue 15).
 //
-//   build/bench/framing_bench                                   # every size
-//   build/bench/framing_bench --benchmark_filter='/4$'          # the 17.8M-face mesh only
-//   build/bench/framing_bench --mesh=FILE --mesh-dir=DIR
+//   build-test/bench/framing_bench                                   # every size
+//   build-test/bench/framing_bench --benchmark_filter='/4$'          # the 17.8M-face mesh only
+//   build-test/bench/framing_bench --mesh=FILE --mesh-dir=DIR
 //
 // The source mesh is --mesh=FILE, else ../shared/meshes/bunny.ply next to the source tree. The
 // subdivided meshes are also written, once, as binary PLY to --mesh-dir (default: bench-meshes/ in

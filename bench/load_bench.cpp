@@ -5,10 +5,10 @@
 // the repository); each benchmark then times reading its file back, so the formats are
 // compared in one run on one machine.
 //
-//   build/bench/load_bench                                   # every size, every format
-//   build/bench/load_bench --benchmark_filter='Glb/4/'       # the 17.8M-face GLB only
-//   build/bench/load_bench --benchmark_filter=Instanced      # one mesh drawn 1, 16, 64 times
-//   build/bench/load_bench --mesh=FILE --mesh-dir=DIR
+//   build-test/bench/load_bench                                   # every size, every format
+//   build-test/bench/load_bench --benchmark_filter='Glb/4/'       # the 17.8M-face GLB only
+//   build-test/bench/load_bench --benchmark_filter=Instanced      # one mesh drawn 1, 16, 64 times
+//   build-test/bench/load_bench --mesh=FILE --mesh-dir=DIR
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>

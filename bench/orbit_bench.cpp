@@ -2,13 +2,13 @@
 // 2, 3 and 4 times (1.1M, 4.5M, 17.8M faces; the same shape). Google Benchmark timings of the
 // coverage model's stages and of the whole search, per size:
 //
-//   build/bench/orbit_bench --benchmark_filter=FeatureOrbit/3
+//   build-test/bench/orbit_bench --benchmark_filter=FeatureOrbit/3
 //
 // and, with --invariance[=LEVELS], the check that the same shape gives the same tour: the
 // elevation of every level's orbit against level 0's (degrees, over 360 azimuths) and the
 // evaluation figures of every level's 12 frames under every feature definition:
 //
-//   build/bench/orbit_bench --invariance=3 [--mesh=FILE] [--up=y]
+//   build-test/bench/orbit_bench --invariance=3 [--mesh=FILE] [--up=y]
 //
 // --features=LEVELS prints why the features would move: the proxy, w(f) on it, and the overlap of
 // every level's feature samples with level 0's.

@@ -19,8 +19,8 @@
 //
 // Also BM_CreaseNormals and BM_SceneSetup: the set-up's cost from 70k to 17.8M faces (below).
 //
-// Run from the repository root:  build/bench/tracer_bench
-// (the set-up alone: build/bench/tracer_bench --benchmark_filter='Crease|Setup')
+// Run from the repository root:  build-test/bench/tracer_bench
+// (the set-up alone: build-test/bench/tracer_bench --benchmark_filter='Crease|Setup')
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>

@@ -4,7 +4,7 @@
 # denoised 16 spp | 4096-spp reference, side by side, from the frames
 # `denoise_quality --dump` writes.
 #
-#   build/bench/denoise_quality --case bunny --dump /tmp/dq
+#   build-test/bench/denoise_quality --case bunny --dump /tmp/dq
 #   scripts/denoise-crop.sh /tmp/dq [X Y W H] [OUT.png]
 set -euo pipefail
 dir=${1:?usage: scripts/denoise-crop.sh DUMP_DIR [X Y W H] [OUT.png]}

@@ -1,7 +1,20 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package that meshtour needs to build, run and test.
+# Installs the Debian 12 packages that meshtour needs:
+#   scripts/install-deps.sh           to build and run the program (scripts/tour.sh)
+#   scripts/install-deps.sh --tests   also to build and run the tests, the benchmarks and the fuzz
+#                                     targets, with Node.js and the tests' npm packages (scripts/test.sh)
+# The first command installs only the first list: the tests' tools (Chromium, Slurm, clang, ...)
+# are most of the download.
 # Idempotent: packages already present are not touched, and nothing is printed for them.
 set -euo pipefail
+
+with_tests=0
+if [ "${1:-}" = --tests ]; then
+  with_tests=1
+elif [ $# -gt 0 ]; then
+  echo "usage: scripts/install-deps.sh [--tests]" >&2
+  exit 2
+fi
 
 packages=(
   build-essential cmake pkg-config ninja-build
@@ -10,19 +23,23 @@ packages=(
   openimageio-tools                         # OpenImageIO's CMake config refers to its tools (iconvert, ...)
   libopenmesh-dev libeigen3-dev             # pathgen: mesh I/O and linear algebra
   libqhull-dev                              # mesh: convex hulls (reentrant libqhull_r) for fast framing
-  libtinygltf-dev libdraco-dev draco        # mesh: glTF/GLB input, Draco-compressed primitives (draco_encoder, draco_transcoder: tests)
+  libtinygltf-dev libdraco-dev              # mesh: glTF/GLB input, Draco-compressed primitives
   libmeshoptimizer-dev                      # mesh: glTF EXT_meshopt_compression (gltfpack's output)
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video encoder
   libavfilter-dev                           # video encoder: the GIF palette (palettegen, paletteuse), captions (drawtext, xfade)
   libfreetype-dev libfontconfig-dev         # captions: measuring the text, finding the font
   fonts-dejavu-core                         # captions: the default font, DejaVu Sans
-  chromium                                  # tests: the contact sheet of batch --web in a real browser (tests/browser)
   nlohmann-json3-dev libcli11-dev           # scene/path files, command line
+)
+test_packages=(
+  draco                                     # tests: draco_encoder, draco_transcoder make Draco-compressed inputs
+  chromium                                  # tests: the contact sheet of batch --web in a real browser (tests/browser)
   libgtest-dev libgmock-dev libbenchmark-dev  # tests and benchmarks
   ffmpeg                                    # ffprobe, used by tests as an independent reader
   slurmctld slurmd slurm-client munge       # farm: the single-node Slurm cluster of tests/slurm/
   clang libclang-rt-14-dev                  # fuzz targets: clang with libFuzzer and the sanitizers
 )
+[ "$with_tests" = 1 ] && packages+=("${test_packages[@]}")
 
 missing=()
 for p in "${packages[@]}"; do
@@ -32,7 +49,7 @@ for p in "${packages[@]}"; do
 done
 # Node.js runs the Khronos glTF validator in the tests (tests/gltf). Checked by command, not by
 # package name, so that a Node.js from another source (which bundles npm) is left alone.
-if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+if [ "$with_tests" = 1 ] && { ! command -v node >/dev/null || ! command -v npm >/dev/null; }; then
   missing+=(nodejs npm)
 fi
 
@@ -49,6 +66,7 @@ npm_ci_if_stale() {
   fi
 }
 install_npm_packages() {
+  [ "$with_tests" = 1 ] || return 0
   npm_ci_if_stale tests/gltf "Khronos glTF validator"
   npm_ci_if_stale tests/browser "puppeteer-core"
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Quick start, second command: install what is needed, build, and run the whole test suite:
-#  1. a Release build and all tests;
+#  1. a Release build of the program, the tests and the benchmarks in build-test/ (scripts/tour.sh
+#     builds the program alone in build/), and all tests;
 #  2. an AddressSanitizer + UndefinedBehaviorSanitizer build and all tests again, under the
 #     sanitizers (set MESHTOUR_SKIP_SANITIZERS=1 to skip this half on a slow machine);
 #  3. the libFuzzer targets (fuzz/, clang) for a fixed number of inputs each (MESHTOUR_SKIP_FUZZ=1 skips).
@@ -8,11 +9,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
-./scripts/install-deps.sh
+./scripts/install-deps.sh --tests
 
 echo "== Release build and tests"
-./scripts/build.sh
-ctest --test-dir build --output-on-failure -j "$jobs" --timeout 600
+./scripts/build.sh --tests
+ctest --test-dir build-test --output-on-failure -j "$jobs" --timeout 600
 
 if [ "${MESHTOUR_SKIP_SANITIZERS:-0}" != 1 ]; then
   echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"

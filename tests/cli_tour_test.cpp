@@ -195,7 +195,7 @@ TEST(OptionsDoc, IsWhatTheRegistrySays) {
   std::stringstream committed;
   committed << in.rdbuf();
   EXPECT_TRUE(r.output == committed.str())
-      << "docs/OPTIONS.md is stale; regenerate it with: build/cli/meshtour options > docs/OPTIONS.md";
+      << "docs/OPTIONS.md is stale; regenerate it with: build-test/cli/meshtour options > docs/OPTIONS.md";
 }
 
 }  // namespace

@@ -8,10 +8,10 @@
 //  - the test fails when more than `fail_fraction` of the pixels fail (each test states its value
 //    and why: a real change of lighting, framing or geometry moves far more), or when any pixel
 //    differs by more than 0.25 (a missing or misplaced part, whatever its size).
-// On failure the actual image and a x16 difference image are written to build/golden-results/.
+// On failure the actual image and a x16 difference image are written to build-test/golden-results/.
 //
 // To regenerate the references on purpose (after a deliberate change to the look):
-//   GOLDEN_UPDATE=1 ctest --test-dir build -L golden
+//   GOLDEN_UPDATE=1 ctest --test-dir build-test -L golden
 // then look at the new images and commit them.
 #include <gtest/gtest.h>
 #include <OpenImageIO/imagebuf.h>

@@ -291,7 +291,7 @@ TEST(MeshGltf, SkinnedMeshesArePlacedByTheirJoints) {
         EXPECT_LT(best, 1e-3) << p.transpose();
       }
     } else if (std::getenv("MESHTOUR_REQUIRE_SHARED")) {
-      FAIL() << "draco_transcoder is not installed (scripts/install-deps.sh)";
+      FAIL() << "draco_transcoder is not installed (scripts/install-deps.sh --tests)";
     }
   }
   {
@@ -593,7 +593,7 @@ TEST(MeshGltf, BadFilesGetClearErrors) {
 TEST(MeshGltf, DracoPrimitiveDecodesWithinItsQuantization) {
   const auto dir = test::scratch_dir();
   if (std::system("command -v draco_encoder >/dev/null 2>&1") != 0) {
-    if (std::getenv("MESHTOUR_REQUIRE_SHARED")) FAIL() << "draco_encoder is not installed (scripts/install-deps.sh)";
+    if (std::getenv("MESHTOUR_REQUIRE_SHARED")) FAIL() << "draco_encoder is not installed (scripts/install-deps.sh --tests)";
     GTEST_SKIP() << "draco_encoder is not installed (Debian package draco); skipping the Draco case";
   }
   TriangleMesh source;

@@ -4,7 +4,7 @@
 # plays in headless Chromium and the broken item shows its error (check-page.js). A screenshot goes
 # to the build folder (browser-test/contact-sheet.png).
 # Exit 77 = skipped, loudly: no ../shared/meshes, no Chromium, no puppeteer-core (npm ci in
-# tests/browser, done by scripts/install-deps.sh), or Chromium cannot start. Under
+# tests/browser, done by scripts/install-deps.sh --tests), or Chromium cannot start. Under
 # MESHTOUR_REQUIRE_SHARED=1 (CI) each of these fails instead.
 # Usage: run-browser-test.sh MESHTOUR_EXECUTABLE BUILD_DIR
 set -uo pipefail
@@ -25,8 +25,8 @@ skip() {
 
 [ -f "$meshes/bear.ply" ] && [ -f "$meshes/rocker.ply" ] && [ -f "$meshes/venus.ply" ] ||
   skip "$meshes is missing (the ../shared test data is not checked out)"
-command -v node >/dev/null || skip "node is not installed (scripts/install-deps.sh)"
-[ -x "${CHROMIUM:-/usr/bin/chromium}" ] || skip "Chromium is not installed (Debian package chromium, scripts/install-deps.sh)"
+command -v node >/dev/null || skip "node is not installed (scripts/install-deps.sh --tests)"
+[ -x "${CHROMIUM:-/usr/bin/chromium}" ] || skip "Chromium is not installed (Debian package chromium, scripts/install-deps.sh --tests)"
 [ -d "$here/node_modules/puppeteer-core" ] || skip "puppeteer-core is not installed (cd tests/browser && npm ci)"
 
 work="$(cd "$build" && pwd)/browser-test"

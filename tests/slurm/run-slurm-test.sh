@@ -9,7 +9,7 @@
 #   run-slurm-test.sh MESHTOUR_EXECUTABLE
 #
 # Exit codes: 0 passed, 1 failed, 77 skipped (CTest's SKIP_RETURN_CODE): not root, or Slurm not
-# installed (scripts/install-deps.sh installs it). Under MESHTOUR_REQUIRE_SHARED=1 (CI), a
+# installed (scripts/install-deps.sh --tests installs it). Under MESHTOUR_REQUIRE_SHARED=1 (CI), a
 # missing Slurm is a failure instead of a skip.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -31,7 +31,7 @@ skip() {
 
 [ "$(id -u)" = 0 ] || skip "it must run as root (it starts munged, slurmctld and slurmd)"
 for tool in munged mungekey slurmctld slurmd sbatch squeue scontrol sinfo ffmpeg; do
-  command -v "$tool" >/dev/null || skip "'$tool' is not installed (run scripts/install-deps.sh)"
+  command -v "$tool" >/dev/null || skip "'$tool' is not installed (run scripts/install-deps.sh --tests)"
 done
 
 t0=$(date +%s.%N)

@@ -1,0 +1,184 @@
+// glTF materials as meshtour uses them: the base colour factor and texture (embedded, in a data
+// URI or an external file), its sampler's wrap modes, coordinate set and KHR_texture_transform.
+#include <cctype>
+#include <cmath>
+#include <memory>
+#include <string_view>
+
+#include "mesh/gltf_parts.h"
+
+namespace meshtour::gltf_detail {
+namespace {
+
+TextureWrap wrap_of(int mode) {
+  if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::clamp;
+  if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::mirror;
+  return TextureWrap::repeat;
+}
+
+// The bytes of base64 text (RFC 4648; padding optional). \throw InputError on another character.
+std::vector<unsigned char> base64_decoded(std::string_view text, const std::string& where) {
+  std::vector<unsigned char> out;
+  out.reserve(text.size() / 4 * 3);
+  std::uint32_t bits = 0;
+  int count = 0;
+  for (const char c : text) {
+    if (c == '=') break;
+    const int value = c >= 'A' && c <= 'Z'   ? c - 'A'
+                      : c >= 'a' && c <= 'z' ? c - 'a' + 26
+                      : c >= '0' && c <= '9' ? c - '0' + 52
+                      : c == '+'             ? 62
+                      : c == '/'             ? 63
+                                             : -1;
+    if (value < 0) throw InputError(where + ": its image's data URI has a character that is not base64");
+    bits = (bits << 6) | static_cast<std::uint32_t>(value);
+    if (++count == 4) {
+      out.push_back(static_cast<unsigned char>(bits >> 16));
+      out.push_back(static_cast<unsigned char>(bits >> 8));
+      out.push_back(static_cast<unsigned char>(bits));
+      bits = 0, count = 0;
+    }
+  }
+  if (count == 2) out.push_back(static_cast<unsigned char>(bits >> 4));
+  if (count == 3) out.push_back(static_cast<unsigned char>(bits >> 10)), out.push_back(static_cast<unsigned char>(bits >> 2));
+  return out;
+}
+
+// The base colour of a material: its factor and the texture it names (`index` -1: none), with
+// the texture's coordinate set and KHR_texture_transform. From pbrMetallicRoughness, or from
+// KHR_materials_pbrSpecularGlossiness's diffuse (older Sketchfab and Blender exports), which takes
+// precedence where a reader supports it; its specular and glossiness, like metallic and roughness,
+// are not part of meshtour's studio look.
+struct BaseColor {
+  std::vector<double> factor;
+  int index = -1, tex_coord = 0;
+  const tinygltf::Value* transform = nullptr;
+};
+
+BaseColor base_color_of(const tinygltf::Material& m) {
+  BaseColor out;
+  if (const auto it = m.extensions.find("KHR_materials_pbrSpecularGlossiness"); it != m.extensions.end() && it->second.IsObject()) {
+    const tinygltf::Value& sg = it->second;
+    if (sg.Has("diffuseFactor") && sg.Get("diffuseFactor").IsArray())
+      for (int k = 0; k < static_cast<int>(sg.Get("diffuseFactor").ArrayLen()); ++k)
+        out.factor.push_back(sg.Get("diffuseFactor").Get(k).IsNumber() ? sg.Get("diffuseFactor").Get(k).GetNumberAsDouble() : 1.0);
+    if (sg.Has("diffuseTexture") && sg.Get("diffuseTexture").IsObject()) {
+      const tinygltf::Value& info = sg.Get("diffuseTexture");
+      out.index = info.Has("index") && info.Get("index").IsNumber() ? info.Get("index").GetNumberAsInt() : -1;
+      if (info.Has("texCoord") && info.Get("texCoord").IsNumber()) out.tex_coord = info.Get("texCoord").GetNumberAsInt();
+      if (info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
+        out.transform = &info.Get("extensions").Get("KHR_texture_transform");
+    }
+    return out;
+  }
+  out.factor = m.pbrMetallicRoughness.baseColorFactor;
+  const tinygltf::TextureInfo& info = m.pbrMetallicRoughness.baseColorTexture;
+  out.index = info.index;
+  out.tex_coord = info.texCoord;
+  if (const auto it = info.extensions.find("KHR_texture_transform"); it != info.extensions.end()) out.transform = &it->second;
+  return out;
+}
+
+}  // namespace
+
+std::string percent_decoded(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+MaterialUse material_use(const tinygltf::Model& model, int index, const std::filesystem::path& file, const std::string& name) {
+  MaterialUse use;
+  use.material.texture_times_vertex_colors = true;
+  const tinygltf::Material& m = model.materials[static_cast<std::size_t>(index)];
+  use.material.name = m.name.empty() ? "material " + std::to_string(index) : m.name;
+  const BaseColor base = base_color_of(m);
+  const auto& factor = base.factor;
+  use.material.base_color = factor.size() >= 3 ? Eigen::Vector3f(static_cast<float>(factor[0]), static_cast<float>(factor[1]),
+                                                                 static_cast<float>(factor[2]))
+                                               : Eigen::Vector3f::Ones();
+  if (base.index < 0) return use;
+  const std::string where = name + ": material '" + use.material.name + "'";
+  if (base.index >= static_cast<int>(model.textures.size()))
+    throw InputError(where + " names texture " + std::to_string(base.index) + ", which does not exist");
+  const tinygltf::Texture& texture = model.textures[static_cast<std::size_t>(base.index)];
+  // EXT_texture_webp names a WebP image in place of (or as well as) the core PNG/JPEG source;
+  // a reader that decodes WebP (OpenImageIO does) uses it.
+  int source = texture.source;
+  if (const auto it = texture.extensions.find("EXT_texture_webp"); it != texture.extensions.end() && it->second.IsObject() &&
+                                                                   it->second.Has("source") && it->second.Get("source").IsNumber())
+    source = it->second.Get("source").GetNumberAsInt();
+  if (source < 0 || source >= static_cast<int>(model.images.size()))
+    throw InputError(where + " has a texture whose image does not exist (texture " + std::to_string(base.index) + ")");
+  if (texture.sampler >= static_cast<int>(model.samplers.size()))
+    throw InputError(where + " has a texture whose sampler does not exist (texture " + std::to_string(base.index) + ")");
+  if (texture.sampler >= 0) {
+    const tinygltf::Sampler& sampler = model.samplers[static_cast<std::size_t>(texture.sampler)];
+    use.material.wrap_s = wrap_of(sampler.wrapS);
+    use.material.wrap_t = wrap_of(sampler.wrapT);
+  }
+  use.uv_set = std::max(0, base.tex_coord);
+  if (base.transform && base.transform->IsObject()) {
+    const tinygltf::Value& t = *base.transform;
+    const auto pair = [&](const char* key, double fallback) {
+      std::array<double, 2> v{fallback, fallback};
+      if (t.Has(key) && t.Get(key).IsArray() && t.Get(key).ArrayLen() >= 2)
+        for (int k = 0; k < 2; ++k)
+          if (t.Get(key).Get(k).IsNumber()) v[static_cast<std::size_t>(k)] = t.Get(key).Get(k).GetNumberAsDouble();
+      return v;
+    };
+    const auto offset = pair("offset", 0.0), scale = pair("scale", 1.0);
+    const double rotation = t.Has("rotation") && t.Get("rotation").IsNumber() ? t.Get("rotation").GetNumberAsDouble() : 0.0;
+    if (t.Has("texCoord") && t.Get("texCoord").IsNumber()) use.uv_set = std::max(0, t.Get("texCoord").GetNumberAsInt());
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    // The extension's matrix: translation * rotation * scale.
+    use.uv_transform << c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1];
+  }
+  const tinygltf::Image& image = model.images[static_cast<std::size_t>(source)];
+  // tinygltf decodes the data URIs of PNG and JPEG images; a WebP one arrives as its text.
+  std::string data_uri_mime;
+  std::vector<unsigned char> data_uri_bytes;
+  if (image.image.empty() && image.uri.starts_with("data:")) {
+    const std::size_t comma = image.uri.find(','), marker = image.uri.rfind(";base64", comma);
+    if (comma == std::string::npos || marker == std::string::npos || marker + 7 != comma)
+      throw InputError(where + ": its image " + std::to_string(source) + " is a data URI that is not base64");
+    data_uri_mime = image.uri.substr(5, marker - 5);
+    data_uri_bytes = base64_decoded(std::string_view(image.uri).substr(comma + 1), where);
+  }
+  if (!image.uri.empty() && image.image.empty() && data_uri_mime.empty()) {  // an external file
+    const std::filesystem::path relative(percent_decoded(image.uri));
+    use.material.texture_file = relative.is_absolute() ? relative : file.parent_path() / relative;
+  } else {
+    std::vector<unsigned char> bytes = data_uri_mime.empty() ? image.image : std::move(data_uri_bytes);
+    const std::string& mime = data_uri_mime.empty() ? image.mimeType : data_uri_mime;
+    if (image.bufferView >= 0) {  // checked here, not by tinygltf (keep_encoded_image)
+      if (static_cast<std::size_t>(image.bufferView) >= model.bufferViews.size())
+        throw InputError(where + ": its image " + std::to_string(source) + " names a buffer view that does not exist");
+      const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(image.bufferView)];
+      if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
+        throw InputError(where + ": its image " + std::to_string(source) + " names a buffer that does not exist");
+      const std::vector<unsigned char>& buffer = model.buffers[static_cast<std::size_t>(view.buffer)].data;
+      if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+        throw InputError(where + ": its image " + std::to_string(source) + " lies outside its buffer (truncated file?)");
+      bytes.assign(buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
+                   buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength));
+    }
+    if (bytes.empty()) throw InputError(where + ": its image " + std::to_string(source) + " has no data");
+    const std::string ext = mime == "image/jpeg" ? ".jpg" : mime == "image/png" ? ".png"
+                            : mime == "image/webp" ? ".webp"
+                                                             : "";
+    use.material.texture_file = file.string() + "#image" + std::to_string(source) + ext;
+    use.material.texture_bytes = std::make_shared<const std::vector<unsigned char>>(std::move(bytes));
+  }
+  return use;
+}
+
+}  // namespace meshtour::gltf_detail
