@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/triangle_geometry.h"
 #include "mesh/mesh.h"
 #include "test_meshes.h"
 
@@ -122,7 +123,7 @@ inline void write_stl(const meshtour::TriangleMesh& mesh, const std::filesystem:
       const Eigen::Vector3d& a = mesh.positions[t[0]];
       const Eigen::Vector3d& b = mesh.positions[t[1]];
       const Eigen::Vector3d& c = mesh.positions[t[2]];
-      const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+      const Eigen::Vector3d n = triangle_normal(a, b, c);
       float record[12];
       for (int k = 0; k < 3; ++k) {
         record[k] = static_cast<float>(n[k]);

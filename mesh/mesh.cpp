@@ -8,6 +8,8 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
 
@@ -18,6 +20,8 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
+#include "core/triangle_geometry.h"
 #include "mesh/file_extension.h"
 #include "mesh/gltf.h"
 #include "mesh/obj_reader.h"
@@ -76,7 +80,7 @@ std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh) {
   // The largest triangle gives the most reliable normal; all used vertices must lie in its plane.
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   for (const auto& t : mesh.triangles) {
-    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    const Eigen::Vector3d n = triangle_cross(mesh.positions, t);
     if (n.squaredNorm() > normal.squaredNorm()) normal = n;
   }
   if (normal.squaredNorm() == 0.0 || mesh.triangles.empty()) return std::nullopt;
@@ -87,6 +91,16 @@ std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh) {
     for (auto v : t)
       if (std::abs((mesh.positions[v] - origin).dot(normal)) > tolerance) return std::nullopt;
   return normal;
+}
+
+std::vector<double> face_areas(const std::vector<Eigen::Vector3d>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles) {
+  std::vector<double> area(triangles.size());
+  // Every chunk looks at the interrupt flag (a 17.8M-face model takes a while even here).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, area.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+    throw_if_interrupted();
+    for (std::size_t f = r.begin(); f < r.end(); ++f) area[f] = triangle_area(positions, triangles[f]);
+  });
+  return area;
 }
 
 namespace {
@@ -191,7 +205,7 @@ void check_geometry(const TriangleMesh& mesh, const std::string& name) {
   // Every later stage divides by areas and normals: a mesh without one proper triangle is refused
   // here, naming the file, rather than deep in the path computation.
   const bool has_area = std::any_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const auto& t) {
-    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    const Eigen::Vector3d n = triangle_cross(mesh.positions, t);
     return n.squaredNorm() > 0.0;
   });
   if (!has_area)
