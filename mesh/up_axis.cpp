@@ -36,8 +36,8 @@
 #include "core/error.h"
 #include "core/triangle_geometry.h"
 #include "mesh/convex_hull.h"
-#include "mesh/file_extension.h"
 #include "mesh/mesh_edges.h"
+#include "mesh/mesh_formats.h"
 #include "mesh/vertex_clustering.h"
 
 namespace meshtour {
@@ -791,9 +791,8 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
 }
 
 std::optional<Axis> format_up_axis(const std::filesystem::path& file) {
-  const std::string ext = lower_extension(file);
-  if (ext == ".gltf" || ext == ".glb") return Axis{1, false};
-  return std::nullopt;
+  const mesh_formats::MeshFormat* format = mesh_formats::find(file.extension().string());
+  return format ? format->up : std::nullopt;
 }
 
 UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& file) {
