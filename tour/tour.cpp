@@ -4,7 +4,7 @@
 
 #include "pathgen/feature_orbit.h"
 
-#include <tbb/global_control.h>
+#include "tour/thread_limit.h"
 
 #include <algorithm>
 #include <numeric>
@@ -338,8 +338,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   const bool write_png = keep_frames && (job.format == "png" || job.format == "png+exr");
   const bool write_exr = keep_frames && (job.format == "exr" || job.format == "png+exr");
 
-  const int threads = thread_count(job.threads, job.quiet);
-  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const ThreadLimit thread_limit(job.threads, job.quiet);
 
   // Refuse what would not fit before allocating anything.
   StageLog log(job.resources.verbose);
