@@ -96,11 +96,8 @@ void run_path(PathJob& a) {
   StageLog log(a.resources.verbose);
   log.start("check");
   const MeshFileSummary counts = check_mesh_file(a.mesh);
-  MemoryEstimate estimate;
-  estimate.parts = {{"runtime", 100e6},
-                    {"mesh", estimate_mesh_bytes(counts.triangles(), counts.vertices)},
-                    {"camera path", estimate_path_bytes(counts.triangles())}};
-  for (const auto& part : estimate.parts) estimate.peak += part.second;
+  const MemoryEstimate estimate =
+      estimate_job_memory(counts.triangles(), counts.vertices, MemoryPart{"camera path", estimate_path_bytes(counts.triangles())}, {});
   check_memory(estimate, memory_budget(a.resources), "the camera path of " + a.mesh);
 
   log.start("load");
