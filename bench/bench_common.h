@@ -17,11 +17,12 @@
 #include <iostream>
 #include <map>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/atomic_file.h"
+#include "core/triangle_geometry.h"
 #include "mesh/mesh.h"
 #include "test_meshes.h"
 
@@ -48,18 +49,18 @@ inline const TriangleMesh& split_mesh(const std::filesystem::path& source, int l
   return cache.emplace(levels, std::move(mesh)).first->second;
 }
 
-// Writes `file` whole or not at all: `body` fills a temporary beside it, renamed when complete
-// (an interrupted bench leaves no half mesh for the next run to read).
+// Writes `file` whole or not at all, as every output of meshtour (core/atomic_file.h): `body`
+// fills a temporary beside it, flushed to the disk and renamed when complete (an interrupted
+// bench, or a crashed machine, leaves no half mesh for the next run to read).
 template <class Body>
 void write_whole(const std::filesystem::path& file, Body body) {
   std::filesystem::create_directories(file.parent_path());
-  const std::filesystem::path temporary = file.string() + ".partial";
-  {
+  meshtour::write_file_atomically(file, [&](const std::filesystem::path& temporary) {
     std::ofstream out(temporary, std::ios::binary);
     body(out);
-    if (!out) throw std::runtime_error("could not write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, file);
+    out.close();
+    if (!out) throw meshtour::IoError("could not write " + file.string() + " (disk full?)");
+  });
 }
 
 // A text mesh's lines: `vertex` and three float coordinates (9 significant digits, as the PLY's
@@ -122,7 +123,7 @@ inline void write_stl(const meshtour::TriangleMesh& mesh, const std::filesystem:
       const Eigen::Vector3d& a = mesh.positions[t[0]];
       const Eigen::Vector3d& b = mesh.positions[t[1]];
       const Eigen::Vector3d& c = mesh.positions[t[2]];
-      const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+      const Eigen::Vector3d n = triangle_normal(a, b, c);
       float record[12];
       for (int k = 0; k < 3; ++k) {
         record[k] = static_cast<float>(n[k]);

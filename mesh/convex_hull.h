@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "core/triangle_geometry.h"
 #include "mesh/mesh.h"
 
 namespace meshtour {
@@ -42,7 +43,7 @@ std::vector<Eigen::Vector3d> convex_hull_vertices(const TriangleMesh& mesh);
 struct HullTriangle {
   Eigen::Vector3d normal;                ///< outward unit normal
   std::array<Eigen::Vector3d, 3> corner;  ///< its corners (hull vertices)
-  double area() const { return 0.5 * (corner[1] - corner[0]).cross(corner[2] - corner[0]).norm(); }
+  double area() const { return triangle_area(corner[0], corner[1], corner[2]); }
 };
 
 /// The boundary of the convex hull of `hull_vertices` (the output of convex_hull_vertices(), so a

@@ -79,6 +79,11 @@ struct TriangleMesh {
 /// bounding-box diagonal), or nothing if the mesh is not flat.
 std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh);
 
+/// The area of each triangle (triangle_area, core/triangle_geometry.h), computed in parallel:
+/// for a TriangleMesh and for any other mesh held as these two arrays (pathgen's SurfaceMesh).
+std::vector<double> face_areas(const std::vector<Eigen::Vector3d>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles);
+inline std::vector<double> face_areas(const TriangleMesh& mesh) { return face_areas(mesh.positions, mesh.triangles); }
+
 /// What the loader did to the file's contents on the way in.
 struct LoadReport {
   std::size_t polygons_triangulated = 0;  ///< faces with more than 3 corners, fan-triangulated

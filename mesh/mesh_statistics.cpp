@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/disjoint_sets.h"
+#include "core/triangle_geometry.h"
 #include "mesh/mesh_edges.h"
 
 namespace meshtour {
@@ -23,8 +24,7 @@ MeshStatistics mesh_statistics(const TriangleMesh& mesh) {
       used[t[c]] = true;
       components.join(t[c], t[(c + 1) % 3]);
     }
-    const Eigen::Vector3d& p0 = mesh.positions[t[0]];
-    s.surface_area += 0.5 * (mesh.positions[t[1]] - p0).cross(mesh.positions[t[2]] - p0).norm();
+    s.surface_area += triangle_area(mesh.positions, t);
   }
   for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
     if (!used[v]) ++s.unreferenced_vertices;

@@ -34,9 +34,10 @@
 
 #include "core/disjoint_sets.h"
 #include "core/error.h"
+#include "core/triangle_geometry.h"
 #include "mesh/convex_hull.h"
-#include "mesh/file_extension.h"
 #include "mesh/mesh_edges.h"
+#include "mesh/mesh_formats.h"
 #include "mesh/vertex_clustering.h"
 
 namespace meshtour {
@@ -152,7 +153,7 @@ std::optional<FlatCut> flat_cut(const TriangleMesh& mesh, const std::vector<Eige
   for (std::size_t f = 0; f < faces; ++f) {
     const auto& t = proxy.triangles[f];
     const Eigen::Vector3d &a = proxy.positions[t[0]], &b = proxy.positions[t[1]], &c = proxy.positions[t[2]];
-    area_normal[f] = 0.5 * outward * (b - a).cross(c - a);
+    area_normal[f] = 0.5 * outward * triangle_cross(a, b, c);
     area[f] = area_normal[f].norm();
     total += area[f];
   }
@@ -287,7 +288,7 @@ Holes find_holes(const TriangleMesh& mesh, double outward, const std::vector<Eig
     centre /= static_cast<double>(loop.size());
     for (const std::uint32_t e : loop) {
       const Eigen::Vector3d &p = mesh.positions[tally.boundary[e][0]], &q = mesh.positions[tally.boundary[e][1]];
-      vector_area -= 0.5 * outward * (p - centre).cross(q - centre);
+      vector_area -= 0.5 * outward * triangle_cross(centre, p, q);
     }
     if (!(vector_area.norm() > 0.0)) continue;
     const Eigen::Vector3d n = vector_area.normalized();
@@ -345,7 +346,7 @@ AirUnder air_under(const TriangleMesh& mesh, const TriangleMesh& caps, const Eig
     for (std::size_t f = first; f < last; ++f) {
       const auto& t = mesh.triangles[f];
       const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-      const Eigen::Vector3d n = outward * (b - a).cross(c - a);
+      const Eigen::Vector3d n = outward * triangle_cross(a, b, c);
       // Column coordinates of the corners (column centres sit at i + 0.5).
       const Eigen::Vector3d ca = (a - lo).cwiseProduct(to_cells), cb = (b - lo).cwiseProduct(to_cells), cc = (c - lo).cwiseProduct(to_cells);
       const Eigen::Vector3d cmin = ca.cwiseMin(cb).cwiseMin(cc), cmax = ca.cwiseMax(cb).cwiseMax(cc);
@@ -509,8 +510,8 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
   const auto mark = [&](const Eigen::Vector3d& p) { occupied[cell_index(cell(p.x(), 0), cell(p.y(), 1), cell(p.z(), 2))] = 1; };
   for (const auto& t : mesh.triangles) {
     const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    const Eigen::Vector3d cross = (b - a).cross(c - a);
-    const double w = 0.5 * cross.norm();
+    const Eigen::Vector3d cross = triangle_cross(a, b, c);
+    const double w = triangle_area(a, b, c);
     if (!(w > 0.0)) continue;
     const Eigen::Vector3d m = (a + b + c) / 3.0;
     centroid += w * m;
@@ -790,9 +791,8 @@ UpChoice choose_up_axis(const TriangleMesh& mesh) {
 }
 
 std::optional<Axis> format_up_axis(const std::filesystem::path& file) {
-  const std::string ext = lower_extension(file);
-  if (ext == ".gltf" || ext == ".glb") return Axis{1, false};
-  return std::nullopt;
+  const mesh_formats::MeshFormat* format = mesh_formats::find(file.extension().string());
+  return format ? format->up : std::nullopt;
 }
 
 UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& file) {

@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/triangle_geometry.h"
 
 namespace meshtour {
 namespace {
@@ -116,7 +117,7 @@ struct CellSums {
 
 // One triangle (grid units): its area and centroid per cell, and the cell edges it crosses.
 void add_triangle(const std::array<Eigen::Vector3d, 3>& q, CellSums& cells, std::vector<Crossing>& crossings) {
-  const Eigen::Vector3d normal = (q[1] - q[0]).cross(q[2] - q[0]).normalized();
+  const Eigen::Vector3d normal = triangle_normal(q[0], q[1], q[2]);
   Polygon tri;
   tri.n = 3;
   for (int i = 0; i < 3; ++i) tri.p[i] = q[i];
@@ -125,8 +126,7 @@ void add_triangle(const std::array<Eigen::Vector3d, 3>& q, CellSums& cells, std:
       slabs(b, 2, [&](const Polygon& piece) {
         Moments m;
         for (int i = 1; i + 1 < piece.n; ++i) {
-          const Eigen::Vector3d c = (piece.p[i] - piece.p[0]).cross(piece.p[i + 1] - piece.p[0]);
-          const double area = 0.5 * c.norm();
+          const double area = triangle_area(piece.p[0], piece.p[i], piece.p[i + 1]);
           m.area += area;
           m.moment += area * (piece.p[0] + piece.p[i] + piece.p[i + 1]) / 3.0;
         }
@@ -217,7 +217,7 @@ ClusteredMesh cluster_surface(const TriangleMesh& mesh, std::size_t target_cells
   double total = 0.0;
   for (const auto& t : mesh.triangles) {
     const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    const double area = 0.5 * (b - a).cross(c - a).norm();
+    const double area = triangle_area(a, b, c);
     if (std::isfinite(area)) total += area;
   }
   if (!(total > 0.0)) throw InputError("the mesh has no surface area to simplify");

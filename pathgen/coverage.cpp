@@ -12,6 +12,7 @@
 #include "core/disjoint_sets.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/triangle_geometry.h"
 #include "mesh/vertex_clustering.h"
 #include "pathgen/features.h"
 #include "pathgen/saliency.h"
@@ -66,7 +67,7 @@ SampleKernel proxy_kernel(const ClusteredMesh& proxy, const SurfaceSamples& samp
   const TriangleMesh& p = proxy.mesh;
   std::vector<Eigen::Vector3d> normal(p.positions.size(), Eigen::Vector3d::Zero());
   for (const auto& t : p.triangles) {
-    const Eigen::Vector3d a = (p.positions[t[1]] - p.positions[t[0]]).cross(p.positions[t[2]] - p.positions[t[0]]);
+    const Eigen::Vector3d a = triangle_cross(p.positions, t);
     for (std::uint32_t v : t) normal[v] += a;
   }
   for (auto& v : normal) v.normalize();

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <optional>
 
+#include "core/triangle_geometry.h"
+
 namespace meshtour::surface_detail {
 namespace {
 
@@ -134,8 +136,7 @@ std::vector<Eigen::Vector3d> vertex_normals(const SurfaceMesh& mesh) {
   parallel_ranges(F, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
       const auto& t = mesh.triangles[f];
-      const Eigen::Vector3d& p0 = mesh.positions[t[0]];
-      face_cross[f] = (mesh.positions[t[1]] - p0).cross(mesh.positions[t[2]] - p0);
+      face_cross[f] = triangle_cross(mesh.positions, t);
       const double length = face_cross[f].norm();
       valid[f] = 0.5 * length >= kDegenerateArea;
       face_normal[f] = valid[f] ? (face_cross[f] / length).eval() : Eigen::Vector3d::Zero();

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/triangle_geometry.h"
 #include "pathgen/cylinder.h"
 
 namespace meshtour {
@@ -149,7 +150,7 @@ Eigen::Vector3d resolve_up(const UpDirection& up, const std::vector<Eigen::Vecto
         const Eigen::Vector3d& a = positions[tri[0]];
         const Eigen::Vector3d& b = positions[tri[1]];
         const Eigen::Vector3d& c = positions[tri[2]];
-        const double A = 0.5 * (b - a).cross(c - a).norm();
+        const double A = triangle_area(a, b, c);
         const Eigen::Vector3d s = a + b + c;
         area += A;
         first += A * s / 3.0;
@@ -197,7 +198,7 @@ Cylinder fit_cylinder(const std::vector<Eigen::Vector3d>& positions,
       const Eigen::Vector3d& a = positions[tri[0]];
       const Eigen::Vector3d& b = positions[tri[1]];
       const Eigen::Vector3d& c = positions[tri[2]];
-      const double A = 0.5 * (b - a).cross(c - a).norm();
+      const double A = triangle_area(a, b, c);
       area += A;
       moment += A * ((a + b + c) / 3.0);
     }

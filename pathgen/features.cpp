@@ -18,16 +18,6 @@ std::vector<double> input_face_weights(const SurfaceAnalysis& surface, std::size
   return weights;
 }
 
-std::vector<double> face_areas(const TriangleMesh& mesh) {
-  std::vector<double> areas(mesh.triangles.size());
-  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-    const auto& t = mesh.triangles[f];
-    const Eigen::Vector3d& a = mesh.positions[t[0]];
-    areas[f] = 0.5 * (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a).norm();
-  }
-  return areas;
-}
-
 double area_weighted_quantile(const std::vector<double>& weights, const std::vector<double>& areas, double quantile) {
   if (weights.size() != areas.size()) throw InputError("feature faces: one weight per face is needed");
   if (!(quantile >= 0.0 && quantile <= 1.0)) throw InputError("the feature quantile must be between 0 and 1");

@@ -21,9 +21,6 @@ std::vector<double> input_face_weights(const SurfaceAnalysis& surface, std::size
 /// the quantile is outside [0, 1] or the mesh has no area.
 double area_weighted_quantile(const std::vector<double>& weights, const std::vector<double>& areas, double quantile);
 
-/// Area of every triangle of `mesh` (model units).
-std::vector<double> face_areas(const TriangleMesh& mesh);
-
 /// 1 for the faces with weight >= area_weighted_quantile(weights, areas, quantile), else 0.
 std::vector<std::uint8_t> feature_faces(const std::vector<double>& weights, const std::vector<double>& areas,
                                         double quantile = 0.75);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/triangle_geometry.h"
 #include "pathgen/grid.h"
 
 namespace meshtour {
@@ -79,8 +80,7 @@ CellGrid build_grid(const std::vector<Eigen::Vector3d>& positions,
     grid.weight[cell] += face_weight[f];
     if (!area_sum.empty()) {
       const auto& tri = triangles[f];
-      const Eigen::Vector3d& a = positions[tri[0]];
-      const double area = 0.5 * (positions[tri[1]] - a).cross(positions[tri[2]] - a).norm();
+      const double area = triangle_area(positions, tri);
       area_sum[cell] += area;
       area_weight_sum[cell] += area * face_weight[f];
     }

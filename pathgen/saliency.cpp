@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/triangle_geometry.h"
 
 namespace meshtour {
 namespace {
@@ -83,7 +84,7 @@ VertexMeasures vertex_measures(const TriangleMesh& mesh) {
     const Eigen::Vector3d& a = mesh.positions[t[0]];
     const Eigen::Vector3d& b = mesh.positions[t[1]];
     const Eigen::Vector3d& c = mesh.positions[t[2]];
-    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const Eigen::Vector3d cross = triangle_cross(a, b, c);
     const double twice_area = cross.norm();
     const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
     // A face without area has no normal; it contributes nothing (as its area would be 0 anyway).

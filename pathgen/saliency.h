@@ -30,7 +30,7 @@ std::vector<double> vertex_mean_curvature(const TriangleMesh& mesh);
 std::vector<double> vertex_saliency(const TriangleMesh& mesh, const SaliencyOptions& options = {});
 
 /// Per-face saliency: the mean of the face's three vertex values, for
-/// feature_faces(face_saliency(mesh, s), face_areas(mesh), 0.75) (pathgen/features.h).
+/// feature_faces(face_saliency(mesh, s), face_areas(mesh), 0.75) (pathgen/features.h, mesh/mesh.h).
 /// \throw InputError if `vertex_values` does not have one value per position.
 std::vector<double> face_saliency(const TriangleMesh& mesh, const std::vector<double>& vertex_values);
 

@@ -171,7 +171,7 @@ int solve_three_columns(const SparseMatrix& A, const RowMatrix& B, RowMatrix& X)
 
 void implicit_step(SurfaceMesh& mesh, double dt, SmoothingResult& result) {
   const std::size_t V = mesh.vertex_count();
-  const std::vector<double> area = face_areas(mesh);
+  const std::vector<double> area = face_areas(mesh.positions, mesh.triangles);
 
   // w_ij = max(0, (cot α + cot β)/2) per edge; a boundary edge has only α.
   std::vector<double> edge_weight(mesh.edges.size());

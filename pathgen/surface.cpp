@@ -125,7 +125,7 @@ SurfaceAnalysis run(const TriangleMesh& input, const SurfaceOptions& options) {
     repeat = false;
     std::tie(center1, diagonal1) = normalize_positions(mesh.positions);
     zero_area = 0;
-    for (double a : face_areas(mesh)) zero_area += a < kDegenerateArea ? 1 : 0;
+    for (double a : face_areas(mesh.positions, mesh.triangles)) zero_area += a < kDegenerateArea ? 1 : 0;
     if (zero_area == mesh.face_count())
       throw InputError("the mesh has no face with non-zero area (all " + std::to_string(zero_area) +
                        " faces are degenerate: their corners are collinear or coincide)");

@@ -482,18 +482,6 @@ std::pair<Eigen::Vector3d, double> normalize_positions(std::vector<Eigen::Vector
   return {center, diagonal};
 }
 
-std::vector<double> face_areas(const SurfaceMesh& mesh) {
-  std::vector<double> area(mesh.face_count());
-  parallel_ranges(area.size(), [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f) {
-      const auto& t = mesh.triangles[f];
-      const Eigen::Vector3d& p0 = mesh.positions[t[0]];
-      area[f] = 0.5 * (mesh.positions[t[1]] - p0).cross(mesh.positions[t[2]] - p0).norm();
-    }
-  });
-  return area;
-}
-
 }  // namespace meshtour::surface_detail
 
 namespace meshtour::surface_detail {

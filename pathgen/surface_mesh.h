@@ -78,9 +78,6 @@ std::pair<Eigen::Vector3d, double> normalize_positions(std::vector<Eigen::Vector
 /// Vertices sorted along a Morton (Z-order) curve of their positions (ties by index).
 std::vector<std::uint32_t> morton_order(const std::vector<Eigen::Vector3d>& positions);
 
-/// Area of each face, ½|(p1 − p0) × (p2 − p0)| (parallel).
-std::vector<double> face_areas(const SurfaceMesh& mesh);
-
 /// Faces whose area is below this (normalized units) get no normal, no cotangent weight, no mass.
 inline constexpr double kDegenerateArea = 1e-20;
 

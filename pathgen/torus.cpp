@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include "core/triangle_geometry.h"
+
 namespace meshtour {
 namespace {
 
@@ -61,7 +63,7 @@ void quarter_points(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const 
 bool normal_within(const Torus& torus, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                    double max_angle_deg) {
   if (!(max_angle_deg > 0.0)) return true;
-  const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+  const Eigen::Vector3d n = triangle_cross(p0, p1, p2);
   const Eigen::Vector3d c = centroid(p0, p1, p2);
   const Eigen::Vector3d w = c - torus.center;
   const Eigen::Vector3d radial = w - w.dot(torus.axis) * torus.axis;

@@ -383,7 +383,7 @@ TEST(MeshLoader, OffAndStlAndBinaryPlyAgree) {
   EXPECT_EQ(from_ply.positions, off.positions);
 }
 
-// The PLY reader (mesh/ply_contents.h) keeps the file as it is: its vertices in order (a fin of
+// The PLY reader (mesh/ply_reader.h) keeps the file as it is: its vertices in order (a fin of
 // three triangles on one edge is not split, as OpenMesh split it), its faces in order with a quad
 // fan-triangulated and counted, 16-bit colours scaled by 65535, and the same numbers from ASCII,
 // little-endian and big-endian bodies, whatever the order of the face's lists. Lists longer than

@@ -1,6 +1,6 @@
 #include "tour/evaluate_job.h"
 
-#include <tbb/global_control.h>
+#include "tour/thread_limit.h"
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -66,8 +66,7 @@ void print_definitions(const std::vector<std::pair<std::string, PathEvaluation>>
 void run_evaluate(EvaluateJob& a) {
   install_interrupt_handlers();
   const options::Values& values = a.scene.values;
-  const int threads = thread_count(int_value_or(values, "threads", 0), a.quiet);
-  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const ThreadLimit thread_limit(int_value_or(values, "threads", 0), a.quiet);
   a.evaluation.validate();
   const bool path_file = values.count("path-file") != 0;
   if (a.compare && path_file) throw InputError("--compare evaluates the built-in path modes; leave out --path-file");

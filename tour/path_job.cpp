@@ -1,6 +1,6 @@
 #include "tour/path_job.h"
 
-#include <tbb/global_control.h>
+#include "tour/thread_limit.h"
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -83,11 +83,10 @@ void run_path(PathJob& a) {
   a.threads = int_value_or(a.values, "threads", 0);
   a.gltf = value_or(a.values, "gltf", "");
   a.camera_frames = value_or(a.values, "camera-frames", "");
-  a.threads = thread_count(a.threads, a.quiet);
+  const ThreadLimit thread_limit(a.threads, a.quiet);
+  a.threads = thread_limit.threads();
   a.options.surface.threads = a.threads;
   a.options.validate();
-  std::optional<tbb::global_control> thread_limit;
-  if (a.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, a.threads);
 
   const std::filesystem::path output =
       a.output.empty() ? std::filesystem::path(std::filesystem::path(a.mesh).stem().string() + ".path.json")
@@ -97,11 +96,8 @@ void run_path(PathJob& a) {
   StageLog log(a.resources.verbose);
   log.start("check");
   const MeshFileSummary counts = check_mesh_file(a.mesh);
-  MemoryEstimate estimate;
-  estimate.parts = {{"runtime", 100e6},
-                    {"mesh", estimate_mesh_bytes(counts.triangles(), counts.vertices)},
-                    {"camera path", estimate_path_bytes(counts.triangles())}};
-  for (const auto& part : estimate.parts) estimate.peak += part.second;
+  const MemoryEstimate estimate =
+      estimate_job_memory(counts.triangles(), counts.vertices, MemoryPart{"camera path", estimate_path_bytes(counts.triangles())}, {});
   check_memory(estimate, memory_budget(a.resources), "the camera path of " + a.mesh);
 
   log.start("load");

@@ -1,7 +1,5 @@
 #include "tour/path_plot.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,9 +8,9 @@
 #include <string_view>
 #include <numbers>
 
-#include "core/error.h"
 #include "pathgen/path_file.h"
 #include "tour/bitmap_text.h"
+#include "tracer/image_writer.h"
 
 namespace meshtour {
 namespace {
@@ -208,16 +206,7 @@ PlotImage render_path_plot(const PaperPathResult& r) {
 }
 
 void write_plot_image(const PlotImage& image, const std::filesystem::path& file) {
-  write_file_atomically(file, [&](const std::filesystem::path& temporary) {
-    auto out = OIIO::ImageOutput::create(temporary.string());
-    if (!out)
-      throw InputError("cannot write the plot " + file.string() + ": no image writer for '" +
-                       file.extension().string() + "' files; use a .png name");
-    const OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    if (!out->open(temporary.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.rgb.data()) ||
-        !out->close())
-      throw IoError("cannot write the plot " + file.string() + ": " + out->geterror());
-  });
+  write_8bit_image(file, image.rgb, image.width, image.height, 3, SrgbTag::untagged, "plot");
 }
 
 }  // namespace meshtour

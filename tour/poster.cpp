@@ -5,11 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iterator>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "tracer/image_writer.h"
 
 namespace meshtour {
 namespace {
@@ -42,11 +45,10 @@ void write_resampled(const OIIO::ImageBuf& frame, const PosterSize& size, const 
   OIIO::ImageBuf poster(out_spec);
   if (!OIIO::ImageBufAlgo::resize(poster, cropped, "lanczos3", 0.0f, {}, /*nthreads=*/1))
     throw RuntimeFailure(file.string() + ": resampling the poster failed: " + poster.geterror());
-  poster.specmod().attribute("oiio:ColorSpace", "sRGB");
-  PendingFile pending(file);
-  if (!poster.write(pending.temporary().string(), OIIO::TypeDesc::UINT8, "png"))
-    throw IoError(file.string() + ": cannot write the poster: " + poster.geterror());
-  pending.commit();
+  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(size.width) * size.height * spec.nchannels);
+  if (!poster.get_pixels(poster.roi(), OIIO::TypeDesc::UINT8, pixels.data()))
+    throw RuntimeFailure(file.string() + ": resampling the poster failed: " + poster.geterror());
+  write_8bit_image(file, pixels, size.width, size.height, spec.nchannels, SrgbTag::tagged, "poster");
 }
 
 }  // namespace

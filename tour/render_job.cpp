@@ -1,6 +1,6 @@
 #include "tour/render_job.h"
 
-#include <tbb/global_control.h>
+#include "tour/thread_limit.h"
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -80,9 +80,8 @@ void run_render(const RenderJob& args) {
     return;
   }
 
-  const int threads = thread_count(int_value_or(values, "threads", 0), args.quiet);
-  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", threads);
+  const ThreadLimit thread_limit(int_value_or(values, "threads", 0), args.quiet);
+  if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", thread_limit.threads());
   StageLog log(args.resources.verbose);
   log.start("check");
   const TourMemoryCheck memory = check_tour_memory(scene, args.resources);

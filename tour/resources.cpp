@@ -107,6 +107,20 @@ double estimate_frame_bytes(int width, int height, int extra_layers, bool denois
   return static_cast<double>(width) * height * (80.0 + 16.0 * extra_layers + 1.5 * 40 + (denoise ? 170.0 : 0.0));
 }
 
+MemoryEstimate estimate_job_memory(std::size_t triangles, std::size_t vertices, const std::optional<MemoryPart>& path,
+                                   const std::vector<MemoryPart>& render) {
+  MemoryEstimate e;
+  e.parts = {{"runtime", 100e6}, {"mesh", estimate_mesh_bytes(triangles, vertices)}};
+  if (path) e.parts.push_back(*path);
+  double render_bytes = 0.0;
+  for (const MemoryPart& part : render) {
+    e.parts.push_back(part);
+    render_bytes += part.second;
+  }
+  e.peak = e.parts[0].second + e.parts[1].second + std::max(path ? path->second : 0.0, render_bytes);
+  return e;
+}
+
 double estimate_decoded_texture_bytes(const TriangleMesh& mesh) {
   double bytes = 0.0;
   for (const MeshMaterial& material : mesh.materials)

@@ -4,7 +4,9 @@
 // and memory per stage. The command line gives them through cli/common_options.h.
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,11 +37,21 @@ struct MemoryBudget {
 /// --max-memory when given, else 75% of physical memory. \throw InputError for a bad SIZE.
 MemoryBudget memory_budget(const ResourceArgs& args);
 
+/// A part of a job's memory: what it is and its bytes.
+using MemoryPart = std::pair<std::string, double>;
+
 /// What a job will hold in memory at its peak, by part, in bytes.
 struct MemoryEstimate {
-  std::vector<std::pair<std::string, double>> parts;  ///< e.g. {"mesh (70000 triangles)", 3.1e7}
+  std::vector<MemoryPart> parts;  ///< e.g. {"mesh (70000 triangles)", 3.1e7}
   double peak = 0.0;
 };
+
+/// The estimate of a job on a mesh of `triangles` and `vertices` (as its file announces them): the
+/// runtime and the loaded mesh, held throughout; the camera path's structures (`path`, when the job
+/// computes a path), freed before the renderer's parts (`render`: the BVH and the frame buffers;
+/// none when the job does not render) are made. The peak holds the larger of those two phases.
+MemoryEstimate estimate_job_memory(std::size_t triangles, std::size_t vertices, const std::optional<MemoryPart>& path,
+                                   const std::vector<MemoryPart>& render);
 
 /// Estimates (deliberately generous; calibrated on the Stanford bunny, see docs/USAGE.md, "Resource limits").
 double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices);  ///< loading: OpenMesh + arrays

@@ -4,7 +4,7 @@
 
 #include "pathgen/feature_orbit.h"
 
-#include <tbb/global_control.h>
+#include "tour/thread_limit.h"
 
 #include <algorithm>
 #include <numeric>
@@ -201,16 +201,13 @@ TourMemoryCheck check_tour_memory(const Scene& scene, const ResourceArgs& resour
   const auto& layers = scene.render.layers;
   const int extra_layers = int(layers.albedo) + int(layers.normal) + int(layers.depth);
   const bool path_stages = !scene.path_file && scene.path_mode != "turntable";
-  MemoryEstimate e;
-  e.parts = {{"runtime", 100e6}, {"mesh", estimate_mesh_bytes(triangles, vertices)}};
+  std::optional<MemoryPart> path;
   if (path_stages)
-    e.parts.push_back({"camera path", scene.path_mode == "paper" ? estimate_path_bytes(triangles)
-                                                                 : estimate_coverage_bytes(triangles, vertices)});
-  e.parts.push_back({"ray-tracing BVH", estimate_bvh_bytes(triangles)});
-  e.parts.push_back({"frame buffers", estimate_frame_bytes(scene.render.width, scene.render.height, extra_layers, scene.render.denoise)});
-  // The path's structures are freed before the BVH is built.
-  e.peak = e.parts[0].second + e.parts[1].second +
-           std::max(path_stages ? e.parts[2].second : 0.0, e.parts[e.parts.size() - 2].second + e.parts.back().second);
+    path = MemoryPart{"camera path", scene.path_mode == "paper" ? estimate_path_bytes(triangles) : estimate_coverage_bytes(triangles, vertices)};
+  const MemoryEstimate e = estimate_job_memory(
+      triangles, vertices, path,
+      {{"ray-tracing BVH", estimate_bvh_bytes(triangles)},
+       {"frame buffers", estimate_frame_bytes(scene.render.width, scene.render.height, extra_layers, scene.render.denoise)}});
   TourMemoryCheck check{e, memory_budget(resources)};
   check_memory(check.estimate, check.budget, "this tour");
   return check;
@@ -338,8 +335,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   const bool write_png = keep_frames && (job.format == "png" || job.format == "png+exr");
   const bool write_exr = keep_frames && (job.format == "exr" || job.format == "png+exr");
 
-  const int threads = thread_count(job.threads, job.quiet);
-  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const ThreadLimit thread_limit(job.threads, job.quiet);
 
   // Refuse what would not fit before allocating anything.
   StageLog log(job.resources.verbose);

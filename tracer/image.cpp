@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "tracer/color.h"
+#include "tracer/image_writer.h"
 #include "tracer/tracer.h"
 
 #ifndef MESHTOUR_VERSION
@@ -71,72 +72,68 @@ void write_image(const Image& image, const std::filesystem::path& file) {
     throw InputError(file.string() + ": the image's layers do not match its size " + std::to_string(image.width) + "x" +
                      std::to_string(image.height));
 
+  if (png) {
+    const auto pixels = image.transparent ? image.to_srgba8() : image.to_srgb8();
+    write_8bit_image(file, pixels, image.width, image.height, image.transparent ? 4 : 3, SrgbTag::tagged, "image");
+    return;
+  }
+
   // The temporary keeps the extension: OpenImageIO picks the format from it.
   PendingFile pending(file);
   const std::filesystem::path& temp = pending.temporary();
   auto out = OIIO::ImageOutput::create(temp.string());
   if (!out) throw IoError(file.string() + ": no image writer for '" + ext + "': " + OIIO::geterror());
-
-  bool ok = false;
-  if (png) {
-    const int channels = image.transparent ? 4 : 3;
-    OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    const auto pixels = image.transparent ? image.to_srgba8() : image.to_srgb8();
-    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data());
-  } else {
-    // One interleaved float buffer with every layer; OpenEXR stores RGBA and the extra layers
-    // as half, depth as float (half's 11-bit mantissa would band the depth of large scenes).
-    // The raw (unbiased) frame is the main layer; the denoised one, which the PNG and the video
-    // show, a layer beside it, so compositors can choose.
-    std::vector<std::string> names = {"R", "G", "B", "A"};
-    if (!image.denoised.empty()) names.insert(names.end(), {"denoised.R", "denoised.G", "denoised.B", "denoised.A"});
-    if (!image.albedo.empty()) names.insert(names.end(), {"albedo.R", "albedo.G", "albedo.B"});
-    if (!image.normal.empty()) names.insert(names.end(), {"N.X", "N.Y", "N.Z"});
-    if (!image.depth.empty()) names.push_back("Z");
-    const int channels = static_cast<int>(names.size());
-    OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::HALF);
-    spec.channelnames = names;
-    spec.alpha_channel = 3;
-    if (!image.depth.empty()) {
-      spec.z_channel = channels - 1;
-      spec.channelformats.assign(channels, OIIO::TypeDesc::HALF);
-      spec.channelformats.back() = OIIO::TypeDesc::FLOAT;
-    }
-    spec.attribute("oiio:ColorSpace", "linear");
-    spec.attribute("compression", "zip");
-    const FrameInfo& info = image.info;
-    const OIIO::TypeDesc vec3d(OIIO::TypeDesc::DOUBLE, OIIO::TypeDesc::VEC3);
-    spec.attribute("meshtour:version", MESHTOUR_VERSION);
-    spec.attribute("meshtour:cameraPosition", vec3d, info.camera.eye.data());
-    spec.attribute("meshtour:cameraTarget", vec3d, info.camera.target.data());
-    spec.attribute("meshtour:cameraUp", vec3d, info.camera.up.data());
-    spec.attribute("meshtour:verticalFovDegrees", static_cast<float>(info.camera.vertical_fov_deg));
-    spec.attribute("meshtour:samplesPerPixel", info.samples_per_pixel);
-    spec.attribute("meshtour:frame", static_cast<int>(info.frame_index));
-    // The render time is the one run-dependent attribute (the issue asks for it in the header);
-    // tools comparing frames across runs or farm chunks compare pixels and every other attribute.
-    spec.attribute("meshtour:renderSeconds", static_cast<float>(info.render_seconds));
-    // The display transform of the PNG frames and the video, so that 'meshtour encode' turns
-    // these linear frames into the same 8-bit pixels.
-    spec.attribute("meshtour:exposure", image.exposure);
-    spec.attribute("meshtour:toneMapping", image.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp");
-    // No OpenImageIO timestamp (capDate): an empty DateTime suppresses it.
-    spec.attribute("DateTime", "");
-    std::vector<float> pixels(npix * channels);
-    for (std::size_t p = 0; p < npix; ++p) {
-      float* dst = &pixels[p * channels];
-      for (int k = 0; k < 4; ++k) *dst++ = image.rgba[p * 4 + k];
-      if (!image.denoised.empty())
-        for (int k = 0; k < 4; ++k) *dst++ = image.denoised[p * 4 + k];
-      if (!image.albedo.empty())
-        for (int k = 0; k < 3; ++k) *dst++ = image.albedo[p * 3 + k];
-      if (!image.normal.empty())
-        for (int k = 0; k < 3; ++k) *dst++ = image.normal[p * 3 + k];
-      if (!image.depth.empty()) *dst++ = image.depth[p];
-    }
-    ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+  // One interleaved float buffer with every layer; OpenEXR stores RGBA and the extra layers
+  // as half, depth as float (half's 11-bit mantissa would band the depth of large scenes).
+  // The raw (unbiased) frame is the main layer; the denoised one, which the PNG and the video
+  // show, a layer beside it, so compositors can choose.
+  std::vector<std::string> names = {"R", "G", "B", "A"};
+  if (!image.denoised.empty()) names.insert(names.end(), {"denoised.R", "denoised.G", "denoised.B", "denoised.A"});
+  if (!image.albedo.empty()) names.insert(names.end(), {"albedo.R", "albedo.G", "albedo.B"});
+  if (!image.normal.empty()) names.insert(names.end(), {"N.X", "N.Y", "N.Z"});
+  if (!image.depth.empty()) names.push_back("Z");
+  const int channels = static_cast<int>(names.size());
+  OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::HALF);
+  spec.channelnames = names;
+  spec.alpha_channel = 3;
+  if (!image.depth.empty()) {
+    spec.z_channel = channels - 1;
+    spec.channelformats.assign(channels, OIIO::TypeDesc::HALF);
+    spec.channelformats.back() = OIIO::TypeDesc::FLOAT;
   }
+  spec.attribute("oiio:ColorSpace", "linear");
+  spec.attribute("compression", "zip");
+  const FrameInfo& info = image.info;
+  const OIIO::TypeDesc vec3d(OIIO::TypeDesc::DOUBLE, OIIO::TypeDesc::VEC3);
+  spec.attribute("meshtour:version", MESHTOUR_VERSION);
+  spec.attribute("meshtour:cameraPosition", vec3d, info.camera.eye.data());
+  spec.attribute("meshtour:cameraTarget", vec3d, info.camera.target.data());
+  spec.attribute("meshtour:cameraUp", vec3d, info.camera.up.data());
+  spec.attribute("meshtour:verticalFovDegrees", static_cast<float>(info.camera.vertical_fov_deg));
+  spec.attribute("meshtour:samplesPerPixel", info.samples_per_pixel);
+  spec.attribute("meshtour:frame", static_cast<int>(info.frame_index));
+  // The render time is the one run-dependent attribute (the issue asks for it in the header);
+  // tools comparing frames across runs or farm chunks compare pixels and every other attribute.
+  spec.attribute("meshtour:renderSeconds", static_cast<float>(info.render_seconds));
+  // The display transform of the PNG frames and the video, so that 'meshtour encode' turns
+  // these linear frames into the same 8-bit pixels.
+  spec.attribute("meshtour:exposure", image.exposure);
+  spec.attribute("meshtour:toneMapping", image.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp");
+  // No OpenImageIO timestamp (capDate): an empty DateTime suppresses it.
+  spec.attribute("DateTime", "");
+  std::vector<float> pixels(npix * channels);
+  for (std::size_t p = 0; p < npix; ++p) {
+    float* dst = &pixels[p * channels];
+    for (int k = 0; k < 4; ++k) *dst++ = image.rgba[p * 4 + k];
+    if (!image.denoised.empty())
+      for (int k = 0; k < 4; ++k) *dst++ = image.denoised[p * 4 + k];
+    if (!image.albedo.empty())
+      for (int k = 0; k < 3; ++k) *dst++ = image.albedo[p * 3 + k];
+    if (!image.normal.empty())
+      for (int k = 0; k < 3; ++k) *dst++ = image.normal[p * 3 + k];
+    if (!image.depth.empty()) *dst++ = image.depth[p];
+  }
+  bool ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
   const std::string error = ok ? "" : out->geterror();
   ok = out->close() && ok;
   if (!ok) throw IoError(file.string() + ": cannot write image: " + (error.empty() ? "write failed" : error));

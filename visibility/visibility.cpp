@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/triangle_geometry.h"
 
 namespace meshtour {
 namespace {
@@ -38,7 +39,7 @@ SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count) {
   for (std::size_t f = 0; f < faces; ++f) {
     const auto& t = mesh.triangles[f];
     const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    area[f] = 0.5 * (b - a).cross(c - a).norm();
+    area[f] = triangle_area(a, b, c);
     if (!std::isfinite(area[f])) area[f] = 0.0;
     total += area[f];
   }
@@ -68,7 +69,7 @@ SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count) {
       const auto& t = mesh.triangles[f];
       const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
       s.points.push_back(a + u * (b - a) + v * (c - a));
-      s.normals.push_back((b - a).cross(c - a).normalized());
+      s.normals.push_back(triangle_normal(a, b, c));
       s.faces.push_back(static_cast<std::uint32_t>(f));
       s.barycentric.emplace_back(u, v);
       ++next;
@@ -82,7 +83,7 @@ SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count) {
     const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
     while (next < count) {
       s.points.push_back((a + b + c) / 3.0);
-      s.normals.push_back((b - a).cross(c - a).normalized());
+      s.normals.push_back(triangle_normal(a, b, c));
       s.faces.push_back(static_cast<std::uint32_t>(f));
       s.barycentric.emplace_back(1.0 / 3.0, 1.0 / 3.0);
       ++next;

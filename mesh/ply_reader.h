@@ -1,12 +1,14 @@
 #pragma once
-// A PLY file's contents, read in one pass by its check (private to mesh/). load_mesh builds every
-// PLY from them rather than through OpenMesh: the check walks the whole body anyway, and OpenMesh
-// then read it again and built half-edges the loader threw away: the bunny split to 17.8M faces
-// loaded in 17.6 s, now 1.38 s (bench/load_bench BM_LoadPly/4). It also keeps the file's vertices
-// where OpenMesh gave non-manifold faces copies of theirs. And it reads what OpenMesh cannot:
-// MeshLab's and scanners' texture coordinates, per vertex (texture_u/texture_v, s/t or u/v) or per
-// face corner (a face list 'texcoord' of 2 values per corner) with the image named in a header
-// comment 'comment TextureFile x.jpg', and triangle strips.
+// The PLY reader (private to mesh/): one pass over the file that checks it (the header's strict
+// grammar, counts within the file, finite coordinates, colours within 0..1, faces naming vertices
+// the file has; errors name the line or element) and, when asked, reads it. load_mesh builds every
+// PLY from what it reads rather than through OpenMesh: the check walks the whole body anyway, and
+// OpenMesh then read it again and built half-edges the loader threw away: the bunny split to 17.8M
+// faces loaded in 17.6 s, now 1.38 s (bench/load_bench BM_LoadPly/4). It also keeps the file's
+// vertices where OpenMesh gave non-manifold faces copies of theirs. And it reads what OpenMesh
+// cannot: MeshLab's and scanners' texture coordinates, per vertex (texture_u/texture_v, s/t or
+// u/v) or per face corner (a face list 'texcoord' of 2 values per corner) with the image named in
+// a header comment 'comment TextureFile x.jpg', and triangle strips.
 #include <Eigen/Core>
 
 #include <array>
@@ -20,6 +22,7 @@
 namespace meshtour::ply_detail {
 
 struct PlyContents {
+  MeshFileSummary summary;   ///< vertices, faces and corners as stored (strips' triangles as faces)
   std::string texture_file;  ///< the TextureFile comment's name, as written, or empty
   bool per_vertex = false;   ///< vertex_uvs holds one coordinate per vertex (a texture is named)
   bool per_corner = false;   ///< faces carry their corners' coordinates (a texture is named)
@@ -38,7 +41,9 @@ struct PlyContents {
   std::vector<std::array<std::uint32_t, 3>> strip_triangles;
 };
 
-/// check_mesh_file() for a PLY, also reading its contents into `contents`.
-MeshFileSummary read_ply(const std::filesystem::path& file, PlyContents& contents);
+/// Checks a PLY file and, with `read`, reads it (else only `summary` is filled). The file must
+/// exist and not be empty (check_mesh_file and load_mesh say so first).
+/// \throw InputError naming the file and the header line or element of the first fault.
+PlyContents read_ply(const std::filesystem::path& file, bool read);
 
 }  // namespace meshtour::ply_detail

@@ -1,11 +1,7 @@
-// Structural checks of mesh files before anything is allocated (see check_mesh_file in mesh.h).
-//
-// Each walks the file once, bounded by its size, and refuses a file whose header announces more
-// than it holds, whose faces name vertices past the list or whose numbers are not numbers, with
-// a message naming the file and the line or element; it also gives the counts the memory estimate
-// needs. OBJ, OFF and STL are checked by their readers' pass without reading (mesh/obj_reader.h,
-// mesh/off_reader.h, mesh/stl_reader.h), glTF from its JSON (mesh/gltf.h). A PLY's walk is also
-// its reader (read_ply, mesh/ply_contents.h): load_mesh builds the model from what it reads.
+// The PLY reader (mesh/ply_reader.h): the header's grammar, then one walk of the body, bounded by
+// the file's size, that checks every value and, when asked, keeps the model's.
+#include "mesh/ply_reader.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -20,16 +16,9 @@
 #include <vector>
 
 #include "core/error.h"
-#include "mesh/file_extension.h"
-#include "mesh/gltf.h"
-#include "mesh/mesh.h"
 #include "mesh/mesh_text.h"
-#include "mesh/obj_reader.h"
-#include "mesh/off_reader.h"
-#include "mesh/ply_contents.h"
-#include "mesh/stl_reader.h"
 
-namespace meshtour {
+namespace meshtour::ply_detail {
 namespace {
 
 void strip_cr(std::string& line) {
@@ -45,12 +34,6 @@ std::vector<std::string> words_of(const std::string& line) {
   for (std::string w; in >> w;) words.push_back(w);
   return words;
 }
-
-// ---- OBJ: its reader checks it (mesh/obj_reader.h) ----------------------------------------
-
-// ---- OFF: its reader checks it (mesh/off_reader.h) ------------------------------------------
-
-// ---- PLY ------------------------------------------------------------------------------------
 
 bool is_colour_property(const std::string& name) {
   for (const char* colour : {"red", "green", "blue", "alpha", "diffuse_red", "diffuse_green", "diffuse_blue", "diffuse_alpha"})
@@ -225,7 +208,7 @@ std::string index_text(double v) {
 bool is_u_property(const std::string& n) { return n == "texture_u" || n == "s" || n == "u"; }
 bool is_v_property(const std::string& n) { return n == "texture_v" || n == "t" || n == "v"; }
 
-MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& name, ply_detail::PlyContents* out) {
+MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& name, PlyContents* out) {
   std::ifstream in(file, std::ios::binary);
   std::string line;
   if (!std::getline(in, line) || (strip_cr(line), line != "ply"))
@@ -450,35 +433,12 @@ MeshFileSummary check_ply(const std::filesystem::path& file, const std::string& 
   return s;
 }
 
-// ---- STL: its reader checks it (mesh/stl_reader.h) ----------------------------------------
-
 }  // namespace
 
-MeshFileSummary check_mesh_file(const std::filesystem::path& file) {
-  const std::string name = file.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) throw IoError(name + ": no such file");
-  if (std::filesystem::is_directory(file, ec)) throw IoError(name + ": is a directory, not a mesh file");
-  const std::string ext = lower_extension(file);
-  if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl" || ext == ".gltf" || ext == ".glb") {
-    std::ifstream probe(file, std::ios::binary);
-    if (!probe) throw IoError(name + ": cannot open for reading (check permissions)");
-    if (probe.peek() == std::ifstream::traits_type::eof()) throw InputError(name + ": file is empty");
-  }
-  if (ext == ".obj") return obj_detail::read_obj(file, false).summary;
-  if (ext == ".off") return off_detail::read_off(file, false).summary;
-  if (ext == ".ply") return check_ply(file, name, nullptr);
-  if (ext == ".stl") return stl_detail::read_stl(file, false).summary;
-  if (ext == ".gltf" || ext == ".glb") return gltf_detail::gltf_summary(file);
-  throw InputError(name + ": unknown mesh format '" + ext + "' (supported: " + supported_mesh_formats() + ")");
-}
-
-}  // namespace meshtour
-
-namespace meshtour::ply_detail {
-
-MeshFileSummary read_ply(const std::filesystem::path& file, PlyContents& contents) {
-  return check_ply(file, file.string(), &contents);  // load_mesh() has checked that the file exists and is not empty
+PlyContents read_ply(const std::filesystem::path& file, bool read) {
+  PlyContents contents;
+  contents.summary = check_ply(file, file.string(), read ? &contents : nullptr);
+  return contents;
 }
 
 }  // namespace meshtour::ply_detail
