@@ -57,11 +57,9 @@ struct DenoiseSettings {
   enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
 };
 
-/// The denoiser's scratch memory (about 110 MB for 1280x720, with the frame's guides), kept
-/// between frames by the caller: mapping and page-faulting it afresh for every frame cost more
-/// than the filter itself.
+/// The denoiser's scratch memory (about 80 MB for 1280x720), kept between frames by the caller:
+/// mapping and page-faulting it afresh for every frame cost more than the filter itself.
 struct DenoiseWorkspace {
-  DenoiseGuides frame_guides;  ///< for the renderer: the guides of the frame being rendered
   std::vector<float> guides, ping, pong, luma_ping, luma_pong;
 };
 

@@ -288,8 +288,8 @@ MESHTOUR_SIMD_INLINE void add_lane_guides(DenoiseGuides& g, const int* image_pix
 // rays, rtcIntersect16, shading (everything but the visibility of the chosen light and the sky),
 // one rtcOccluded16 for the shadow rays and one for the occlusion rays, the filter's weights,
 // and the splat.
-void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int tile, float* sums, RayRecording::Tile* recorded,
-                                 TileCounts& counts) const {
+void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, const FilmTile& film, RayRecording::Tile* recorded,
+                                          TileCounts& counts) const {
   RTCIntersectContext coherent;
   rtcInitIntersectContext(&coherent);
   coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -297,17 +297,8 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
   rtcInitIntersectContext(&incoherent);
   incoherent.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
 
-  const int tx = tile % f.tiles_x, ty = tile / f.tiles_x;
-  const int x0 = tx * kTileSize, y0 = ty * kTileSize;
-  const int x1 = std::min(f.width, x0 + kTileSize), y1 = std::min(f.height, y0 + kTileSize);
-  if (f.guides)  // the tile's pixels of the denoiser's guides, which only this tile's samples add to
-    for (int y = y0; y < y1; ++y) {
-      const std::size_t row = static_cast<std::size_t>(y) * f.width;
-      std::fill(f.guides->normal.begin() + static_cast<std::ptrdiff_t>((row + x0) * 3), f.guides->normal.begin() + static_cast<std::ptrdiff_t>((row + x1) * 3), 0.0f);
-      std::fill(f.guides->moments.begin() + static_cast<std::ptrdiff_t>((row + x0) * 2), f.guides->moments.begin() + static_cast<std::ptrdiff_t>((row + x1) * 2), 0.0f);
-      std::fill(f.guides->depth.begin() + static_cast<std::ptrdiff_t>(row + x0), f.guides->depth.begin() + static_cast<std::ptrdiff_t>(row + x1),
-                std::numeric_limits<float>::infinity());
-    }
+  const int x0 = film.x0, y0 = film.y0, x1 = film.x1, y1 = film.y1;
+  float* const sums = film.sums;
   const int tile_w = x1 - x0;
   const int spp = f.spp;
   const int nsamples = tile_w * (y1 - y0) * spp;
@@ -342,8 +333,8 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
       }
       px[l] = static_cast<float>(pixel_x);
       py[l] = static_cast<float>(pixel_y);
-      buffer_pixel[l] = (pixel_y - y0 + f.apron) * f.buf_w + (pixel_x - x0 + f.apron);
-      image_pixel[l] = pixel_y * f.width + pixel_x;
+      buffer_pixel[l] = film.sums_pixel(pixel_x, pixel_y);
+      image_pixel[l] = film.layer_pixel(pixel_x, pixel_y);
       lane_key[l] = block_key;
       lane_sample[l] = pixel_base | static_cast<std::uint32_t>(next_sample);
       if (++next_sample == spp) {
@@ -518,7 +509,7 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
             model_base = {model_base.x + contributions[i].x, model_base.y + contributions[i].y, model_base.z + contributions[i].z};
         }
         const V3 sky{albedo.x * f.ambient.x(), albedo.y * f.ambient.y(), albedo.z * f.ambient.z()};
-        if (f.guides) {
+        if (film.guides) {
           V3 unshadowed = sky;
           for (std::size_t i = 0; i < nlights; ++i)
             unshadowed = {unshadowed.x + contributions[i].x, unshadowed.y + contributions[i].y, unshadowed.z + contributions[i].z};
@@ -547,24 +538,23 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
         with_sky[2] = simd::select(on_model, model_sky.z, with_sky[2]);
 
         // Extra layers: averaged over the pixel's own samples (no filter: they are data, not light).
-        Image& image = *f.image;
-        if (!image.albedo.empty() || !image.normal.empty() || !image.depth.empty())
+        if (film.albedo || film.normal || film.depth)
           for (int l = 0; l < simd::kLanes; ++l) {
             if (!on_model[l]) continue;
             const std::size_t pixel = static_cast<std::size_t>(image_pixel[l]);
-            if (!image.albedo.empty()) {
-              image.albedo[pixel * 3 + 0] += albedo.x[l] / static_cast<float>(spp);
-              image.albedo[pixel * 3 + 1] += albedo.y[l] / static_cast<float>(spp);
-              image.albedo[pixel * 3 + 2] += albedo.z[l] / static_cast<float>(spp);
+            if (film.albedo) {
+              film.albedo[pixel * 3 + 0] += albedo.x[l] / static_cast<float>(spp);
+              film.albedo[pixel * 3 + 1] += albedo.y[l] / static_cast<float>(spp);
+              film.albedo[pixel * 3 + 2] += albedo.z[l] / static_cast<float>(spp);
             }
-            if (!image.normal.empty()) {
-              image.normal[pixel * 3 + 0] += n.x[l];
-              image.normal[pixel * 3 + 1] += n.y[l];
-              image.normal[pixel * 3 + 2] += n.z[l];
+            if (film.normal) {
+              film.normal[pixel * 3 + 0] += n.x[l];
+              film.normal[pixel * 3 + 1] += n.y[l];
+              film.normal[pixel * 3 + 2] += n.z[l];
             }
-            if (!image.depth.empty()) {
+            if (film.depth) {
               const float depth = t[l] * (dir.x[l] * f.forward.x() + dir.y[l] * f.forward.y() + dir.z[l] * f.forward.z());
-              image.depth[pixel] = std::min(image.depth[pixel], depth);
+              film.depth[pixel] = std::min(film.depth[pixel], depth);
             }
           }
       }
@@ -663,20 +653,20 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
     // for it (splat_uniform_light_packet). The moments keep each sample's own: there the far
     // ground's visibility is exactly 1, without noise, and is not filtered.
     V3 splat_light = guide_unshadowed;
-    if (f.guides && !f.transparent) {
+    if (film.guides && !f.transparent) {
       const F16 t_centre = simd::min(one, simd::max(zero, (simd::load(py) + 0.5f) * f.inv_height));
       splat_light = select(on_model, guide_unshadowed, backdrop_colour(f.background_top, f.background_bottom, t_centre));
     }
-    if (f.guides && one_pixel && !any_hit) {
+    if (film.guides && one_pixel && !any_hit) {
       // One pixel's samples, all on the background: its guides stay as the tile cleared them (no
       // normal, no depth: the denoiser passes the pixel through).
       const float light[3] = {splat_light.x[0], splat_light.y[0], splat_light.z[0]};
       switch (filter.reach()) {
-        case 0: splat_uniform_light_packet<0, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w); break;
-        case 1: splat_uniform_light_packet<1, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w); break;
-        default: splat_uniform_light_packet<2, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w); break;
+        case 0: splat_uniform_light_packet<0, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
+        case 1: splat_uniform_light_packet<1, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
+        default: splat_uniform_light_packet<2, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
       }
-    } else if (f.guides && one_pixel && !simd::any(on_model)) {
+    } else if (film.guides && one_pixel && !simd::any(on_model)) {
       // One pixel's samples on the ground and the background: the normal is the ground's for
       // every sample on it, and only the visibility's moments are summed.
       const float light[3] = {splat_light.x[0], splat_light.y[0], splat_light.z[0]};
@@ -685,15 +675,15 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
       const F16 moments[2] = {values[3], values[4]};
       float moment_sums[2];
       switch (filter.reach()) {
-        case 0: splat_uniform_light_packet<0, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w, moments, moment_sums); break;
-        case 1: splat_uniform_light_packet<1, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w, moments, moment_sums); break;
-        default: splat_uniform_light_packet<2, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, f.buf_w, moments, moment_sums); break;
+        case 0: splat_uniform_light_packet<0, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
+        case 1: splat_uniform_light_packet<1, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
+        default: splat_uniform_light_packet<2, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
       }
       const float on_ground_samples = static_cast<float>(popcount(on_ground));
       const float pixel_sums[kGuideSums] = {f.up.x() * on_ground_samples, f.up.y() * on_ground_samples, f.up.z() * on_ground_samples,
                                             moment_sums[0], moment_sums[1]};
-      add_pixel_guides(*f.guides, static_cast<std::size_t>(image_pixel[0]), pixel_sums, nearest_depth(guide_depth));
-    } else if (f.guides) {
+      add_pixel_guides(*film.guides, static_cast<std::size_t>(image_pixel[0]), pixel_sums, nearest_depth(guide_depth));
+    } else if (film.guides) {
       // The denoiser divides the frame by the unshadowed light: splatted with the very same
       // weights, so that the ratio is the visibility also at silhouettes and colour edges.
       const F16 values[7] = {rgba[0], rgba[1], rgba[2], rgba[3], splat_light.x, splat_light.y, splat_light.z};
@@ -702,31 +692,23 @@ void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, int 
       float extra_sums[kGuideSums];
       bool summed = false;
       switch (filter.reach()) {
-        case 0: summed = splat_packet<0, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, f.buf_w, extras, extra_sums); break;
-        case 1: summed = splat_packet<1, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, f.buf_w, extras, extra_sums); break;
-        default: summed = splat_packet<2, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, f.buf_w, extras, extra_sums); break;
+        case 0: summed = splat_packet<0, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
+        case 1: summed = splat_packet<1, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
+        default: summed = splat_packet<2, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
       }
       if (summed) {
-        add_pixel_guides(*f.guides, static_cast<std::size_t>(image_pixel[0]), extra_sums, nearest_depth(guide_depth));
+        add_pixel_guides(*film.guides, static_cast<std::size_t>(image_pixel[0]), extra_sums, nearest_depth(guide_depth));
       } else {
-        add_lane_guides(*f.guides, image_pixel, lanes, extras, guide_depth);
+        add_lane_guides(*film.guides, image_pixel, lanes, extras, guide_depth);
       }
     } else {
       switch (filter.reach()) {
-        case 0: splat_packet<0>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
-        case 1: splat_packet<1>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
-        default: splat_packet<2>(rgba, wx, wy, buffer_pixel, lanes, sums, f.buf_w); break;
+        case 0: splat_packet<0>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
+        case 1: splat_packet<1>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
+        default: splat_packet<2>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
       }
     }
   }
-  if (!f.image->normal.empty())
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        float* n = &f.image->normal[(static_cast<std::size_t>(y) * f.width + x) * 3];
-        const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (len > 0.0f)
-          for (int c = 0; c < 3; ++c) n[c] /= len;
-      }
 }
 
 }  // namespace meshtour
