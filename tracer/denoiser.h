@@ -18,6 +18,8 @@
 #include <array>
 #include <vector>
 
+#include "tracer/instruction_set.h"
+
 namespace meshtour {
 
 /// What the tracer gathers for the denoiser, per pixel, from the pixel's own samples (a box, not
@@ -54,14 +56,13 @@ struct DenoiseSettings {
   /// offset and normal tilt (denoiser_pass.cpp). 1..8.
   int fit_radius = 5;
   /// Which copy of the a-trous pass runs (the same bits; the renderer picks its tile kernel's).
-  enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
+  using InstructionSet = meshtour::InstructionSet;
+  InstructionSet instruction_set = InstructionSet::baseline;
 };
 
-/// The denoiser's scratch memory (about 110 MB for 1280x720, with the frame's guides), kept
-/// between frames by the caller: mapping and page-faulting it afresh for every frame cost more
-/// than the filter itself.
+/// The denoiser's scratch memory (about 80 MB for 1280x720), kept between frames by the caller:
+/// mapping and page-faulting it afresh for every frame cost more than the filter itself.
 struct DenoiseWorkspace {
-  DenoiseGuides frame_guides;  ///< for the renderer: the guides of the frame being rendered
   std::vector<float> guides, ping, pong, luma_ping, luma_pong;
 };
 

@@ -1,15 +1,29 @@
 #pragma once
-// The reconstruction filter: a separable Blackman-Harris window, evaluated for 16 samples at once
-// with polynomials, and the per-pixel sums that splat samples onto their neighbours.
+// The Film: what a frame's samples become (after pbrt-v4's Film, which the sampler and the
+// integrator feed and which knows nothing of rays). It owns
+//  - the reconstruction filter: a separable Blackman-Harris window, evaluated for 16 samples at
+//    once with polynomials;
+//  - the accumulation: each tile's filtered sums, with an apron for the filter's reach, summed
+//    into the frame afterwards in a fixed order, so that no pixel depends on thread timing;
+//  - the layers: the beauty (premultiplied RGBA: RGB, alpha), the extra layers (albedo, normal,
+//    depth; ExtraLayers) and the denoiser's guides (DenoiseGuides), their allocation, memory kept
+//    between frames, and their write-out into the frame's Image.
+// The integrator (tile_kernel.cpp) splats its samples onto a FilmTile; the renderer gathers the
+// tiles into the frame (Film::gather) and hands the layers to the denoiser and to the Image.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <mutex>
 #include <numbers>
+#include <optional>
 #include <type_traits>
+#include <vector>
 
+#include "tracer/denoiser.h"
 #include "tracer/simd.h"
+#include "tracer/tracer.h"
 
 namespace meshtour {
 
@@ -73,7 +87,7 @@ public:
   /// A sample with values `value` (lanes past Values are ignored) and tap weights `wx`, `wy`
   /// (ReconstructionFilter::weights: wx[i] of lane `lane` is the weight of the pixel i - Reach
   /// columns away).
-  void add(const simd::F16* wx_lanes, const simd::F16* wy_lanes, int lane, Vector value) {
+  MESHTOUR_SIMD_INLINE void add(const simd::F16* wx_lanes, const simd::F16* wy_lanes, int lane, Vector value) {
     Vector weighted[kTaps];
     float weights[kWeightVectors * 4] = {};
     for (int i = 0; i < kTaps; ++i) {
@@ -91,7 +105,7 @@ public:
 
   /// Adds the sums to `buffer` (rows of `stride` pixels, Values + 1 floats each), around the
   /// pixel at (x, y), which must be at least Reach pixels inside the buffer.
-  void flush(float* buffer, int stride, int x, int y) const {
+  MESHTOUR_SIMD_INLINE void flush(float* buffer, int stride, int x, int y) const {
     for (int j = 0; j < kTaps; ++j) {
       float* dst = buffer + (static_cast<std::size_t>(y + j - Reach) * stride + (x - Reach)) * (Values + 1);
       for (int i = 0; i < kTaps; ++i, dst += Values + 1) {
@@ -104,6 +118,101 @@ public:
 private:
   Vector values_[kTaps][kTaps] = {};
   Float4 weight_[kTaps][kWeightVectors] = {};
+};
+
+// 16 x 16 pixels: at 16 spp a tile's rays (4096 camera rays, up to 8192 secondary) stay in the
+// L2 cache, and a 1280x720 frame has 3600 tiles, plenty to balance two or more threads.
+constexpr int kTileSize = 16;
+
+/// Memory that outlives a frame, one entry per frame rendered at the same time: mapping and
+/// page-faulting a 1280x720 frame's tile sums (29 MB) or the denoiser's memory (about 110 MB)
+/// afresh for every frame cost more than using them.
+template <typename T>
+class SparePool {
+public:
+  /// A spare entry, or an empty one.
+  T take() {
+    std::lock_guard lock(mutex_);
+    if (spares_.empty()) return T{};
+    T spare = std::move(spares_.back());
+    spares_.pop_back();
+    return spare;
+  }
+  void give_back(T&& spare) {
+    std::lock_guard lock(mutex_);
+    spares_.push_back(std::move(spare));
+  }
+
+private:
+  std::mutex mutex_;
+  std::vector<T> spares_;
+};
+
+/// The Film's memory kept between frames (the renderer holds it).
+struct FilmMemory {
+  SparePool<std::vector<float>> tile_sums;
+  SparePool<DenoiseGuides> guides;
+};
+
+/// One tile of the Film, as the integrator feeds it: its pixels, its filtered sums and the
+/// layers' pixels (the tile's own; no other tile writes them). A view: the Film owns the memory.
+struct FilmTile {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< the tile's pixels: [x0, x1) x [y0, y1)
+  int frame_width = 0;                 ///< the layers' rows, in pixels
+  /// The filtered sums: stride x stride pixels, the tile's pixel (x0, y0) at (apron, apron), each
+  /// pixel RGBA (premultiplied), then, with the denoiser's guides, the unshadowed light's RGB,
+  /// then the filter's weight.
+  int apron = 0, stride = 0;
+  float* sums = nullptr;
+  DenoiseGuides* guides = nullptr;  ///< the denoiser's guides, or null (no denoising)
+  // The extra layers, or null: per pixel, the sums over its own samples (box, not the filter).
+  float* albedo = nullptr;  ///< 3 per pixel, each sample's albedo / spp
+  float* normal = nullptr;  ///< 3 per pixel, the samples' normals, normalised by Film::finish_tile
+  float* depth = nullptr;   ///< 1 per pixel, the nearest sample's depth
+
+  /// Pixel (x, y) of the frame in the tile's sums.
+  MESHTOUR_SIMD_INLINE int sums_pixel(int x, int y) const { return (y - y0 + apron) * stride + (x - x0 + apron); }
+  /// Pixel (x, y) of the frame in the layers.
+  MESHTOUR_SIMD_INLINE int layer_pixel(int x, int y) const { return y * frame_width + x; }
+};
+
+/// A frame's Film: its tiles' sums and its layers, from allocation to write-out.
+class Film {
+public:
+  /// A width x height film whose samples go through `filter`, with the `layers` asked for and
+  /// the denoiser's guides when `denoiser_guides`. Memory comes from and goes back to `memory`.
+  Film(int width, int height, int samples_per_pixel, const ReconstructionFilter& filter, const ExtraLayers& layers,
+       bool denoiser_guides, FilmMemory& memory);
+  ~Film();
+  Film(const Film&) = delete;
+  Film& operator=(const Film&) = delete;
+
+  int tile_count() const { return tiles_x_ * tiles_y_; }
+  /// Tile `index` (row by row), its sums and its pixels of the guides cleared while they are
+  /// brought into this thread's cache. Safe to call for different tiles at once.
+  FilmTile tile(int index);
+  /// Once all of a tile's samples are in: its pixels of the normal layer become unit normals.
+  void finish_tile(const FilmTile& tile);
+  /// Each pixel gathers the tile sums that reach it, always in the same order, into the beauty and
+  /// the guides' unshadowed light; the tile sums then go back to the memory.
+  void gather();
+
+  /// The beauty: premultiplied RGBA, width * height * 4 (after gather()).
+  const std::vector<float>& beauty() const { return rgba_; }
+  /// The denoiser's guides (after gather()), or null when they were not asked for.
+  const DenoiseGuides* denoiser_guides() const { return guides_ ? &*guides_ : nullptr; }
+  /// Moves the layers into `image` (size, rgba, albedo, normal, depth): the Film's last use.
+  void write_to(Image& image);
+
+private:
+  int width_, height_;
+  int tiles_x_, tiles_y_, apron_, stride_;
+  int sum_floats_;             // floats per pixel of a tile's sums
+  std::size_t tile_floats_;    // floats of one tile's sums
+  FilmMemory& memory_;
+  std::vector<float> tile_sums_;  // every tile's sums, tile after tile
+  std::vector<float> rgba_, albedo_, normal_, depth_;
+  std::optional<DenoiseGuides> guides_;
 };
 
 }  // namespace meshtour

@@ -1,5 +1,6 @@
-// The renderer: Embree scene set-up, and per tile: camera rays in packets, shading, one batch
-// of shadow and occlusion rays, and the reconstruction filter.
+// The renderer: the Embree scene's set-up, and a frame's flow: its set-up (camera, lights,
+// ground), its tiles traced by the tile kernel (tile_kernel.cpp) onto the Film (film.h), the Film
+// gathered, the denoiser run on the Film's layers, and the layers written into the Image.
 #include <Eigen/Geometry>
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/strutil.h>
@@ -69,37 +70,36 @@ double portable_atan2(double y, double x) {
   return x < 0.0 ? std::numbers::pi - angle : angle;
 }
 
-// The widest copy of the tile kernel this CPU runs (all give the same pixels). The variable
+// The widest instruction set this CPU runs (all give the same pixels). The variable
 // MESHTOUR_TILE_KERNEL=baseline|x86-64-v3|x86-64-v4 forces one (tests compare them).
-Renderer::Impl::TileKernel choose_tile_kernel() {
-  using Impl = Renderer::Impl;
+InstructionSet choose_instruction_set() {
 #if defined(MESHTOUR_TILE_KERNELS_X86_64)
   __builtin_cpu_init();
   const bool v3 = __builtin_cpu_supports("x86-64-v3"), v4 = __builtin_cpu_supports("x86-64-v4");
   if (const char* forced = std::getenv("MESHTOUR_TILE_KERNEL"); forced && *forced) {
     const std::string name = forced;
-    if (name == "baseline") return &Impl::render_tile_baseline;
-    if (name == "x86-64-v3" && v3) return &Impl::render_tile_x86_64_v3;
-    if (name == "x86-64-v4" && v4) return &Impl::render_tile_x86_64_v4;
+    if (name == "baseline") return InstructionSet::baseline;
+    if (name == "x86-64-v3" && v3) return InstructionSet::x86_64_v3;
+    if (name == "x86-64-v4" && v4) return InstructionSet::x86_64_v4;
     throw InputError("MESHTOUR_TILE_KERNEL=" + name + ": not a kernel this CPU runs (baseline" + (v3 ? ", x86-64-v3" : "") +
                      (v4 ? ", x86-64-v4" : "") + ")");
   }
-  if (v4) return &Impl::render_tile_x86_64_v4;
-  if (v3) return &Impl::render_tile_x86_64_v3;
+  if (v4) return InstructionSet::x86_64_v4;
+  if (v3) return InstructionSet::x86_64_v3;
 #endif
-  return &Impl::render_tile_baseline;
+  return InstructionSet::baseline;
 }
 
-// The denoiser's settings for this frame: the copy of its passes that matches the tile kernel.
-DenoiseSettings denoise_settings(bool transparent, Renderer::Impl::TileKernel kernel) {
-  DenoiseSettings s;
-  s.transparent = transparent;
-  using Set = DenoiseSettings::InstructionSet;
+// The copy of the tile kernel compiled for `set`.
+Renderer::Impl::TileKernel tile_kernel_for(InstructionSet set) {
   using Impl = Renderer::Impl;
-  s.instruction_set = kernel == &Impl::render_tile_x86_64_v4 ? Set::x86_64_v4
-                      : kernel == &Impl::render_tile_x86_64_v3 ? Set::x86_64_v3
-                                                                : Set::baseline;
-  return s;
+  switch (set) {
+#if defined(MESHTOUR_TILE_KERNELS_X86_64)
+    case InstructionSet::x86_64_v3: return &Impl::render_tile<InstructionSet::x86_64_v3>;
+    case InstructionSet::x86_64_v4: return &Impl::render_tile<InstructionSet::x86_64_v4>;
+#endif
+    default: return &Impl::render_tile<InstructionSet::baseline>;
+  }
 }
 
 OIIO::TextureOpt::Wrap wrap_mode(TextureWrap wrap) {
@@ -361,7 +361,8 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
   if (mesh.triangles.empty()) throw InputError("the mesh has no triangles to render");
 
   Impl& s = *impl_;
-  s.render_tile = choose_tile_kernel();
+  s.instruction_set = choose_instruction_set();
+  s.tile_kernel = tile_kernel_for(s.instruction_set);
   s.options = options;
   s.filter = ReconstructionFilter(options.filter_radius);
   const Bounds bounds = mesh.bounds();  // a pass over every vertex: once
@@ -445,30 +446,15 @@ Image RendererAccess::render(const Renderer& renderer, const Camera& camera, std
   return renderer.impl_->render(camera, frame_index, stats, recording);
 }
 
-Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderStats* stats, RayRecording* recording) const {
-  const auto start = std::chrono::steady_clock::now();
+Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const {
   const int width = options.width, height = options.height;
   const Shading& sh = options.shading;
   const Material& mat = sh.material;
-  const bool transparent = sh.background == BackgroundKind::transparent;
-  Image image;
-  image.width = width;
-  image.height = height;
-  image.transparent = transparent;
-  image.exposure = sh.exposure;
-  image.tone_mapping = sh.tone_mapping;
-  const std::size_t npix = static_cast<std::size_t>(width) * height;
-  image.rgba.assign(npix * 4, 0.0f);
-  if (options.layers.albedo) image.albedo.assign(npix * 3, 0.0f);
-  if (options.layers.normal) image.normal.assign(npix * 3, 0.0f);
-  if (options.layers.depth) image.depth.assign(npix, std::numeric_limits<float>::infinity());
-
   Frame f;
   f.index = frame;
   f.width = width;
   f.height = height;
-  f.transparent = transparent;
-  f.image = &image;
+  f.transparent = sh.background == BackgroundKind::transparent;
 
   // Camera frame, in the scene's local (centred) coordinates.
   const LookAtFrame view = look_at(camera);
@@ -540,99 +526,63 @@ Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderSt
 
   f.spp = options.samples_per_pixel;
   f.seed = static_cast<std::uint64_t>(options.sample_seed) << 40;
+  return f;
+}
 
-  f.tiles_x = (width + kTileSize - 1) / kTileSize;
-  const int tiles_x = f.tiles_x, tiles_y = (height + kTileSize - 1) / kTileSize;
-  const int ntiles = tiles_x * tiles_y;
-  const int apron = f.apron = filter.apron();
-  const int buf_w = f.buf_w = kTileSize + 2 * apron;
-  // Per buffer pixel: RGBA and the weight, plus the unshadowed light's RGB when denoising.
-  const int splat_floats = options.denoise ? 8 : 5;
-  const std::size_t buf_floats = static_cast<std::size_t>(buf_w) * buf_w * splat_floats;
-  // Each tile splats its samples into its own buffer (with an apron for the filter's reach);
-  // the buffers are summed afterwards in a fixed order, so no sum depends on thread timing.
-  // One allocation for the frame; each tile clears its own part (in parallel, while it is hot).
-  std::vector<float> tile_sums;
-  {
-    std::lock_guard lock(buffer_mutex);
-    if (!spare_buffers.empty()) {
-      tile_sums = std::move(spare_buffers.back());
-      spare_buffers.pop_back();
-    }
-  }
-  tile_sums.resize(buf_floats * static_cast<std::size_t>(ntiles));
-  if (recording) recording->tiles.assign((ntiles + recording->tile_stride - 1) / recording->tile_stride, {});
-  std::atomic<std::uint64_t> primary_count{0}, secondary_count{0};
-  tbb::enumerable_thread_specific<Scratch> scratch_per_thread;
-  // The denoiser's guides and scratch memory, reused between frames like the tile buffers.
-  DenoiseWorkspace workspace;
-  if (options.denoise) {
-    {
-      std::lock_guard lock(buffer_mutex);
-      if (!spare_workspaces.empty()) {
-        workspace = std::move(spare_workspaces.back());
-        spare_workspaces.pop_back();
-      }
-    }
-    workspace.frame_guides.resize(width, height, f.spp);  // each tile clears its own pixels
-    f.guides = &workspace.frame_guides;
-  }
-
-  tbb::parallel_for(tbb::blocked_range<int>(0, ntiles, 1), [&](const tbb::blocked_range<int>& range) {
-    Scratch& scratch = scratch_per_thread.local();
-    if (textures && !scratch.texture_thread) scratch.texture_thread = textures->get_perthread_info();
-    TileCounts counts;
-    for (int tile = range.begin(); tile != range.end(); ++tile) {
-      float* sums = tile_sums.data() + buf_floats * static_cast<std::size_t>(tile);
-      std::fill(sums, sums + buf_floats, 0.0f);
-      RayRecording::Tile* recorded =
-          recording && tile % recording->tile_stride == 0 ? &recording->tiles[tile / recording->tile_stride] : nullptr;
-      (this->*render_tile)(f, scratch, tile, sums, recorded, counts);
-    }
-    primary_count += counts.primary;
-    secondary_count += counts.secondary;
-  });
-
-  // Each pixel gathers the tile buffers that reach it, always in the same order.
-  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& range) {
-    for (int y = range.begin(); y != range.end(); ++y)
-      for (int x = 0; x < width; ++x) {
-        float acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-        for (int ty = std::max(0, (y - apron) / kTileSize); ty <= std::min(tiles_y - 1, (y + apron) / kTileSize); ++ty)
-          for (int tx = std::max(0, (x - apron) / kTileSize); tx <= std::min(tiles_x - 1, (x + apron) / kTileSize); ++tx) {
-            const int bx = x - (tx * kTileSize - apron), by = y - (ty * kTileSize - apron);
-            if (bx < 0 || by < 0 || bx >= buf_w || by >= buf_w) continue;
-            const float* src = tile_sums.data() + buf_floats * static_cast<std::size_t>(ty * tiles_x + tx) +
-                               (static_cast<std::size_t>(by) * buf_w + bx) * splat_floats;
-            for (int c = 0; c < splat_floats; ++c) acc[c] += src[c];
-          }
-        const std::size_t p = static_cast<std::size_t>(y) * width + x;
-        const float weight = acc[splat_floats - 1];
-        float* dst = &image.rgba[p * 4];
-        for (int c = 0; c < 4; ++c) dst[c] = weight > 0.0f ? acc[c] / weight : 0.0f;
-        if (options.denoise)
-          for (int c = 0; c < 3; ++c) workspace.frame_guides.unshadowed[p * 3 + c] = weight > 0.0f ? acc[4 + c] / weight : 0.0f;
-      }
-  });
-
-  {
-    std::lock_guard lock(buffer_mutex);
-    spare_buffers.push_back(std::move(tile_sums));
-  }
-  if (options.denoise) {
-    image.denoised = denoise(image.rgba, workspace.frame_guides, denoise_settings(transparent, render_tile), &workspace);
-    std::lock_guard lock(buffer_mutex);
-    spare_workspaces.push_back(std::move(workspace));
-  }
+Image Renderer::Impl::render(const Camera& camera, std::uint64_t frame, RenderStats* stats, RayRecording* recording) const {
+  const auto start = std::chrono::steady_clock::now();
+  const Frame f = frame_for(camera, frame);
+  Film film(f.width, f.height, f.spp, filter, options.layers, options.denoise, film_memory);
+  const TileCounts counts = trace_tiles(f, film, recording);
+  film.gather();
+  Image image;
+  // The denoiser, a stage of its own on the Film's layers once the frame is rendered.
+  if (options.denoise) image.denoised = denoise_film(film, f.transparent);
+  film.write_to(image);
+  image.transparent = f.transparent;
+  image.exposure = options.shading.exposure;
+  image.tone_mapping = options.shading.tone_mapping;
   if (stats) {
-    stats->primary_rays += primary_count;
-    stats->secondary_rays += secondary_count;
+    stats->primary_rays += counts.primary;
+    stats->secondary_rays += counts.secondary;
   }
   image.info.camera = camera;
   image.info.frame_index = frame;
   image.info.samples_per_pixel = f.spp;
   image.info.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return image;
+}
+
+TileCounts Renderer::Impl::trace_tiles(const Frame& f, Film& film, RayRecording* recording) const {
+  const int ntiles = film.tile_count();
+  if (recording) recording->tiles.assign((ntiles + recording->tile_stride - 1) / recording->tile_stride, {});
+  std::atomic<std::uint64_t> primary_count{0}, secondary_count{0};
+  tbb::enumerable_thread_specific<Scratch> scratch_per_thread;
+  tbb::parallel_for(tbb::blocked_range<int>(0, ntiles, 1), [&](const tbb::blocked_range<int>& range) {
+    Scratch& scratch = scratch_per_thread.local();
+    if (textures && !scratch.texture_thread) scratch.texture_thread = textures->get_perthread_info();
+    TileCounts counts;
+    for (int tile = range.begin(); tile != range.end(); ++tile) {
+      const FilmTile film_tile = film.tile(tile);
+      RayRecording::Tile* recorded =
+          recording && tile % recording->tile_stride == 0 ? &recording->tiles[tile / recording->tile_stride] : nullptr;
+      (this->*tile_kernel)(f, scratch, film_tile, recorded, counts);
+      film.finish_tile(film_tile);
+    }
+    primary_count += counts.primary;
+    secondary_count += counts.secondary;
+  });
+  return TileCounts{primary_count, secondary_count};
+}
+
+std::vector<float> Renderer::Impl::denoise_film(const Film& film, bool transparent) const {
+  DenoiseSettings settings;
+  settings.transparent = transparent;
+  settings.instruction_set = instruction_set;  // the copy of its passes that matches the tile kernel
+  DenoiseWorkspace workspace = denoiser_memory.take();
+  std::vector<float> denoised = denoise(film.beauty(), *film.denoiser_guides(), settings, &workspace);
+  denoiser_memory.give_back(std::move(workspace));
+  return denoised;
 }
 
 }  // namespace meshtour

@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "tracer/denoiser.h"
 #include "tracer/film.h"
+#include "tracer/instruction_set.h"
 #include "tracer/renderer_internal.h"
 #include "tracer/tracer.h"
 
@@ -42,9 +43,6 @@ using DevicePtr = std::unique_ptr<RTCDeviceTy, DeviceDeleter>;
 using ScenePtr = std::unique_ptr<RTCSceneTy, SceneDeleter>;
 using TextureSystemPtr = std::unique_ptr<OIIO::TextureSystem, TextureSystemDeleter>;
 
-// 16 x 16 pixels: at 16 spp a tile's rays (4096 camera rays, up to 8192 secondary) stay in the
-// L2 cache, and a 1280x720 frame has 3600 tiles, plenty to balance two or more threads.
-constexpr int kTileSize = 16;
 constexpr unsigned kModelGeometry = 0, kGroundGeometry = 1;
 constexpr unsigned kModelMask = 1, kGroundMask = 2;
 
@@ -78,9 +76,6 @@ struct Frame {
   float ground_light_total = 0.0f, ground_shadow = 0.0f, ground_light_share = 0.0f, ground_sky_share = 0.0f;
   Eigen::Vector3f up, up_t1, up_t2;  // the ground's normal and tangents, for its occlusion rays
   std::uint64_t seed = 0;  // RenderOptions::sample_seed, placed above any frame index
-  int tiles_x = 0, apron = 0, buf_w = 0;
-  Image* image = nullptr;  // the extra layers are written by the tiles directly
-  DenoiseGuides* guides = nullptr;  // the denoiser's guides, when it runs; written by the tiles
 };
 
 // Per-thread buffers, reused from tile to tile.
@@ -137,26 +132,31 @@ struct Renderer::Impl {
   std::vector<std::shared_ptr<const std::vector<unsigned char>>> embedded_bytes;
   TextureSystemPtr textures;
   ReconstructionFilter filter;
-  // The frames' tile buffers, kept between frames: a 1280x720 frame's are 29 MB, which would
-  // otherwise be mapped and page-faulted afresh for every frame. One per concurrent render().
-  mutable std::mutex buffer_mutex;
-  mutable std::vector<std::vector<float>> spare_buffers;
-  mutable std::vector<DenoiseWorkspace> spare_workspaces;  // the same for the denoiser's memory
+  // The Film's and the denoiser's memory, kept between frames (one per concurrent render()).
+  mutable FilmMemory film_memory;
+  mutable SparePool<DenoiseWorkspace> denoiser_memory;
 
   void check(const char* what) {
     std::lock_guard lock(errors.mutex);
     if (!errors.message.empty()) throw RuntimeFailure(std::string(what) + ": " + errors.message);
   }
+  // A frame: its set-up, its tiles traced onto the Film, the Film gathered, the denoiser run on
+  // the Film's layers, and the layers written into the Image.
   Image render(const Camera& camera, std::uint64_t frame, RenderStats* stats, RayRecording* recording) const;
-  // Renders tile `tile` of frame `f` into `sums` (the tile's buffer, cleared, with an apron
-  // for the filter's reach; its pixel (apron, apron) is the tile's first pixel). One definition
-  // (tile_kernel.cpp) compiled once per instruction set; `render_tile` is the one this CPU runs.
-  using TileKernel = void (Impl::*)(const Frame& f, Scratch& scratch, int tile, float* sums, RayRecording::Tile* recorded,
-                                    TileCounts& counts) const;
-  void render_tile_baseline(const Frame&, Scratch&, int, float*, RayRecording::Tile*, TileCounts&) const;
-  void render_tile_x86_64_v3(const Frame&, Scratch&, int, float*, RayRecording::Tile*, TileCounts&) const;
-  void render_tile_x86_64_v4(const Frame&, Scratch&, int, float*, RayRecording::Tile*, TileCounts&) const;
-  TileKernel render_tile = &Impl::render_tile_baseline;
+  // What the tiles of frame `frame` seen by `camera` share.
+  Frame frame_for(const Camera& camera, std::uint64_t frame) const;
+  // Every tile of the frame through the tile kernel onto `film`, in parallel; the rays traced.
+  TileCounts trace_tiles(const Frame& f, Film& film, RayRecording* recording) const;
+  // The denoised frame from the gathered Film's beauty and guides.
+  std::vector<float> denoise_film(const Film& film, bool transparent) const;
+  // Traces frame `f`'s samples in `tile` and splats them onto it (the tile's sums and layers,
+  // cleared by Film::tile). One definition (tile_kernel.cpp) specialised once per instruction set
+  // (instruction_set.h); `tile_kernel` is the copy this CPU runs, `instruction_set` its set.
+  template <InstructionSet>
+  void render_tile(const Frame& f, Scratch& scratch, const FilmTile& tile, RayRecording::Tile* recorded, TileCounts& counts) const;
+  using TileKernel = void (Impl::*)(const Frame&, Scratch&, const FilmTile&, RayRecording::Tile*, TileCounts&) const;
+  InstructionSet instruction_set = InstructionSet::baseline;
+  TileKernel tile_kernel = &Impl::render_tile<InstructionSet::baseline>;
 
 };
 
