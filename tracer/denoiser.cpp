@@ -45,13 +45,13 @@ struct Stages {
   AtrousPass atrous;
   FitPass fit;
 };
-Stages stages_for(DenoiseSettings::InstructionSet set) {
+Stages stages_for(InstructionSet set) {
   switch (set) {
 #if defined(MESHTOUR_TILE_KERNELS_X86_64)
-    case DenoiseSettings::InstructionSet::x86_64_v3: return {&atrous_pass_x86_64_v3, &fit_pass_x86_64_v3};
-    case DenoiseSettings::InstructionSet::x86_64_v4: return {&atrous_pass_x86_64_v4, &fit_pass_x86_64_v4};
+    case InstructionSet::x86_64_v3: return {&atrous_pass<InstructionSet::x86_64_v3>, &fit_pass<InstructionSet::x86_64_v3>};
+    case InstructionSet::x86_64_v4: return {&atrous_pass<InstructionSet::x86_64_v4>, &fit_pass<InstructionSet::x86_64_v4>};
 #endif
-    default: return {&atrous_pass_baseline, &fit_pass_baseline};
+    default: return {&atrous_pass<InstructionSet::baseline>, &fit_pass<InstructionSet::baseline>};
   }
 }
 }  // namespace

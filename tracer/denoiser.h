@@ -18,6 +18,8 @@
 #include <array>
 #include <vector>
 
+#include "tracer/instruction_set.h"
+
 namespace meshtour {
 
 /// What the tracer gathers for the denoiser, per pixel, from the pixel's own samples (a box, not
@@ -54,7 +56,8 @@ struct DenoiseSettings {
   /// offset and normal tilt (denoiser_pass.cpp). 1..8.
   int fit_radius = 5;
   /// Which copy of the a-trous pass runs (the same bits; the renderer picks its tile kernel's).
-  enum class InstructionSet { baseline, x86_64_v3, x86_64_v4 } instruction_set = InstructionSet::baseline;
+  using InstructionSet = meshtour::InstructionSet;
+  InstructionSet instruction_set = InstructionSet::baseline;
 };
 
 /// The denoiser's scratch memory (about 80 MB for 1280x720), kept between frames by the caller:

@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "tracer/instruction_set.h"
+
 namespace meshtour::denoise_detail {
 
 constexpr int kPad = 16;  // the widest pass's step: neighbours never leave the planes
@@ -51,17 +53,15 @@ enum Guide { kNx, kNy, kNz, kDepth, kDepthGradient, kFlatWindow, kGuides };
 // One a-trous pass with step `step` from `in` to `out` (both kLumaPlanes planes), one copy per
 // instruction set (the same bits: per-pixel IEEE operations only, no FMA contraction).
 using AtrousPass = void (*)(Planes& in, Planes& out, Planes& guides, int step);
-void atrous_pass_baseline(Planes& in, Planes& out, Planes& guides, int step);
-void atrous_pass_x86_64_v3(Planes& in, Planes& out, Planes& guides, int step);
-void atrous_pass_x86_64_v4(Planes& in, Planes& out, Planes& guides, int step);
+template <InstructionSet>
+void atrous_pass(Planes& in, Planes& out, Planes& guides, int step);
 
 // The fit: per pixel, a weighted least-squares plane (value and slopes along x and y) through the
 // unfiltered visibility `raw` (kPlanesPerImage planes) of the pixels within `radius`, weighted by
 // normal, depth and the guide's luminance (`guide`, kLumaPlanes planes: the a-trous passes'
 // output), written to `out`; one copy per instruction set.
 using FitPass = void (*)(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
-void fit_pass_baseline(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
-void fit_pass_x86_64_v3(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
-void fit_pass_x86_64_v4(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
+template <InstructionSet>
+void fit_pass(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
 
 }  // namespace meshtour::denoise_detail

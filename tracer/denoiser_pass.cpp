@@ -1,5 +1,5 @@
-// The denoiser's a-trous pass (denoiser_impl.h), compiled once per instruction set (see
-// tracer/CMakeLists.txt: MESHTOUR_DENOISE_PASS names the copy); all copies give the same bits,
+// The denoiser's a-trous pass and fit (denoiser_impl.h), compiled once per instruction set
+// (instruction_set.h: each copy specialises the two templates for its set); all copies give the same bits,
 // because every pixel goes through the same IEEE operations (add, multiply, divide, square root,
 // compare, select; no FMA contraction: -ffp-contract=off) whatever the vector width.
 #include <tbb/parallel_for.h>
@@ -11,12 +11,6 @@
 #include "tracer/denoiser_impl.h"
 #include "tracer/simd.h"
 
-#ifndef MESHTOUR_DENOISE_PASS
-#define MESHTOUR_DENOISE_PASS atrous_pass_baseline
-#endif
-#ifndef MESHTOUR_DENOISE_FIT
-#define MESHTOUR_DENOISE_FIT fit_pass_baseline
-#endif
 
 namespace meshtour::denoise_detail {
 namespace {
@@ -83,7 +77,8 @@ Lanes falloff_compact(Lanes x) {
 // One a-trous pass with step `step` from `in` to `out` (both kLumaPlanes planes: the visibility's
 // luminance and its variance). The planes' addresses are taken once per row (restrict: the
 // stores cannot change them), and groups of pixels with nothing to filter are copied.
-void MESHTOUR_DENOISE_PASS(Planes& in, Planes& out, Planes& guides, int step) {
+template <InstructionSet>
+void atrous_pass(Planes& in, Planes& out, Planes& guides, int step) {
   const int width = in.width, height = in.height;
   const std::ptrdiff_t stride = in.stride;
   constexpr float h[3] = {0.25f, 0.5f, 0.25f};
@@ -147,7 +142,8 @@ void MESHTOUR_DENOISE_PASS(Planes& in, Planes& out, Planes& guides, int step) {
 // the position: as a feature rather than only a weight it lets neighbours on the other flank of a
 // bump count without flattening the bump (after NFOR, Bitterli et al. 2016, which regresses on
 // the renderer's features). Sums in a fixed order for every lane.
-void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent) {
+template <InstructionSet>
+void fit_pass(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent) {
   const int width = raw.width, height = raw.height;
   const std::ptrdiff_t stride = raw.stride;
   const float inv_radius = 1.0f / static_cast<float>(radius);
@@ -332,5 +328,9 @@ void MESHTOUR_DENOISE_FIT(Planes& raw, Planes& guide, Planes& out, Planes& guide
   else
     fit_rows(std::integral_constant<int, 3>{});
 }
+
+// This file's copies of the two passes.
+template void atrous_pass<kCompiledFor>(Planes& in, Planes& out, Planes& guides, int step);
+template void fit_pass<kCompiledFor>(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
 
 }  // namespace meshtour::denoise_detail

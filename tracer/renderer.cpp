@@ -70,37 +70,36 @@ double portable_atan2(double y, double x) {
   return x < 0.0 ? std::numbers::pi - angle : angle;
 }
 
-// The widest copy of the tile kernel this CPU runs (all give the same pixels). The variable
+// The widest instruction set this CPU runs (all give the same pixels). The variable
 // MESHTOUR_TILE_KERNEL=baseline|x86-64-v3|x86-64-v4 forces one (tests compare them).
-Renderer::Impl::TileKernel choose_tile_kernel() {
-  using Impl = Renderer::Impl;
+InstructionSet choose_instruction_set() {
 #if defined(MESHTOUR_TILE_KERNELS_X86_64)
   __builtin_cpu_init();
   const bool v3 = __builtin_cpu_supports("x86-64-v3"), v4 = __builtin_cpu_supports("x86-64-v4");
   if (const char* forced = std::getenv("MESHTOUR_TILE_KERNEL"); forced && *forced) {
     const std::string name = forced;
-    if (name == "baseline") return &Impl::render_tile_baseline;
-    if (name == "x86-64-v3" && v3) return &Impl::render_tile_x86_64_v3;
-    if (name == "x86-64-v4" && v4) return &Impl::render_tile_x86_64_v4;
+    if (name == "baseline") return InstructionSet::baseline;
+    if (name == "x86-64-v3" && v3) return InstructionSet::x86_64_v3;
+    if (name == "x86-64-v4" && v4) return InstructionSet::x86_64_v4;
     throw InputError("MESHTOUR_TILE_KERNEL=" + name + ": not a kernel this CPU runs (baseline" + (v3 ? ", x86-64-v3" : "") +
                      (v4 ? ", x86-64-v4" : "") + ")");
   }
-  if (v4) return &Impl::render_tile_x86_64_v4;
-  if (v3) return &Impl::render_tile_x86_64_v3;
+  if (v4) return InstructionSet::x86_64_v4;
+  if (v3) return InstructionSet::x86_64_v3;
 #endif
-  return &Impl::render_tile_baseline;
+  return InstructionSet::baseline;
 }
 
-// The denoiser's settings for this frame: the copy of its passes that matches the tile kernel.
-DenoiseSettings denoise_settings(bool transparent, Renderer::Impl::TileKernel kernel) {
-  DenoiseSettings s;
-  s.transparent = transparent;
-  using Set = DenoiseSettings::InstructionSet;
+// The copy of the tile kernel compiled for `set`.
+Renderer::Impl::TileKernel tile_kernel_for(InstructionSet set) {
   using Impl = Renderer::Impl;
-  s.instruction_set = kernel == &Impl::render_tile_x86_64_v4 ? Set::x86_64_v4
-                      : kernel == &Impl::render_tile_x86_64_v3 ? Set::x86_64_v3
-                                                                : Set::baseline;
-  return s;
+  switch (set) {
+#if defined(MESHTOUR_TILE_KERNELS_X86_64)
+    case InstructionSet::x86_64_v3: return &Impl::render_tile<InstructionSet::x86_64_v3>;
+    case InstructionSet::x86_64_v4: return &Impl::render_tile<InstructionSet::x86_64_v4>;
+#endif
+    default: return &Impl::render_tile<InstructionSet::baseline>;
+  }
 }
 
 OIIO::TextureOpt::Wrap wrap_mode(TextureWrap wrap) {
@@ -362,7 +361,8 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
   if (mesh.triangles.empty()) throw InputError("the mesh has no triangles to render");
 
   Impl& s = *impl_;
-  s.render_tile = choose_tile_kernel();
+  s.instruction_set = choose_instruction_set();
+  s.tile_kernel = tile_kernel_for(s.instruction_set);
   s.options = options;
   s.filter = ReconstructionFilter(options.filter_radius);
   const Bounds bounds = mesh.bounds();  // a pass over every vertex: once
@@ -566,7 +566,7 @@ TileCounts Renderer::Impl::trace_tiles(const Frame& f, Film& film, RayRecording*
       const FilmTile film_tile = film.tile(tile);
       RayRecording::Tile* recorded =
           recording && tile % recording->tile_stride == 0 ? &recording->tiles[tile / recording->tile_stride] : nullptr;
-      (this->*render_tile)(f, scratch, film_tile, recorded, counts);
+      (this->*tile_kernel)(f, scratch, film_tile, recorded, counts);
       film.finish_tile(film_tile);
     }
     primary_count += counts.primary;
@@ -576,8 +576,11 @@ TileCounts Renderer::Impl::trace_tiles(const Frame& f, Film& film, RayRecording*
 }
 
 std::vector<float> Renderer::Impl::denoise_film(const Film& film, bool transparent) const {
+  DenoiseSettings settings;
+  settings.transparent = transparent;
+  settings.instruction_set = instruction_set;  // the copy of its passes that matches the tile kernel
   DenoiseWorkspace workspace = denoiser_memory.take();
-  std::vector<float> denoised = denoise(film.beauty(), *film.denoiser_guides(), denoise_settings(transparent, render_tile), &workspace);
+  std::vector<float> denoised = denoise(film.beauty(), *film.denoiser_guides(), settings, &workspace);
   denoiser_memory.give_back(std::move(workspace));
   return denoised;
 }

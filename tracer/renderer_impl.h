@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "tracer/denoiser.h"
 #include "tracer/film.h"
+#include "tracer/instruction_set.h"
 #include "tracer/renderer_internal.h"
 #include "tracer/tracer.h"
 
@@ -149,14 +150,13 @@ struct Renderer::Impl {
   // The denoised frame from the gathered Film's beauty and guides.
   std::vector<float> denoise_film(const Film& film, bool transparent) const;
   // Traces frame `f`'s samples in `tile` and splats them onto it (the tile's sums and layers,
-  // cleared by Film::tile). One definition (tile_kernel.cpp) compiled once per instruction set;
-  // `render_tile` is the one this CPU runs.
-  using TileKernel = void (Impl::*)(const Frame& f, Scratch& scratch, const FilmTile& tile, RayRecording::Tile* recorded,
-                                    TileCounts& counts) const;
-  void render_tile_baseline(const Frame&, Scratch&, const FilmTile&, RayRecording::Tile*, TileCounts&) const;
-  void render_tile_x86_64_v3(const Frame&, Scratch&, const FilmTile&, RayRecording::Tile*, TileCounts&) const;
-  void render_tile_x86_64_v4(const Frame&, Scratch&, const FilmTile&, RayRecording::Tile*, TileCounts&) const;
-  TileKernel render_tile = &Impl::render_tile_baseline;
+  // cleared by Film::tile). One definition (tile_kernel.cpp) specialised once per instruction set
+  // (instruction_set.h); `tile_kernel` is the copy this CPU runs, `instruction_set` its set.
+  template <InstructionSet>
+  void render_tile(const Frame& f, Scratch& scratch, const FilmTile& tile, RayRecording::Tile* recorded, TileCounts& counts) const;
+  using TileKernel = void (Impl::*)(const Frame&, Scratch&, const FilmTile&, RayRecording::Tile*, TileCounts&) const;
+  InstructionSet instruction_set = InstructionSet::baseline;
+  TileKernel tile_kernel = &Impl::render_tile<InstructionSet::baseline>;
 
 };
 

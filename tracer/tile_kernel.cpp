@@ -1,8 +1,10 @@
-// The per-tile hot loop of the renderer. This file is compiled once per instruction set (see
-// tracer/CMakeLists.txt: MESHTOUR_TILE_KERNEL names the copy) and the renderer picks the widest
-// the CPU has; they all give the same bits (simd.h says why). A separate compilation rather than
-// GCC's target_clones: in a clone GCC 12 lowers 16-lane comparisons lane by lane, which cost a
-// third of the kernel's speed.
+// The integrator: the per-tile hot loop of the renderer, which the sampler feeds and which feeds
+// the Film (film.h), in named stages: camera rays, intersection, shading, shadow and occlusion
+// rays, splat. Every stage is forced inline, so the loop compiles as one body.
+// This file is compiled once per instruction set (instruction_set.h: each copy specialises
+// Renderer::Impl::render_tile for its set) and the renderer picks the widest the CPU has; they all
+// give the same bits (simd.h says why). A separate compilation rather than GCC's target_clones: in a clone GCC 12
+// lowers 16-lane comparisons lane by lane, which cost a third of the kernel's speed.
 #include <OpenImageIO/texture.h>
 #include <embree3/rtcore.h>
 
@@ -13,14 +15,11 @@
 #include "tracer/color.h"
 #include "tracer/denoiser.h"
 #include "tracer/film.h"
+#include "tracer/instruction_set.h"
 #include "tracer/random.h"
 #include "tracer/renderer_impl.h"
 #include "tracer/sampler.h"
 #include "tracer/simd.h"
-
-#ifndef MESHTOUR_TILE_KERNEL
-#define MESHTOUR_TILE_KERNEL render_tile_baseline
-#endif
 
 namespace meshtour {
 namespace {
@@ -281,434 +280,555 @@ MESHTOUR_SIMD_INLINE void add_lane_guides(DenoiseGuides& g, const int* image_pix
   }
 }
 
+// ---- The stages of a packet: 16 samples (one pixel's at 16 spp) through every stage before the
+// next packet starts, so that its data stay in registers and L1.
+
+using Impl = Renderer::Impl;
+
+// Sampling: which pixel each lane's sample belongs to and its random numbers.
+struct PacketSamples {
+  int lanes = 0;  // lanes in use (the tile's last packet may have fewer)
+  I16 valid;      // the lanes in use
+  alignas(64) float px[16] = {}, py[16] = {};             // the pixel's corner on the film
+  alignas(64) int sums_pixel[16] = {}, layer_pixel[16] = {};  // the pixel in the tile's sums, in the layers
+  F16 u_cam, v_cam, u_light, v_light, u_sky, v_sky;       // one 2D point per use
+};
+
+// A tile's samples in order: pixel by pixel along the tile's rows, each pixel's samples one after
+// another. Owen-scrambled Sobol points, one shuffled 2D sequence per pair of dimensions (sampler.h).
+class TileSampler {
+public:
+  MESHTOUR_SIMD_INLINE TileSampler(const Frame& f, const FilmTile& film)
+      : film_(film), frame_key_(f.index ^ f.seed), spp_(f.spp), tile_w_(film.x1 - film.x0),
+        sample_count_(tile_w_ * (film.y1 - film.y0) * f.spp) {
+    while ((1 << log2_spp_) < spp_) ++log2_spp_;
+    for (int l = 0; l < simd::kLanes; ++l) lane_index_.set(l, l);
+  }
+  int sample_count() const { return sample_count_; }
+
+  // The next `lanes` samples (scalar set-up of pixel, sample index and random key per lane).
+  MESHTOUR_SIMD_INLINE void next(int lanes, PacketSamples& s) {
+    alignas(64) std::uint32_t lane_key[16] = {}, lane_sample[16] = {};
+    s.lanes = lanes;
+    for (int l = 0; l < lanes; ++l) {
+      if (next_sample_ == 0) {
+        pixel_x_ = film_.x0 + next_pixel_ % tile_w_;
+        pixel_y_ = film_.y0 + next_pixel_ / tile_w_;
+        const std::uint64_t key = rng::pixel_key(frame_key_, sampler::block_of(pixel_x_, pixel_y_));
+        block_key_ = static_cast<std::uint32_t>(key ^ (key >> 32));
+        pixel_base_ = sampler::first_index(pixel_x_, pixel_y_, log2_spp_);
+      }
+      s.px[l] = static_cast<float>(pixel_x_);
+      s.py[l] = static_cast<float>(pixel_y_);
+      s.sums_pixel[l] = film_.sums_pixel(pixel_x_, pixel_y_);
+      s.layer_pixel[l] = film_.layer_pixel(pixel_x_, pixel_y_);
+      lane_key[l] = block_key_;
+      lane_sample[l] = pixel_base_ | static_cast<std::uint32_t>(next_sample_);
+      if (++next_sample_ == spp_) {
+        next_sample_ = 0;
+        ++next_pixel_;
+      }
+    }
+    s.valid = simd::lt(lane_index_, lanes);
+    const simd::U16 key = simd::load_uint(lane_key), sample_reversed = sampler::reverse_bits(simd::load_uint(lane_sample));
+    sampler::pair(sample_reversed, sampler::pair_seeds(key, 0), s.u_cam, s.v_cam);
+    sampler::pair(sample_reversed, sampler::pair_seeds(key, 1), s.u_light, s.v_light);
+    sampler::pair(sample_reversed, sampler::pair_seeds(key, 2), s.u_sky, s.v_sky);
+  }
+
+private:
+  const FilmTile& film_;
+  std::uint64_t frame_key_;
+  int spp_, tile_w_, sample_count_, log2_spp_ = 0;
+  I16 lane_index_;
+  // The sample after the last one set up: its pixel (within the tile) and index in the pixel,
+  // the random key of the pixel's block, and the pixel's first index in the block's sequence.
+  int next_pixel_ = 0, next_sample_ = 0;
+  std::uint32_t block_key_ = 0, pixel_base_ = 0;
+  int pixel_x_ = 0, pixel_y_ = 0;
+};
+
+// 1. Camera rays through the samples' points on the film, spread over the pixel by the sampler.
+struct CameraRays {
+  V3 dir;      // unit directions
+  F16 film_y;  // the points' row on the film (pixels, from the top)
+};
+MESHTOUR_SIMD_INLINE CameraRays camera_rays(const Frame& f, const PacketSamples& s) {
+  const F16 fx = simd::load(s.px) + s.u_cam, fy = simd::load(s.py) + s.v_cam;
+  V3 dir{f.corner.x() + fx * f.step_x.x() + fy * f.step_y.x(), f.corner.y() + fx * f.step_x.y() + fy * f.step_y.y(),
+         f.corner.z() + fx * f.step_x.z() + fy * f.step_y.z()};
+  const F16 inv_len = 1.0f / simd::sqrt(dot(dir, dir));
+  dir = {dir.x * inv_len, dir.y * inv_len, dir.z * inv_len};
+  return {dir, fy};
+}
+
+// 2. Intersection: the camera rays through rtcIntersect16 (coherent: neighbouring rays), and
+// what they hit. Returns the packet's recording (RendererAccess), or null.
+MESHTOUR_SIMD_INLINE RayRecording::Packet* intersect(const Impl& r, const Frame& f, RTCIntersectContext& coherent, RTCRayHit16& primary,
+                                                   const PacketSamples& s, const V3& eye, const V3& dir, RayRecording::Tile* recorded,
+                                                   TileCounts& counts) {
+  set_rays(primary.ray, s.valid, eye, dir, std::numeric_limits<float>::infinity(), f.camera_mask);
+  simd::store_int(primary.hit.geomID, simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
+  simd::store_int(primary.hit.instID[0], simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
+  ValidMask primary_valid;
+  simd::store_int(primary_valid.data(), s.valid);
+  RayRecording::Packet* rec = nullptr;
+  if (recorded) {
+    rec = &recorded->packets.emplace_back();
+    rec->primary = primary;
+    rec->primary_valid = primary_valid;
+  }
+  rtcIntersect16(primary_valid.data(), r.scene.get(), &coherent, &primary);
+  counts.primary += static_cast<std::uint64_t>(s.lanes);
+  return rec;
+}
+
+// What the camera rays hit.
+struct Hits {
+  I16 on_model, on_ground;
+  bool any = false;  // some lane hit the model or the ground; t and ng are set only then
+  F16 t = simd::broadcast(0.0f);  // distance along the ray
+  V3 ng{t, t, t};                 // unit geometric normal, facing the camera (two-sided)
+  V3 org;  // where the secondary rays start: the hit, a hair off the surface (the eye elsewhere)
+};
+MESHTOUR_SIMD_INLINE Hits read_hits(const Frame& f, const RTCRayHit16& primary, const PacketSamples& s, const V3& eye, const V3& dir) {
+  Hits h;
+  const F16 one = simd::broadcast(1.0f);
+  const I16 geom = simd::load_int(primary.hit.geomID);
+  h.on_model = simd::both(s.valid, simd::eq(geom, static_cast<int>(kModelGeometry)));
+  h.on_ground = simd::both(s.valid, simd::eq(geom, static_cast<int>(kGroundGeometry)));
+  h.any = simd::any(simd::either(h.on_model, h.on_ground));
+  h.org = eye;
+  if (h.any) {
+    h.t = simd::load(primary.ray.tfar);
+    V3 ng{simd::load(primary.hit.Ng_x), simd::load(primary.hit.Ng_y), simd::load(primary.hit.Ng_z)};
+    const F16 ng_len2 = dot(ng, ng);
+    // Two-sided: open scans show their inside.
+    const F16 ng_scale = simd::select(simd::gt(dot(ng, dir), 0.0f), -one, one) / simd::select(simd::gt(ng_len2, 0.0f), simd::sqrt(ng_len2), one);
+    h.ng = {ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale};
+    h.org = {eye.x + h.t * dir.x + f.eps * h.ng.x, eye.y + h.t * dir.y + f.eps * h.ng.y, eye.z + h.t * dir.z + f.eps * h.ng.z};
+  }
+  return h;
+}
+
+// 3. Shading: everything about a sample but the visibility of its chosen light and of the sky,
+// which the shadow and occlusion rays decide. Its RGBA is base + (shadow ray unblocked ?
+// with_light : 0) + (occlusion ray unblocked ? with_sky : 0).
+struct ShadedSamples {
+  F16 base[4], with_light[4], with_sky[4];
+  I16 shadow_valid, sky_valid;  // the lanes that trace a shadow ray, an occlusion ray
+  V3 shadow_dir, sky_dir;       // from Hits::org
+  // What the sample tells the denoiser (denoiser.h): the shading normal, the depth, and the
+  // light it would get if no shadow or occlusion ray were blocked (the background's colour, or
+  // white in transparent frames, for the ground and the background: their "lighting" is the
+  // shadow): the frame is divided by it, so that the denoiser filters only the visibility of
+  // the lights and the sky (the shading's detail, normals, textures and highlights, is
+  // noise-free and stays sharp).
+  V3 guide_normal, guide_unshadowed;
+  F16 guide_depth;
+};
+
+// The backdrop behind the samples (none in transparent frames), and the shading of a sample
+// that hits nothing: the backdrop, no rays.
+MESHTOUR_SIMD_INLINE V3 backdrop(const Frame& f, const CameraRays& camera) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  const F16 t_bg = simd::min(one, simd::max(zero, camera.film_y * f.inv_height));
+  V3 bg{zero, zero, zero};
+  if (!f.transparent) bg = backdrop_colour(f.background_top, f.background_bottom, t_bg);
+  return bg;
+}
+MESHTOUR_SIMD_INLINE void shade_background(const Frame& f, const V3& bg, ShadedSamples& sh) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  sh.base[0] = bg.x, sh.base[1] = bg.y, sh.base[2] = bg.z, sh.base[3] = zero;
+  for (int ch = 0; ch < 4; ++ch) sh.with_light[ch] = zero, sh.with_sky[ch] = zero;
+  sh.shadow_valid = simd::broadcast_int(0), sh.sky_valid = simd::broadcast_int(0);
+  sh.shadow_dir = {zero, zero, one}, sh.sky_dir = {zero, zero, one};
+  sh.guide_normal = {zero, zero, zero};
+  sh.guide_unshadowed = f.transparent ? V3{one, one, one} : bg;
+  sh.guide_depth = simd::broadcast(std::numeric_limits<float>::infinity());
+}
+
+// The model's surface at the hits: the smooth normal (facing the camera) and the albedo, from the
+// hit triangle's vertices (gathers), its material and its texture.
+struct SurfacePoint {
+  V3 n, albedo;
+};
+MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scratch& scratch, const RTCRayHit16& primary, const Hits& h,
+                                            const V3& dir) {
+  const F16 one = simd::broadcast(1.0f);
+  alignas(64) float nx[16] = {}, ny[16] = {}, nz[16] = {}, ar[16], ag[16], ab[16];
+  for (int l = 0; l < simd::kLanes; ++l) {
+    ar[l] = f.base_color.x();
+    ag[l] = f.base_color.y();
+    ab[l] = f.base_color.z();
+    if (!h.on_model[l]) continue;
+    const std::size_t prim = primary.hit.primID[l];
+    const auto& tri = r.triangles[prim];
+    const float bu = primary.hit.u[l], bv = primary.hit.v[l], bw = 1.0f - bu - bv;
+    const Eigen::Vector3f n = bw * r.normals[tri[0]] + bu * r.normals[tri[1]] + bv * r.normals[tri[2]];
+    nx[l] = n.x();
+    ny[l] = n.y();
+    nz[l] = n.z();
+    Eigen::Vector3f c(ar[l], ag[l], ab[l]);
+    if (!r.colors.empty()) c = bw * r.colors[tri[0]] + bu * r.colors[tri[1]] + bv * r.colors[tri[2]];
+    if (!r.surfaces.empty()) {
+      const Impl::Surface& surface = r.surfaces[r.triangle_surface.empty() ? 0 : r.triangle_surface[prim]];
+      if (surface.texture) {
+        const Eigen::Vector2f uv = bw * r.corner_uvs[3 * prim] + bu * r.corner_uvs[3 * prim + 1] + bv * r.corner_uvs[3 * prim + 2];
+        // Isotropic footprint of one sample in texture space: the pixel's width at this
+        // distance, stretched by the slant, divided by sqrt(spp) because the samples already
+        // average over the pixel.
+        const float slant = std::max(0.2f, std::abs(h.ng.x[l] * dir.x[l] + h.ng.y[l] * dir.y[l] + h.ng.z[l] * dir.z[l]));
+        const float width_uv = r.uv_scale[prim] * h.t[l] * f.pixel_angle / slant / std::sqrt(static_cast<float>(f.spp));
+        OIIO::TextureOpt opt;
+        opt.swrap = surface.wrap_s;
+        opt.twrap = surface.wrap_t;
+        float rgb[3] = {0, 0, 0};
+        // OBJ's v runs upwards; OpenImageIO's t runs down the image.
+        if (r.textures->texture(surface.texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv, 3,
+                                rgb)) {
+          const Eigen::Vector3f texel = surface.texture_srgb ? srgb_to_linear(Eigen::Vector3f(rgb[0], rgb[1], rgb[2]))
+                                                             : Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
+          c = surface.texture_times_vertex_colors && !r.colors.empty() ? Eigen::Vector3f(texel.cwiseProduct(c)) : texel;
+        }
+        c = c.cwiseProduct(surface.factor);
+      } else if (surface.replaces_base_color) {
+        c = r.colors.empty() ? surface.factor : Eigen::Vector3f(c.cwiseProduct(surface.factor));
+      }
+    }
+    ar[l] = c.x();
+    ag[l] = c.y();
+    ab[l] = c.z();
+  }
+  V3 n{simd::load(nx), simd::load(ny), simd::load(nz)};
+  const F16 n_len2 = dot(n, n);
+  const F16 inv_n = 1.0f / simd::sqrt(simd::select(simd::gt(n_len2, 0.0f), n_len2, one));
+  n = select(simd::gt(n_len2, 0.0f), V3{n.x * inv_n, n.y * inv_n, n.z * inv_n}, h.ng);
+  n = select(simd::gt(dot(n, dir), 0.0f), V3{-n.x, -n.y, -n.z}, n);
+  return {n, V3{simd::load(ar), simd::load(ag), simd::load(ab)}};
+}
+
+// The samples on the model: what each light would bring unshadowed (diffuse and a Blinn-Phong
+// highlight), one of them chosen for the shadow ray, and the sky for the occlusion ray.
+MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, const Hits& h, const V3& dir, const SurfacePoint& surface,
+                                      bool guides, ShadedSamples& sh) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  const std::size_t nlights = f.lights.size();
+  const I16 on_model = h.on_model;
+  const V3& n = surface.n;
+  const V3& albedo = surface.albedo;
+  sh.guide_normal = select(on_model, n, sh.guide_normal);
+  const V3 view{-dir.x, -dir.y, -dir.z};
+  // Unshadowed Blinn-Phong light from a light (cos_l = cosine of its incidence, > 0).
+  auto reflected = [&](const V3& light_dir, const V3& radiance, F16 cos_l) __attribute__((always_inline)) {
+    const V3 half{light_dir.x + view.x, light_dir.y + view.y, light_dir.z + view.z};
+    const F16 cos_h = dot(n, half) / simd::sqrt(dot(half, half));
+    const F16 spec = simd::select(simd::gt(cos_h, f.spec_cutoff), f.spec_scale * simd::pow_unit(simd::max(cos_h, simd::broadcast(1e-30f)), f.shininess), zero);
+    return V3{radiance.x * (albedo.x + spec) * cos_l, radiance.y * (albedo.y + spec) * cos_l, radiance.z * (albedo.z + spec) * cos_l};
+  };
+  // What each light would bring here unshadowed (diffuse and highlight; 0 from behind).
+  V3 contributions[8];
+  for (std::size_t i = 0; i < nlights; ++i) {
+    const F16 cos_i = dot(n, broadcast(f.lights[i].direction));
+    const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cos_i);
+    const I16 lit = simd::gt(cos_i, 0.0f);
+    contributions[i] = {simd::select(lit, c.x, zero), simd::select(lit, c.y, zero), simd::select(lit, c.z, zero)};
+  }
+  V3 model_base{zero, zero, zero};
+  V3 model_light{zero, zero, zero};
+  I16 model_shadow = simd::broadcast_int(0);
+  if (f.shadows) {
+    // One shadow ray to one light, chosen in proportion to the light it brings here
+    // unshadowed (the luminance of its whole contribution, highlight included) and weighted
+    // by 1/probability: unbiased, exact in luminance wherever no light is blocked, and the
+    // light that matters most here gets most of the rays.
+    F16 weights[8];
+    F16 total = zero;
+    for (std::size_t i = 0; i < nlights; ++i) {
+      weights[i] = luminance(contributions[i].x, contributions[i].y, contributions[i].z);
+      total += weights[i];
+    }
+    F16 u_disc;
+    const I16 chosen = choose(weights, nlights, total, s.u_light, u_disc);
+    F16 chosen_weight = zero;
+    V3 c{zero, zero, zero};
+    for (std::size_t i = 0; i < nlights; ++i) {
+      const I16 m = simd::eq(chosen, static_cast<int>(i));
+      chosen_weight = simd::select(m, weights[i], chosen_weight);
+      c = select(m, contributions[i], c);
+    }
+    model_shadow = simd::both(on_model, simd::gt(total, 0.0f));
+    const LaneLight light = lane_light(f.lights, chosen);
+    const F16 inverse_probability = total / simd::select(model_shadow, chosen_weight, one);
+    model_light = {c.x * inverse_probability, c.y * inverse_probability, c.z * inverse_probability};
+    sh.shadow_dir = light_direction(light, u_disc, s.v_light);
+  } else {
+    for (std::size_t i = 0; i < nlights; ++i)
+      model_base = {model_base.x + contributions[i].x, model_base.y + contributions[i].y, model_base.z + contributions[i].z};
+  }
+  const V3 sky{albedo.x * f.ambient.x(), albedo.y * f.ambient.y(), albedo.z * f.ambient.z()};
+  if (guides) {
+    V3 unshadowed = sky;
+    for (std::size_t i = 0; i < nlights; ++i)
+      unshadowed = {unshadowed.x + contributions[i].x, unshadowed.y + contributions[i].y, unshadowed.z + contributions[i].z};
+    sh.guide_unshadowed = select(on_model, unshadowed, sh.guide_unshadowed);
+  }
+  V3 model_sky{zero, zero, zero};
+  if (f.ambient_occlusion) {
+    model_sky = sky;
+    V3 t1, t2;
+    basis(n, t1, t2);
+    sh.sky_dir = select(on_model, sky_direction(n, t1, t2, s.u_sky, s.v_sky), sh.sky_dir);
+    sh.sky_valid = simd::either(sh.sky_valid, on_model);
+  } else {
+    model_base = {model_base.x + sky.x, model_base.y + sky.y, model_base.z + sky.z};
+  }
+  sh.shadow_valid = simd::either(sh.shadow_valid, model_shadow);
+  sh.base[0] = simd::select(on_model, model_base.x, sh.base[0]);
+  sh.base[1] = simd::select(on_model, model_base.y, sh.base[1]);
+  sh.base[2] = simd::select(on_model, model_base.z, sh.base[2]);
+  sh.base[3] = simd::select(on_model, one, sh.base[3]);
+  sh.with_light[0] = simd::select(model_shadow, model_light.x, sh.with_light[0]);
+  sh.with_light[1] = simd::select(model_shadow, model_light.y, sh.with_light[1]);
+  sh.with_light[2] = simd::select(model_shadow, model_light.z, sh.with_light[2]);
+  sh.with_sky[0] = simd::select(on_model, model_sky.x, sh.with_sky[0]);
+  sh.with_sky[1] = simd::select(on_model, model_sky.y, sh.with_sky[1]);
+  sh.with_sky[2] = simd::select(on_model, model_sky.z, sh.with_sky[2]);
+}
+
+// The samples on the ground, a shadow catcher: it shows the background, darkened by the share of
+// light and sky the model takes away from it; transparent frames get the shadow as alpha. The
+// share whose ray is traced comes back if the ray is unblocked.
+MESHTOUR_SIMD_INLINE void shade_ground(const Frame& f, const PacketSamples& s, const Hits& h, const V3& bg, ShadedSamples& sh) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  const std::size_t nlights = f.lights.size();
+  const I16 on_ground = h.on_ground;
+  const V3& org = h.org;
+  sh.guide_normal = select(on_ground, broadcast(f.up), sh.guide_normal);
+  F16 unshadowed = simd::broadcast(1.0f - f.ground_shadow);
+  const F16 alpha_sign = simd::broadcast(f.transparent ? -1.0f : 0.0f);
+  // Only the model casts shadows on the ground: a ray that misses the model's bounding
+  // sphere is known to be unblocked and is not traced (most of the visible ground).
+  const F16 dist2 = dot(org, org), dist = simd::sqrt(dist2);
+  const float radius2 = f.model_radius * f.model_radius;
+  const F16 sin_r = simd::min(one, f.model_radius / dist), cos_r = simd::sqrt(1.0f - sin_r * sin_r);
+  const I16 inside = simd::le(dist2, radius2);
+  // The same test for a light's whole disc, before sampling a direction in it: the cone
+  // around the light's centre misses the sphere when the angle between its axis and the
+  // sphere's centre exceeds the cone's half angle plus the sphere's angular radius.
+  auto disc_may_hit_model = [&](const V3& light_dir, F16 cos_half, F16 sin_half) __attribute__((always_inline)) {
+    const F16 cos_limit = cos_half * cos_r - sin_half * sin_r;  // cos(half angle + radius)
+    const F16 cos_axis = -dot(org, light_dir) / dist;
+    return simd::either(inside, simd::ge(cos_axis, cos_limit - 1e-4f));  // margin for rounding
+  };
+  if (f.ground_light_share > 0.0f) {
+    I16 shadow_possible = simd::broadcast_int(0);  // from some light with a share of the ground's light
+    if (f.shadows)
+      for (std::size_t i = 0; i < nlights; ++i)
+        if (f.ground_weights[i] > 0.0f)
+          shadow_possible = simd::either(shadow_possible, disc_may_hit_model(broadcast(f.lights[i].direction), simd::broadcast(f.lights[i].cos_half_angle),
+                                                                             simd::broadcast(f.lights[i].sin_half_angle)));
+    F16 u_disc;
+    const I16 chosen = choose(f.ground_weights, nlights, simd::broadcast(f.ground_light_total), s.u_light, u_disc);
+    const LaneLight light = lane_light(f.lights, chosen);
+    const V3 d = light_direction(light, u_disc, s.v_light);
+    const F16 b = dot(org, d), c = dist2 - radius2;
+    const I16 may_hit = simd::either(simd::lt(c, 0.0f), simd::both(simd::lt(b, 0.0f), simd::ge(b * b, c)));
+    const I16 traced = simd::both(simd::both(on_ground, shadow_possible), simd::both(disc_may_hit_model(light.direction, light.cos_half_angle, light.sin_half_angle), may_hit));
+    unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_light_share));
+    for (int ch = 0; ch < 3; ++ch)
+      sh.with_light[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_light_share, sh.with_light[ch]);
+    sh.with_light[3] = simd::select(traced, alpha_sign * f.ground_light_share, sh.with_light[3]);
+    sh.shadow_dir = select(traced, d, sh.shadow_dir);
+    sh.shadow_valid = simd::either(sh.shadow_valid, traced);
+  }
+  if (f.ground_sky_share > 0.0f) {
+    // Beyond the AO length from the model's bounding sphere nothing can occlude the sky.
+    const I16 traced = f.ambient_occlusion ? simd::both(on_ground, simd::lt(dist2, f.ground_ao_reach2)) : simd::broadcast_int(0);
+    unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_sky_share));
+    for (int ch = 0; ch < 3; ++ch)
+      sh.with_sky[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_sky_share, sh.with_sky[ch]);
+    sh.with_sky[3] = simd::select(traced, alpha_sign * f.ground_sky_share, sh.with_sky[3]);
+    const V3 up = broadcast(f.up);
+    sh.sky_dir = select(traced, sky_direction(up, broadcast(f.up_t1), broadcast(f.up_t2), s.u_sky, s.v_sky), sh.sky_dir);
+    sh.sky_valid = simd::either(sh.sky_valid, traced);
+  }
+  sh.base[0] = simd::select(on_ground, bg.x * unshadowed, sh.base[0]);
+  sh.base[1] = simd::select(on_ground, bg.y * unshadowed, sh.base[1]);
+  sh.base[2] = simd::select(on_ground, bg.z * unshadowed, sh.base[2]);
+  sh.base[3] = simd::select(on_ground, f.transparent ? 1.0f - unshadowed : zero, sh.base[3]);
+}
+
+// The extra layers (albedo, normal, depth) of the samples on the model: per pixel, over its own
+// samples (no filter: they are data, not light).
+MESHTOUR_SIMD_INLINE void add_to_extra_layers(const FilmTile& film, const Frame& f, const PacketSamples& s, const Hits& h, const V3& dir,
+                                              const SurfacePoint& surface) {
+  if (!film.albedo && !film.normal && !film.depth) return;
+  for (int l = 0; l < simd::kLanes; ++l) {
+    if (!h.on_model[l]) continue;
+    const std::size_t pixel = static_cast<std::size_t>(s.layer_pixel[l]);
+    if (film.albedo) {
+      film.albedo[pixel * 3 + 0] += surface.albedo.x[l] / static_cast<float>(f.spp);
+      film.albedo[pixel * 3 + 1] += surface.albedo.y[l] / static_cast<float>(f.spp);
+      film.albedo[pixel * 3 + 2] += surface.albedo.z[l] / static_cast<float>(f.spp);
+    }
+    if (film.normal) {
+      film.normal[pixel * 3 + 0] += surface.n.x[l];
+      film.normal[pixel * 3 + 1] += surface.n.y[l];
+      film.normal[pixel * 3 + 2] += surface.n.z[l];
+    }
+    if (film.depth) {
+      const float depth = h.t[l] * (dir.x[l] * f.forward.x() + dir.y[l] * f.forward.y() + dir.z[l] * f.forward.z());
+      film.depth[pixel] = std::min(film.depth[pixel], depth);
+    }
+  }
+}
+
+// 4. Shadow and occlusion rays, one rtcOccluded16 each (incoherent): Embree stops at the first
+// hit. The samples' RGBA, now that the visibility is known.
+MESHTOUR_SIMD_INLINE void trace_shadow_and_occlusion_rays(const Impl& r, const Frame& f, RTCIntersectContext& incoherent, Scratch& scratch,
+                                                          const Hits& h, const ShadedSamples& sh, RayRecording::Packet* rec,
+                                                          TileCounts& counts, F16 (&rgba)[4]) {
+  ValidMask shadow_lanes, sky_lanes;
+  simd::store_int(shadow_lanes.data(), sh.shadow_valid);
+  simd::store_int(sky_lanes.data(), sh.sky_valid);
+  const bool any_shadow = simd::any(sh.shadow_valid), any_sky = simd::any(sh.sky_valid);
+  if (any_shadow) set_rays(scratch.shadow, sh.shadow_valid, h.org, sh.shadow_dir, std::numeric_limits<float>::infinity(), kModelMask | kGroundMask);
+  if (any_sky) set_rays(scratch.sky, sh.sky_valid, h.org, sh.sky_dir, f.ao_length, kModelMask | kGroundMask);
+  if (rec) {
+    if (any_shadow) rec->shadow = scratch.shadow;
+    if (any_sky) rec->sky = scratch.sky;
+    rec->shadow_valid = shadow_lanes;
+    rec->sky_valid = sky_lanes;
+  }
+  if (any_shadow) rtcOccluded16(shadow_lanes.data(), r.scene.get(), &incoherent, &scratch.shadow);
+  if (any_sky) rtcOccluded16(sky_lanes.data(), r.scene.get(), &incoherent, &scratch.sky);
+  counts.secondary += static_cast<std::uint64_t>(popcount(sh.shadow_valid) + popcount(sh.sky_valid));
+  // rtcOccluded16 sets tfar to -inf where the ray is blocked.
+  const I16 light_seen = any_shadow ? simd::both(sh.shadow_valid, simd::ge(simd::load(scratch.shadow.tfar), 0.0f)) : sh.shadow_valid;
+  const I16 sky_seen = any_sky ? simd::both(sh.sky_valid, simd::ge(simd::load(scratch.sky.tfar), 0.0f)) : sh.sky_valid;
+  const F16 zero = simd::broadcast(0.0f);
+  for (int ch = 0; ch < 4; ++ch)
+    rgba[ch] = sh.base[ch] + simd::select(light_seen, sh.with_light[ch], zero) + simd::select(sky_seen, sh.with_sky[ch], zero);
+}
+
+// 5. Splat: every sample onto the pixels within the filter's radius of it, on the tile's sums,
+// with the denoiser's guides.
+MESHTOUR_SIMD_INLINE void splat(const ReconstructionFilter& filter, const Frame& f, const FilmTile& film, const PacketSamples& s,
+                                const Hits& h, const ShadedSamples& sh, const F16 (&rgba)[4]) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  const int lanes = s.lanes;
+  const int* buffer_pixel = s.sums_pixel;
+  const int* image_pixel = s.layer_pixel;
+  float* const sums = film.sums;
+  F16 wx[5], wy[5];
+  filter.weights(s.u_cam, wx);
+  filter.weights(s.v_cam, wy);
+  const bool one_pixel = lanes == simd::kLanes && buffer_pixel[0] == buffer_pixel[simd::kLanes - 1];
+  // The unshadowed light splatted off the model: the background's colour at the pixel's centre
+  // row rather than each sample's own (they differ by a thousandth at most), one colour for
+  // all of a pixel's samples, so that a pixel of ground and background needs no sums of its own
+  // for it (splat_uniform_light_packet). The moments keep each sample's own: there the far
+  // ground's visibility is exactly 1, without noise, and is not filtered.
+  V3 splat_light = sh.guide_unshadowed;
+  if (film.guides && !f.transparent) {
+    const F16 t_centre = simd::min(one, simd::max(zero, (simd::load(s.py) + 0.5f) * f.inv_height));
+    splat_light = select(h.on_model, sh.guide_unshadowed, backdrop_colour(f.background_top, f.background_bottom, t_centre));
+  }
+  if (film.guides && one_pixel && !h.any) {
+    // One pixel's samples, all on the background: its guides stay as the tile cleared them (no
+    // normal, no depth: the denoiser passes the pixel through).
+    const float light[3] = {splat_light.x[0], splat_light.y[0], splat_light.z[0]};
+    switch (filter.reach()) {
+      case 0: splat_uniform_light_packet<0, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
+      case 1: splat_uniform_light_packet<1, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
+      default: splat_uniform_light_packet<2, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
+    }
+  } else if (film.guides && one_pixel && !simd::any(h.on_model)) {
+    // One pixel's samples on the ground and the background: the normal is the ground's for
+    // every sample on it, and only the visibility's moments are summed.
+    const float light[3] = {splat_light.x[0], splat_light.y[0], splat_light.z[0]};
+    F16 values[kGuideSums];
+    guide_values(f.transparent, rgba, sh.guide_unshadowed, sh.guide_normal, values);
+    const F16 moments[2] = {values[3], values[4]};
+    float moment_sums[2];
+    switch (filter.reach()) {
+      case 0: splat_uniform_light_packet<0, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
+      case 1: splat_uniform_light_packet<1, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
+      default: splat_uniform_light_packet<2, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
+    }
+    const float on_ground_samples = static_cast<float>(popcount(h.on_ground));
+    const float pixel_sums[kGuideSums] = {f.up.x() * on_ground_samples, f.up.y() * on_ground_samples, f.up.z() * on_ground_samples,
+                                          moment_sums[0], moment_sums[1]};
+    add_pixel_guides(*film.guides, static_cast<std::size_t>(image_pixel[0]), pixel_sums, nearest_depth(sh.guide_depth));
+  } else if (film.guides) {
+    // The denoiser divides the frame by the unshadowed light: splatted with the very same
+    // weights, so that the ratio is the visibility also at silhouettes and colour edges.
+    const F16 values[7] = {rgba[0], rgba[1], rgba[2], rgba[3], splat_light.x, splat_light.y, splat_light.z};
+    F16 extras[kGuideSums];
+    guide_values(f.transparent, rgba, sh.guide_unshadowed, sh.guide_normal, extras);
+    float extra_sums[kGuideSums];
+    bool summed = false;
+    switch (filter.reach()) {
+      case 0: summed = splat_packet<0, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
+      case 1: summed = splat_packet<1, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
+      default: summed = splat_packet<2, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
+    }
+    if (summed) {
+      add_pixel_guides(*film.guides, static_cast<std::size_t>(image_pixel[0]), extra_sums, nearest_depth(sh.guide_depth));
+    } else {
+      add_lane_guides(*film.guides, image_pixel, lanes, extras, sh.guide_depth);
+    }
+  } else {
+    switch (filter.reach()) {
+      case 0: splat_packet<0>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
+      case 1: splat_packet<1>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
+      default: splat_packet<2>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
+    }
+  }
+}
+
 }  // namespace
 
-// The hot loop: a tile's samples, 16 at a time (one packet; one pixel at 16 spp). Each packet
-// goes through every stage before the next starts, so its data stay in registers and L1: camera
-// rays, rtcIntersect16, shading (everything but the visibility of the chosen light and the sky),
-// one rtcOccluded16 for the shadow rays and one for the occlusion rays, the filter's weights,
-// and the splat.
-void Renderer::Impl::MESHTOUR_TILE_KERNEL(const Frame& f, Scratch& scratch, const FilmTile& film, RayRecording::Tile* recorded,
-                                          TileCounts& counts) const {
+// The integrator of a tile: its samples, 16 at a time (one packet), through the stages above:
+// camera rays, intersection, shading, shadow and occlusion rays, splat.
+template <InstructionSet>
+void Renderer::Impl::render_tile(const Frame& f, Scratch& scratch, const FilmTile& film, RayRecording::Tile* recorded,
+                                 TileCounts& counts) const {
   RTCIntersectContext coherent;
   rtcInitIntersectContext(&coherent);
   coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   RTCIntersectContext incoherent;
   rtcInitIntersectContext(&incoherent);
   incoherent.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-
-  const int x0 = film.x0, y0 = film.y0, x1 = film.x1, y1 = film.y1;
-  float* const sums = film.sums;
-  const int tile_w = x1 - x0;
-  const int spp = f.spp;
-  const int nsamples = tile_w * (y1 - y0) * spp;
-  const std::size_t nlights = f.lights.size();
   const V3 eye = broadcast(f.eye);
-  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
-  I16 lane_index;
-  for (int l = 0; l < simd::kLanes; ++l) lane_index.set(l, l);
-
-  // The sample after the last one set up: its pixel (within the tile) and index in the pixel,
-  // the random key of the pixel's block, and the pixel's first index in the block's sequence.
-  int next_pixel = 0, next_sample = 0;
-  std::uint32_t block_key = 0, pixel_base = 0;
-  int pixel_x = 0, pixel_y = 0;
-  int log2_spp = 0;
-  while ((1 << log2_spp) < spp) ++log2_spp;
-
-  for (int k0 = 0; k0 < nsamples; k0 += simd::kLanes) {
-    const int lanes = std::min(simd::kLanes, nsamples - k0);
-    // Lane set-up (scalar): pixel, sample index, random key.
-    alignas(64) float px[16] = {}, py[16] = {};
-    alignas(64) std::uint32_t lane_key[16] = {}, lane_sample[16] = {};
-    alignas(64) int buffer_pixel[16] = {};
-    alignas(64) int image_pixel[16] = {};
-    for (int l = 0; l < lanes; ++l) {
-      if (next_sample == 0) {
-        pixel_x = x0 + next_pixel % tile_w;
-        pixel_y = y0 + next_pixel / tile_w;
-        const std::uint64_t key = rng::pixel_key(f.index ^ f.seed, sampler::block_of(pixel_x, pixel_y));
-        block_key = static_cast<std::uint32_t>(key ^ (key >> 32));
-        pixel_base = sampler::first_index(pixel_x, pixel_y, log2_spp);
+  TileSampler sampler(f, film);
+  for (int first = 0; first < sampler.sample_count(); first += simd::kLanes) {
+    PacketSamples samples;
+    sampler.next(std::min(simd::kLanes, sampler.sample_count() - first), samples);
+    const CameraRays camera = camera_rays(f, samples);
+    RayRecording::Packet* rec = intersect(*this, f, coherent, scratch.primary, samples, eye, camera.dir, recorded, counts);
+    const Hits hits = read_hits(f, scratch.primary, samples, eye, camera.dir);
+    const V3 bg = backdrop(f, camera);
+    ShadedSamples shaded;
+    shade_background(f, bg, shaded);
+    if (hits.any) {
+      shaded.guide_depth = simd::select(simd::either(hits.on_model, hits.on_ground), hits.t * dot(camera.dir, broadcast(f.forward)), shaded.guide_depth);
+      if (simd::any(hits.on_model)) {
+        const SurfacePoint surface = surface_at(*this, f, scratch, scratch.primary, hits, camera.dir);
+        shade_model(f, samples, hits, camera.dir, surface, film.guides != nullptr, shaded);
+        add_to_extra_layers(film, f, samples, hits, camera.dir, surface);
       }
-      px[l] = static_cast<float>(pixel_x);
-      py[l] = static_cast<float>(pixel_y);
-      buffer_pixel[l] = film.sums_pixel(pixel_x, pixel_y);
-      image_pixel[l] = film.layer_pixel(pixel_x, pixel_y);
-      lane_key[l] = block_key;
-      lane_sample[l] = pixel_base | static_cast<std::uint32_t>(next_sample);
-      if (++next_sample == spp) {
-        next_sample = 0;
-        ++next_pixel;
-      }
+      if (simd::any(hits.on_ground)) shade_ground(f, samples, hits, bg, shaded);
     }
-    const I16 valid = simd::lt(lane_index, lanes);
-    // Sample numbers: Owen-scrambled Sobol points, one shuffled 2D sequence per pair of
-    // dimensions (sampler.h).
-    const simd::U16 key = simd::load_uint(lane_key), sample_reversed = sampler::reverse_bits(simd::load_uint(lane_sample));
-    F16 u_cam, v_cam, u_light, v_light, u_sky, v_sky;
-    sampler::pair(sample_reversed, sampler::pair_seeds(key, 0), u_cam, v_cam);
-    sampler::pair(sample_reversed, sampler::pair_seeds(key, 1), u_light, v_light);
-    sampler::pair(sample_reversed, sampler::pair_seeds(key, 2), u_sky, v_sky);
-
-    // 1. Camera rays, spread over the pixel by the sampler.
-    const F16 offset_x = u_cam, offset_y = v_cam;
-    const F16 fx = simd::load(px) + offset_x, fy = simd::load(py) + offset_y;
-    V3 dir{f.corner.x() + fx * f.step_x.x() + fy * f.step_y.x(), f.corner.y() + fx * f.step_x.y() + fy * f.step_y.y(),
-           f.corner.z() + fx * f.step_x.z() + fy * f.step_y.z()};
-    const F16 inv_len = 1.0f / simd::sqrt(dot(dir, dir));
-    dir = {dir.x * inv_len, dir.y * inv_len, dir.z * inv_len};
-    RTCRayHit16& primary = scratch.primary;
-    set_rays(primary.ray, valid, eye, dir, std::numeric_limits<float>::infinity(), f.camera_mask);
-    simd::store_int(primary.hit.geomID, simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
-    simd::store_int(primary.hit.instID[0], simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
-    ValidMask primary_valid;
-    simd::store_int(primary_valid.data(), valid);
-    RayRecording::Packet* rec = nullptr;
-    if (recorded) {
-      rec = &recorded->packets.emplace_back();
-      rec->primary = primary;
-      rec->primary_valid = primary_valid;
-    }
-    rtcIntersect16(primary_valid.data(), scene.get(), &coherent, &primary);
-    counts.primary += static_cast<std::uint64_t>(lanes);
-
-    // 2. Shading.
-    const I16 geom = simd::load_int(primary.hit.geomID);
-    const I16 on_model = simd::both(valid, simd::eq(geom, static_cast<int>(kModelGeometry)));
-    const I16 on_ground = simd::both(valid, simd::eq(geom, static_cast<int>(kGroundGeometry)));
-    const F16 t_bg = simd::min(one, simd::max(zero, fy * f.inv_height));
-    V3 bg{zero, zero, zero};
-    if (!f.transparent)
-      bg = backdrop_colour(f.background_top, f.background_bottom, t_bg);
-    // What a sample contributes: base + (shadow ray unblocked ? with_light : 0) +
-    // (occlusion ray unblocked ? with_sky : 0); RGBA each.
-    F16 base[4] = {bg.x, bg.y, bg.z, zero}, with_light[4] = {zero, zero, zero, zero}, with_sky[4] = {zero, zero, zero, zero};
-    I16 shadow_valid = simd::broadcast_int(0), sky_valid = simd::broadcast_int(0);
-    V3 shadow_dir{zero, zero, one}, sky_dir{zero, zero, one}, org = eye;
-    // What the sample tells the denoiser (denoiser.h): the shading normal, the depth, and the
-    // light it would get if no shadow or occlusion ray were blocked (the background's colour, or
-    // white in transparent frames, for the ground and the background: their "lighting" is the
-    // shadow): the frame is divided by it, so that the denoiser filters only the visibility of
-    // the lights and the sky (the shading's detail, normals, textures and highlights, is
-    // noise-free and stays sharp).
-    V3 guide_normal{zero, zero, zero};
-    V3 guide_unshadowed = f.transparent ? V3{one, one, one} : bg;
-    F16 guide_depth = simd::broadcast(std::numeric_limits<float>::infinity());
-
-    const bool any_hit = simd::any(simd::either(on_model, on_ground));
-    if (any_hit) {
-      const F16 t = simd::load(primary.ray.tfar);
-      guide_depth = simd::select(simd::either(on_model, on_ground), t * dot(dir, broadcast(f.forward)), guide_depth);
-      V3 ng{simd::load(primary.hit.Ng_x), simd::load(primary.hit.Ng_y), simd::load(primary.hit.Ng_z)};
-      const F16 ng_len2 = dot(ng, ng);
-      // Two-sided: open scans show their inside.
-      const F16 ng_scale = simd::select(simd::gt(dot(ng, dir), 0.0f), -one, one) / simd::select(simd::gt(ng_len2, 0.0f), simd::sqrt(ng_len2), one);
-      ng = {ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale};
-      org = {eye.x + t * dir.x + f.eps * ng.x, eye.y + t * dir.y + f.eps * ng.y, eye.z + t * dir.z + f.eps * ng.z};
-
-      if (simd::any(on_model)) {
-        // Smooth normal and colour: interpolated from the hit triangle's vertices (gathers).
-        alignas(64) float nx[16] = {}, ny[16] = {}, nz[16] = {}, ar[16], ag[16], ab[16];
-        for (int l = 0; l < simd::kLanes; ++l) {
-          ar[l] = f.base_color.x();
-          ag[l] = f.base_color.y();
-          ab[l] = f.base_color.z();
-          if (!on_model[l]) continue;
-          const std::size_t prim = primary.hit.primID[l];
-          const auto& tri = triangles[prim];
-          const float bu = primary.hit.u[l], bv = primary.hit.v[l], bw = 1.0f - bu - bv;
-          const Eigen::Vector3f n = bw * normals[tri[0]] + bu * normals[tri[1]] + bv * normals[tri[2]];
-          nx[l] = n.x();
-          ny[l] = n.y();
-          nz[l] = n.z();
-          Eigen::Vector3f c(ar[l], ag[l], ab[l]);
-          if (!colors.empty()) c = bw * colors[tri[0]] + bu * colors[tri[1]] + bv * colors[tri[2]];
-          if (!surfaces.empty()) {
-            const Surface& surface = surfaces[triangle_surface.empty() ? 0 : triangle_surface[prim]];
-            if (surface.texture) {
-              const Eigen::Vector2f uv = bw * corner_uvs[3 * prim] + bu * corner_uvs[3 * prim + 1] + bv * corner_uvs[3 * prim + 2];
-              // Isotropic footprint of one sample in texture space: the pixel's width at this
-              // distance, stretched by the slant, divided by sqrt(spp) because the samples already
-              // average over the pixel.
-              const float slant = std::max(0.2f, std::abs(ng.x[l] * dir.x[l] + ng.y[l] * dir.y[l] + ng.z[l] * dir.z[l]));
-              const float width_uv = uv_scale[prim] * t[l] * f.pixel_angle / slant / std::sqrt(static_cast<float>(spp));
-              OIIO::TextureOpt opt;
-              opt.swrap = surface.wrap_s;
-              opt.twrap = surface.wrap_t;
-              float rgb[3] = {0, 0, 0};
-              // OBJ's v runs upwards; OpenImageIO's t runs down the image.
-              if (textures->texture(surface.texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f,
-                                    width_uv, 3, rgb)) {
-                const Eigen::Vector3f texel = surface.texture_srgb ? srgb_to_linear(Eigen::Vector3f(rgb[0], rgb[1], rgb[2]))
-                                                                   : Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
-                c = surface.texture_times_vertex_colors && !colors.empty() ? Eigen::Vector3f(texel.cwiseProduct(c)) : texel;
-              }
-              c = c.cwiseProduct(surface.factor);
-            } else if (surface.replaces_base_color) {
-              c = colors.empty() ? surface.factor : Eigen::Vector3f(c.cwiseProduct(surface.factor));
-            }
-          }
-          ar[l] = c.x();
-          ag[l] = c.y();
-          ab[l] = c.z();
-        }
-        V3 n{simd::load(nx), simd::load(ny), simd::load(nz)};
-        const F16 n_len2 = dot(n, n);
-        const F16 inv_n = 1.0f / simd::sqrt(simd::select(simd::gt(n_len2, 0.0f), n_len2, one));
-        n = select(simd::gt(n_len2, 0.0f), V3{n.x * inv_n, n.y * inv_n, n.z * inv_n}, ng);
-        n = select(simd::gt(dot(n, dir), 0.0f), V3{-n.x, -n.y, -n.z}, n);
-        const V3 albedo{simd::load(ar), simd::load(ag), simd::load(ab)};
-        guide_normal = select(on_model, n, guide_normal);
-        const V3 view{-dir.x, -dir.y, -dir.z};
-        // Unshadowed Blinn-Phong light from a light (cos_l = cosine of its incidence, > 0).
-        auto reflected = [&](const V3& light_dir, const V3& radiance, F16 cos_l) __attribute__((always_inline)) {
-          const V3 half{light_dir.x + view.x, light_dir.y + view.y, light_dir.z + view.z};
-          const F16 cos_h = dot(n, half) / simd::sqrt(dot(half, half));
-          const F16 spec = simd::select(simd::gt(cos_h, f.spec_cutoff), f.spec_scale * simd::pow_unit(simd::max(cos_h, simd::broadcast(1e-30f)), f.shininess), zero);
-          return V3{radiance.x * (albedo.x + spec) * cos_l, radiance.y * (albedo.y + spec) * cos_l, radiance.z * (albedo.z + spec) * cos_l};
-        };
-        // What each light would bring here unshadowed (diffuse and highlight; 0 from behind).
-        V3 contributions[8];
-        for (std::size_t i = 0; i < nlights; ++i) {
-          const F16 cos_i = dot(n, broadcast(f.lights[i].direction));
-          const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cos_i);
-          const I16 lit = simd::gt(cos_i, 0.0f);
-          contributions[i] = {simd::select(lit, c.x, zero), simd::select(lit, c.y, zero), simd::select(lit, c.z, zero)};
-        }
-        V3 model_base{zero, zero, zero};
-        V3 model_light{zero, zero, zero};
-        I16 model_shadow = simd::broadcast_int(0);
-        if (f.shadows) {
-          // One shadow ray to one light, chosen in proportion to the light it brings here
-          // unshadowed (the luminance of its whole contribution, highlight included) and weighted
-          // by 1/probability: unbiased, exact in luminance wherever no light is blocked, and the
-          // light that matters most here gets most of the rays.
-          F16 weights[8];
-          F16 total = zero;
-          for (std::size_t i = 0; i < nlights; ++i) {
-            weights[i] = luminance(contributions[i].x, contributions[i].y, contributions[i].z);
-            total += weights[i];
-          }
-          F16 u_disc;
-          const I16 chosen = choose(weights, nlights, total, u_light, u_disc);
-          F16 chosen_weight = zero;
-          V3 c{zero, zero, zero};
-          for (std::size_t i = 0; i < nlights; ++i) {
-            const I16 m = simd::eq(chosen, static_cast<int>(i));
-            chosen_weight = simd::select(m, weights[i], chosen_weight);
-            c = select(m, contributions[i], c);
-          }
-          model_shadow = simd::both(on_model, simd::gt(total, 0.0f));
-          const LaneLight light = lane_light(f.lights, chosen);
-          const F16 inverse_probability = total / simd::select(model_shadow, chosen_weight, one);
-          model_light = {c.x * inverse_probability, c.y * inverse_probability, c.z * inverse_probability};
-          shadow_dir = light_direction(light, u_disc, v_light);
-        } else {
-          for (std::size_t i = 0; i < nlights; ++i)
-            model_base = {model_base.x + contributions[i].x, model_base.y + contributions[i].y, model_base.z + contributions[i].z};
-        }
-        const V3 sky{albedo.x * f.ambient.x(), albedo.y * f.ambient.y(), albedo.z * f.ambient.z()};
-        if (film.guides) {
-          V3 unshadowed = sky;
-          for (std::size_t i = 0; i < nlights; ++i)
-            unshadowed = {unshadowed.x + contributions[i].x, unshadowed.y + contributions[i].y, unshadowed.z + contributions[i].z};
-          guide_unshadowed = select(on_model, unshadowed, guide_unshadowed);
-        }
-        V3 model_sky{zero, zero, zero};
-        if (f.ambient_occlusion) {
-          model_sky = sky;
-          V3 t1, t2;
-          basis(n, t1, t2);
-          sky_dir = select(on_model, sky_direction(n, t1, t2, u_sky, v_sky), sky_dir);
-          sky_valid = simd::either(sky_valid, on_model);
-        } else {
-          model_base = {model_base.x + sky.x, model_base.y + sky.y, model_base.z + sky.z};
-        }
-        shadow_valid = simd::either(shadow_valid, model_shadow);
-        base[0] = simd::select(on_model, model_base.x, base[0]);
-        base[1] = simd::select(on_model, model_base.y, base[1]);
-        base[2] = simd::select(on_model, model_base.z, base[2]);
-        base[3] = simd::select(on_model, one, base[3]);
-        with_light[0] = simd::select(model_shadow, model_light.x, with_light[0]);
-        with_light[1] = simd::select(model_shadow, model_light.y, with_light[1]);
-        with_light[2] = simd::select(model_shadow, model_light.z, with_light[2]);
-        with_sky[0] = simd::select(on_model, model_sky.x, with_sky[0]);
-        with_sky[1] = simd::select(on_model, model_sky.y, with_sky[1]);
-        with_sky[2] = simd::select(on_model, model_sky.z, with_sky[2]);
-
-        // Extra layers: averaged over the pixel's own samples (no filter: they are data, not light).
-        if (film.albedo || film.normal || film.depth)
-          for (int l = 0; l < simd::kLanes; ++l) {
-            if (!on_model[l]) continue;
-            const std::size_t pixel = static_cast<std::size_t>(image_pixel[l]);
-            if (film.albedo) {
-              film.albedo[pixel * 3 + 0] += albedo.x[l] / static_cast<float>(spp);
-              film.albedo[pixel * 3 + 1] += albedo.y[l] / static_cast<float>(spp);
-              film.albedo[pixel * 3 + 2] += albedo.z[l] / static_cast<float>(spp);
-            }
-            if (film.normal) {
-              film.normal[pixel * 3 + 0] += n.x[l];
-              film.normal[pixel * 3 + 1] += n.y[l];
-              film.normal[pixel * 3 + 2] += n.z[l];
-            }
-            if (film.depth) {
-              const float depth = t[l] * (dir.x[l] * f.forward.x() + dir.y[l] * f.forward.y() + dir.z[l] * f.forward.z());
-              film.depth[pixel] = std::min(film.depth[pixel], depth);
-            }
-          }
-      }
-
-      if (simd::any(on_ground)) {
-        guide_normal = select(on_ground, broadcast(f.up), guide_normal);
-        // The ground shows the background, darkened by the share of light and sky the model
-        // takes away from it (a shadow catcher); transparent frames get the shadow as alpha. The
-        // share whose ray is traced comes back if the ray is unblocked.
-        F16 unshadowed = simd::broadcast(1.0f - f.ground_shadow);
-        const F16 alpha_sign = simd::broadcast(f.transparent ? -1.0f : 0.0f);
-        // Only the model casts shadows on the ground: a ray that misses the model's bounding
-        // sphere is known to be unblocked and is not traced (most of the visible ground).
-        const F16 dist2 = dot(org, org), dist = simd::sqrt(dist2);
-        const float radius2 = f.model_radius * f.model_radius;
-        const F16 sin_r = simd::min(one, f.model_radius / dist), cos_r = simd::sqrt(1.0f - sin_r * sin_r);
-        const I16 inside = simd::le(dist2, radius2);
-        // The same test for a light's whole disc, before sampling a direction in it: the cone
-        // around the light's centre misses the sphere when the angle between its axis and the
-        // sphere's centre exceeds the cone's half angle plus the sphere's angular radius.
-        auto disc_may_hit_model = [&](const V3& light_dir, F16 cos_half, F16 sin_half) __attribute__((always_inline)) {
-          const F16 cos_limit = cos_half * cos_r - sin_half * sin_r;  // cos(half angle + radius)
-          const F16 cos_axis = -dot(org, light_dir) / dist;
-          return simd::either(inside, simd::ge(cos_axis, cos_limit - 1e-4f));  // margin for rounding
-        };
-        if (f.ground_light_share > 0.0f) {
-          I16 shadow_possible = simd::broadcast_int(0);  // from some light with a share of the ground's light
-          if (f.shadows)
-            for (std::size_t i = 0; i < nlights; ++i)
-              if (f.ground_weights[i] > 0.0f)
-                shadow_possible = simd::either(shadow_possible, disc_may_hit_model(broadcast(f.lights[i].direction), simd::broadcast(f.lights[i].cos_half_angle),
-                                                      simd::broadcast(f.lights[i].sin_half_angle)));
-          F16 u_disc;
-          const I16 chosen = choose(f.ground_weights, nlights, simd::broadcast(f.ground_light_total), u_light, u_disc);
-          const LaneLight light = lane_light(f.lights, chosen);
-          const V3 d = light_direction(light, u_disc, v_light);
-          const F16 b = dot(org, d), c = dist2 - radius2;
-          const I16 may_hit = simd::either(simd::lt(c, 0.0f), simd::both(simd::lt(b, 0.0f), simd::ge(b * b, c)));
-          const I16 traced = simd::both(simd::both(on_ground, shadow_possible), simd::both(disc_may_hit_model(light.direction, light.cos_half_angle, light.sin_half_angle), may_hit));
-          unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_light_share));
-          for (int ch = 0; ch < 3; ++ch)
-            with_light[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_light_share, with_light[ch]);
-          with_light[3] = simd::select(traced, alpha_sign * f.ground_light_share, with_light[3]);
-          shadow_dir = select(traced, d, shadow_dir);
-          shadow_valid = simd::either(shadow_valid, traced);
-        }
-        if (f.ground_sky_share > 0.0f) {
-          // Beyond the AO length from the model's bounding sphere nothing can occlude the sky.
-          const I16 traced = f.ambient_occlusion ? simd::both(on_ground, simd::lt(dist2, f.ground_ao_reach2)) : simd::broadcast_int(0);
-          unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_sky_share));
-          for (int ch = 0; ch < 3; ++ch)
-            with_sky[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_sky_share, with_sky[ch]);
-          with_sky[3] = simd::select(traced, alpha_sign * f.ground_sky_share, with_sky[3]);
-          const V3 up = broadcast(f.up);
-          sky_dir = select(traced, sky_direction(up, broadcast(f.up_t1), broadcast(f.up_t2), u_sky, v_sky), sky_dir);
-          sky_valid = simd::either(sky_valid, traced);
-        }
-        base[0] = simd::select(on_ground, bg.x * unshadowed, base[0]);
-        base[1] = simd::select(on_ground, bg.y * unshadowed, base[1]);
-        base[2] = simd::select(on_ground, bg.z * unshadowed, base[2]);
-        base[3] = simd::select(on_ground, f.transparent ? 1.0f - unshadowed : zero, base[3]);
-      }
-    }
-
-    // 3. Shadow and occlusion rays: Embree stops at the first hit.
-    ValidMask shadow_lanes, sky_lanes;
-    simd::store_int(shadow_lanes.data(), shadow_valid);
-    simd::store_int(sky_lanes.data(), sky_valid);
-    const bool any_shadow = simd::any(shadow_valid), any_sky = simd::any(sky_valid);
-    if (any_shadow) set_rays(scratch.shadow, shadow_valid, org, shadow_dir, std::numeric_limits<float>::infinity(), kModelMask | kGroundMask);
-    if (any_sky) set_rays(scratch.sky, sky_valid, org, sky_dir, f.ao_length, kModelMask | kGroundMask);
-    if (rec) {
-      if (any_shadow) rec->shadow = scratch.shadow;
-      if (any_sky) rec->sky = scratch.sky;
-      rec->shadow_valid = shadow_lanes;
-      rec->sky_valid = sky_lanes;
-    }
-    if (any_shadow) rtcOccluded16(shadow_lanes.data(), scene.get(), &incoherent, &scratch.shadow);
-    if (any_sky) rtcOccluded16(sky_lanes.data(), scene.get(), &incoherent, &scratch.sky);
-    counts.secondary += static_cast<std::uint64_t>(popcount(shadow_valid) + popcount(sky_valid));
-    // rtcOccluded16 sets tfar to -inf where the ray is blocked.
-    const I16 light_seen = any_shadow ? simd::both(shadow_valid, simd::ge(simd::load(scratch.shadow.tfar), 0.0f)) : shadow_valid;
-    const I16 sky_seen = any_sky ? simd::both(sky_valid, simd::ge(simd::load(scratch.sky.tfar), 0.0f)) : sky_valid;
     F16 rgba[4];
-    for (int ch = 0; ch < 4; ++ch)
-      rgba[ch] = base[ch] + simd::select(light_seen, with_light[ch], zero) + simd::select(sky_seen, with_sky[ch], zero);
-
-    // 4. Reconstruction filter: every sample is splatted onto the pixels within the radius.
-    F16 wx[5], wy[5];
-    filter.weights(offset_x, wx);
-    filter.weights(offset_y, wy);
-    const bool one_pixel = lanes == simd::kLanes && buffer_pixel[0] == buffer_pixel[simd::kLanes - 1];
-    // The unshadowed light splatted off the model: the background's colour at the pixel's centre
-    // row rather than each sample's own (they differ by a thousandth at most), one colour for
-    // all of a pixel's samples, so that a pixel of ground and background needs no sums of its own
-    // for it (splat_uniform_light_packet). The moments keep each sample's own: there the far
-    // ground's visibility is exactly 1, without noise, and is not filtered.
-    V3 splat_light = guide_unshadowed;
-    if (film.guides && !f.transparent) {
-      const F16 t_centre = simd::min(one, simd::max(zero, (simd::load(py) + 0.5f) * f.inv_height));
-      splat_light = select(on_model, guide_unshadowed, backdrop_colour(f.background_top, f.background_bottom, t_centre));
-    }
-    if (film.guides && one_pixel && !any_hit) {
-      // One pixel's samples, all on the background: its guides stay as the tile cleared them (no
-      // normal, no depth: the denoiser passes the pixel through).
-      const float light[3] = {splat_light.x[0], splat_light.y[0], splat_light.z[0]};
-      switch (filter.reach()) {
-        case 0: splat_uniform_light_packet<0, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
-        case 1: splat_uniform_light_packet<1, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
-        default: splat_uniform_light_packet<2, 0>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride); break;
-      }
-    } else if (film.guides && one_pixel && !simd::any(on_model)) {
-      // One pixel's samples on the ground and the background: the normal is the ground's for
-      // every sample on it, and only the visibility's moments are summed.
-      const float light[3] = {splat_light.x[0], splat_light.y[0], splat_light.z[0]};
-      F16 values[kGuideSums];
-      guide_values(f.transparent, rgba, guide_unshadowed, guide_normal, values);
-      const F16 moments[2] = {values[3], values[4]};
-      float moment_sums[2];
-      switch (filter.reach()) {
-        case 0: splat_uniform_light_packet<0, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
-        case 1: splat_uniform_light_packet<1, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
-        default: splat_uniform_light_packet<2, 2>(rgba, light, wx, wy, buffer_pixel[0], sums, film.stride, moments, moment_sums); break;
-      }
-      const float on_ground_samples = static_cast<float>(popcount(on_ground));
-      const float pixel_sums[kGuideSums] = {f.up.x() * on_ground_samples, f.up.y() * on_ground_samples, f.up.z() * on_ground_samples,
-                                            moment_sums[0], moment_sums[1]};
-      add_pixel_guides(*film.guides, static_cast<std::size_t>(image_pixel[0]), pixel_sums, nearest_depth(guide_depth));
-    } else if (film.guides) {
-      // The denoiser divides the frame by the unshadowed light: splatted with the very same
-      // weights, so that the ratio is the visibility also at silhouettes and colour edges.
-      const F16 values[7] = {rgba[0], rgba[1], rgba[2], rgba[3], splat_light.x, splat_light.y, splat_light.z};
-      F16 extras[kGuideSums];
-      guide_values(f.transparent, rgba, guide_unshadowed, guide_normal, extras);
-      float extra_sums[kGuideSums];
-      bool summed = false;
-      switch (filter.reach()) {
-        case 0: summed = splat_packet<0, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
-        case 1: summed = splat_packet<1, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
-        default: summed = splat_packet<2, 7, kGuideSums>(values, wx, wy, buffer_pixel, lanes, sums, film.stride, extras, extra_sums); break;
-      }
-      if (summed) {
-        add_pixel_guides(*film.guides, static_cast<std::size_t>(image_pixel[0]), extra_sums, nearest_depth(guide_depth));
-      } else {
-        add_lane_guides(*film.guides, image_pixel, lanes, extras, guide_depth);
-      }
-    } else {
-      switch (filter.reach()) {
-        case 0: splat_packet<0>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
-        case 1: splat_packet<1>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
-        default: splat_packet<2>(rgba, wx, wy, buffer_pixel, lanes, sums, film.stride); break;
-      }
-    }
+    trace_shadow_and_occlusion_rays(*this, f, incoherent, scratch, hits, shaded, rec, counts, rgba);
+    splat(filter, f, film, samples, hits, shaded, rgba);
   }
 }
+
+// This file's copy of the kernel.
+static_assert(kCompiledFor == InstructionSet::baseline || simd::kNativeLanes >= 8, "a wide copy compiled without wide vectors");
+template void Renderer::Impl::render_tile<kCompiledFor>(const Frame&, Scratch&, const FilmTile&, RayRecording::Tile*, TileCounts&) const;
 
 }  // namespace meshtour
