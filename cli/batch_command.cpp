@@ -12,11 +12,10 @@
 
 #include "cli/commands.h"
 #include "tour/batch_job.h"
-#include "cli/common_options.h"
 #include "cli/scene_args.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 
 namespace meshtour::cli {
 
@@ -35,12 +34,15 @@ void add_batch_command(CLI::App& app) {
       "Exit code 5 when some items failed (the others are done), 0 when none did.\n"
       "Example CSV:\n  mesh,up,output,preset\n  bunny.ply,y,bunny.mp4,studio\n  dragon.stl,z,,plain");
   cmd->add_option("manifest", args->manifest, "Manifest: .csv with a header row, or .json")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--out-dir", args->out_dir, "Directory for the videos and batch-summary.json (created if needed)")->required();
-  cmd->add_option("--item", args->item, "Run only the item with this 0-based index (one farm array task per item)")
-      ->check(CLI::NonNegativeNumber);
-  add_scene_options(*cmd, args->defaults, options::batch, /*with_input=*/false);
-  add_progress_option(*cmd, args->progress);
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors and the summary table");
+  add_scene_options(*cmd, args->defaults, options::batch,
+                    {{"threads", options::to(args->threads)},
+                     {"web", options::to(args->web)},
+                     {"page-only", options::to(args->page_only)},
+                     {"out-dir", options::to(args->out_dir)},
+                     {"item", options::to(args->item)},
+                     {"progress", options::to(args->progress, parse_progress_mode)},
+                     {"quiet", options::to(args->quiet)}},
+                    /*with_input=*/false);
   cmd->callback([args] { run_batch(*args); });
 }
 

@@ -19,7 +19,7 @@
 #include "cli/scene_args.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 #include "jobs/frame_dir.h"
 #include "pathgen/path_file.h"
 
@@ -38,20 +38,21 @@ void add_farm_command(CLI::App& app) {
       "With --manifest, one array task per batch item instead ('meshtour batch --item i'), printing\n"
       "batch_job=ID. Paths in the scripts are absolute: DIR must be on a filesystem every node shares.\n"
       "Re-submitting resumes: frames and videos that exist are skipped.");
-  add_scene_options(*cmd, args->scene, options::farm);
-  cmd->add_option("--manifest", args->manifest, "A batch manifest (CSV or JSON, see 'meshtour batch --help'): one array task per item")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--out-dir", args->out_dir, "Directory for the scripts, the path, the frames, logs and the video (shared by all nodes)")
-      ->required();
-  cmd->add_option("-o,--output", args->output, "Video file name inside --out-dir (default <input name> + the codec's extension)");
-  cmd->add_option("--chunk-size", args->chunk_size, "Frames per array task (default 10)")->check(CLI::Range(1, 1000000));
-  cmd->add_option("--partition", args->partition, "Slurm partition (sbatch --partition; default: the cluster's default)");
-  cmd->add_option("--time", args->time_limit, "Time limit of each task (sbatch --time, e.g. 30 or 2:00:00)");
-  cmd->add_option("--cpus-per-task", args->cpus_per_task, "CPUs per task (sbatch --cpus-per-task); render uses that many threads (default 1)")
-      ->check(CLI::Range(1, 1024));
-  cmd->add_option("--executable", args->executable, "The meshtour executable the jobs run (default: this one)");
-  cmd->add_flag("--submit", args->submit, "Submit the jobs with sbatch and print their ids");
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors and the job ids");
+  options::Values& given = args->scene.values;  // what the tasks are given again (forwarded_args)
+  add_scene_options(*cmd, args->scene, options::farm,
+                    {{"codec", options::recorded(given, "codec", options::to(args->codec))},
+                     {"format", options::to(args->format)},
+                     {"web", options::recorded(given, "web", options::to(args->web))},
+                     {"manifest", options::to(args->manifest)},
+                     {"out-dir", options::to(args->out_dir)},
+                     {"output", options::to(args->output)},
+                     {"chunk-size", options::to(args->chunk_size)},
+                     {"partition", options::to(args->partition)},
+                     {"time", options::to(args->time_limit)},
+                     {"cpus-per-task", options::to(args->cpus_per_task)},
+                     {"executable", options::to(args->executable)},
+                     {"submit", options::to(args->submit)},
+                     {"quiet", options::to(args->quiet)}});
   cmd->callback([args] { run_farm_slurm(*args); });
 }
 

@@ -12,10 +12,8 @@
 #include "cli/commands.h"
 #include "tour/path_job.h"
 #include "tour/mesh_warnings.h"
-#include "cli/path_options.h"
 #include "tour/path_overview.h"
 #include "tour/path_plot.h"
-#include "cli/common_options.h"
 #include "cli/scene_args.h"
 #include "core/error.h"
 #include "mesh/mesh.h"
@@ -38,48 +36,22 @@ void add_path_command(CLI::App& app) {
       "B-spline through them gives the height of the camera as it circles the model. Lengths "
       "in options are in units of the bounding-box diagonal; I-n refers to the interpretations "
       "in docs/METHOD.md §15.");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("mesh", args->mesh, "Mesh file (" + supported_mesh_formats() + ")")
-      ->required()
-      ->type_name("MESH");
-  cmd->add_option("--up", args->up, kPaperUpHelp)
-      ->check(up_direction_validator())
-      ->type_name("AXIS")
-      ->capture_default_str();
-  cmd->add_option("-o,--output", args->output,
-                  "Path file to write (JSON, normalized units plus the transform back to model "
-                  "units). Default: <mesh name>.path.json in the current folder")
-      ->type_name("FILE");
-  cmd->add_option("--plot", args->plot,
-                  "Also draw a PNG of the grid weights over the (angle, height) domain with the "
-                  "control points (white discs), the base (white), gaze (cyan) and position "
-                  "(magenta) curves and the start cell (red)")
-      ->type_name("PNG");
-  cmd->add_option("--debug-dir", args->debug_dir,
-                  "Also write the debug outputs of §14 into this folder: patches.ply, "
-                  "face_weights.ply, cell_weights.ply (the smoothed mesh in model units, faces "
-                  "coloured by patch / by w(f) / by the weight of their cell, green = low, red = "
-                  "high) and samples.csv (the sampled curves and camera poses)")
-      ->type_name("DIR");
-  cmd->add_option("--path", args->mode,
-                  "Path mode: paper (this method; the path file, --plot and --debug-dir describe it), turntable or "
-                  "feature-orbit (see 'meshtour evaluate --help'); the other modes need a coordinate --up axis")
-      ->check(CLI::IsMember({"paper", "turntable", "feature-orbit"}))
-      ->capture_default_str();
-  cmd->add_option("--overview", args->overview,
-                  "Also render a picture of the path (PNG): the model, its bounding cylinder (blue-grey), the camera "
-                  "positions (magenta), the points looked at (cyan), sight lines (yellow) and the start (red)")
-      ->type_name("PNG");
-  cmd->add_option("--overview-size", args->overview_size, "Size of the --overview picture, WIDTHxHEIGHT")
-      ->type_name("WxH")
-      ->capture_default_str();
-  cmd->add_option("--samples", args->options.samples,
-                  "Samples per loop K in samples.csv (§13.3)")
-      ->check(CLI::Range(1, 1000000))
-      ->capture_default_str();
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
-  options::add_registered_options(*cmd, options::path, args->values);
-  add_resource_options(*cmd, args->resources);
+  add_mesh_argument(*cmd, args->mesh);
+  options::add_command_options(*cmd, options::path, args->values,
+                               {{"up", options::to(args->up)},
+                                {"path", options::to(args->mode)},
+                                {"threads", options::to(args->threads)},
+                                {"gltf", options::to(args->gltf)},
+                                {"camera-frames", options::to(args->camera_frames)},
+                                {"output", options::to(args->output)},
+                                {"plot", options::to(args->plot)},
+                                {"debug-dir", options::to(args->debug_dir)},
+                                {"overview", options::to(args->overview)},
+                                {"overview-size", options::to(args->overview_size)},
+                                {"path-samples", options::to(args->options.samples)},
+                                {"max-memory", options::to(args->resources.max_memory)},
+                                {"verbose", options::to(args->resources.verbose)},
+                                {"quiet", options::to(args->quiet)}});
   cmd->callback([args] { run_path(*args); });
 }
 

@@ -12,7 +12,6 @@
 
 #include "cli/commands.h"
 #include "tour/render_job.h"
-#include "cli/common_options.h"
 #include "cli/scene_args.h"
 #include "core/error.h"
 #include "jobs/frame_dir.h"
@@ -29,12 +28,16 @@ void add_render_command(CLI::App& app) {
       "already exist are skipped (each file appears only when complete), so a killed job is resumed by\n"
       "running it again. Any split of the frames over processes gives the same bytes as one run.\n"
       "SIGINT/SIGTERM stop after the current frame (exit 130).");
-  add_scene_options(*cmd, args->scene, options::render);
-  cmd->add_option("--out-dir", args->out_dir, "Directory for the frames and the manifest (created if needed)")->required();
-  cmd->add_flag("--overwrite", args->overwrite, "Render the selected frames again even if they exist");
-  add_progress_option(*cmd, args->progress);
-  add_resource_options(*cmd, args->resources);
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
+  add_scene_options(*cmd, args->scene, options::render,
+                    {{"frame-selection", options::to(args->frames)},
+                     {"format", options::to(args->format)},
+                     {"threads", options::to(args->threads)},
+                     {"out-dir", options::to(args->out_dir)},
+                     {"overwrite", options::to(args->overwrite)},
+                     {"progress", options::to(args->progress, parse_progress_mode)},
+                     {"max-memory", options::to(args->resources.max_memory)},
+                     {"verbose", options::to(args->resources.verbose)},
+                     {"quiet", options::to(args->quiet)}});
   cmd->callback([args] { run_render(*args); });
 }
 

@@ -20,19 +20,6 @@ namespace {
 
 using nlohmann::json;
 
-// A string that must be one of `choices` (listed in the message otherwise).
-void read_choice(JsonReader& r, const std::string& key, std::string& out, const std::vector<std::string>& choices) {
-  if (!r.has(key)) return;
-  std::string value;
-  r.read(key, value);
-  if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
-    std::string list;
-    for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-    r.fail_key(key, "is '" + value + "'; use one of " + list);
-  }
-  out = value;
-}
-
 // A linear RGB colour.
 void read_color(JsonReader& r, const std::string& key, Eigen::Vector3f& out) {
   r.read_vector(key, out, 0.0, 1000.0, "components must be between 0 and 1000 (linear RGB)");
@@ -57,7 +44,7 @@ std::optional<std::string> read_registered(JsonReader& r, const std::string& key
     r.fail_key(key, "must be " + std::string(o.kind == options::Kind::choice_list ? "an array of names" : "a number or a string"));
   }
   // Scene files describe tours, whose video is H.264: a codec-dependent value is checked for it.
-  const std::string problem = o.codec_ranges.empty() ? options::check_value(o, text) : options::check_value_for_codec(o, text, "h264");
+  const std::string problem = !o.codec_dependent ? options::check_value(o, text) : options::check_value_for_codec(o, text, "h264");
   if (!problem.empty()) r.fail_key(key, problem);
   return options::normalize_value(o, text);
 }
@@ -87,6 +74,7 @@ void apply_look_value(Shading& sh, std::string_view id, const std::string& text)
   if (id == "background") sh.background = text == "transparent" ? BackgroundKind::transparent : BackgroundKind::gradient;
   if (id == "exposure") sh.exposure = std::stof(text);
   if (id == "crease-angle") sh.material.crease_angle_deg = std::stof(text);
+  if (id == "tone-mapping") sh.tone_mapping = text == "clamp" ? ToneMapping::clamp : ToneMapping::filmic;
 }
 
 // The "look" object: a preset, then any of its values overridden. `preset_override`, when not
@@ -139,9 +127,7 @@ void apply_look(const json& look_json, const std::string& source, Shading& sh, c
   read_color(look, "background_top", sh.background_top);
   read_color(look, "background_bottom", sh.background_bottom);
   if (auto exposure = read_registered(look, "exposure", options::option("exposure"))) apply_look_value(sh, "exposure", *exposure);
-  std::string tone = sh.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp";
-  read_choice(look, "tone_mapping", tone, {"filmic", "clamp"});
-  sh.tone_mapping = tone == "filmic" ? ToneMapping::filmic : ToneMapping::clamp;
+  if (auto tone = read_registered(look, "tone_mapping", options::option("tone-mapping"))) apply_look_value(sh, "tone-mapping", *tone);
   look.finish();
 }
 
@@ -226,7 +212,7 @@ void apply_option(Scene& scene, const options::Option& o, const std::string& tex
     scene.render.samples_per_pixel = integer();
   } else if (id == "denoise") {
     scene.render.denoise = text == "on";
-  } else if (id == "background" || id == "exposure" || id == "crease-angle") {
+  } else if (id == "background" || id == "exposure" || id == "crease-angle" || id == "tone-mapping") {
     apply_look_value(scene.render.shading, id, text);
   } else if (id == "exr-layers") {
     for (std::size_t begin = 0; begin <= text.size();) {

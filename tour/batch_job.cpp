@@ -9,7 +9,7 @@
 #include <string>
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 #include "core/interrupt.h"
 #include "tour/mesh_warnings.h"
 #include "tour/path_overview.h"
@@ -31,8 +31,6 @@ struct ItemResult {
   double duration = -1;
 };
 
-bool flag_given(const options::Values& values, std::string_view id) { return value_or(values, id, "false") == "true"; }
-
 // The batch's command-line values with the item's columns on top; a column replaces the option
 // it excludes too (an item's "seconds" wins over a --frames given for the whole batch).
 SceneArgs item_scene_args(const SceneArgs& defaults, const BatchItem& item) {
@@ -53,7 +51,7 @@ ItemResult run_item(const BatchJob& args, const BatchItem& item) {
   const std::filesystem::path dir(args.out_dir);
   const std::filesystem::path video = dir / item.output;
   const std::string stem = std::filesystem::path(item.output).stem().string();
-  const bool web = flag_given(args.defaults.values, "web");
+  const bool web = args.web;
   r.poster = value_or(item.values, "poster", stem + ".poster.png");
   r.caption = value_or(item.values, "caption", value_or(args.defaults.values, "caption", ""));
   if (web) r.webm = stem + ".webm", r.gltf = stem + ".gltf";
@@ -78,8 +76,8 @@ ItemResult run_item(const BatchJob& args, const BatchItem& item) {
       for (const char* id : {"caption-position", "caption-size", "font"}) caption_values.erase(id);
     job.caption = caption_args(caption_values);
     if (web) job.webm = dir / r.webm, job.gltf = dir / r.gltf;
-    job.threads = int_value_or(args.defaults.values, "threads", 0);
-    job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
+    job.threads = args.threads;
+    job.progress = args.quiet ? ProgressMode::none : args.progress;
     job.quiet = args.quiet;
     const TourVideoResult made = render_tour_video(scene, job);
     r.faces = static_cast<long long>(made.faces);
@@ -149,8 +147,8 @@ void print_table(const std::vector<ItemResult>& results) {
 
 void run_batch(const BatchJob& args) {
   install_interrupt_handlers();
-  const bool web = flag_given(args.defaults.values, "web");
-  if (flag_given(args.defaults.values, "page-only")) {
+  const bool web = args.web;
+  if (args.page_only) {
     // The last job of a farm's batch: the page from the array tasks' summaries.
     const std::filesystem::path page = write_contact_sheet(args.out_dir);
     if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());

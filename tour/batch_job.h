@@ -28,7 +28,10 @@ struct BatchJob {
   std::string out_dir;
   SceneArgs defaults;  // scene options for every item; the manifest's columns override them
   std::optional<int> item;
-  std::string progress = "auto";
+  int threads = 0;  // 0 = thread_count()'s default
+  bool web = false;        // per item also a VP9 WebM and a glTF camera, and index.html for the batch
+  bool page_only = false;  // only index.html, from the summaries in out_dir
+  ProgressMode progress = ProgressMode::automatic;
   bool quiet = false;
 };
 

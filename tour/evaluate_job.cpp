@@ -66,7 +66,7 @@ void print_definitions(const std::vector<std::pair<std::string, PathEvaluation>>
 void run_evaluate(EvaluateJob& a) {
   install_interrupt_handlers();
   const options::Values& values = a.scene.values;
-  const int threads = thread_count(int_value_or(values, "threads", 0), a.quiet);
+  const int threads = thread_count(a.threads, a.quiet);
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   a.evaluation.validate();
   const bool path_file = values.count("path-file") != 0;

@@ -18,6 +18,7 @@ struct EvaluateJob {
   std::string json;
   bool compare = false;
   bool quiet = false;
+  int threads = 0;  // 0 = thread_count()'s default
   EvaluationOptions evaluation;
 };
 

@@ -10,7 +10,7 @@
 #include <vector>
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 #include "jobs/frame_dir.h"
 #include "pathgen/path_file.h"
 #include "core/interrupt.h"
@@ -104,8 +104,8 @@ void run_farm_slurm(const FarmJob& args) {
   if (!args.manifest.empty() && !args.scene.input.empty())
     throw InputError("give either a SCENE|MESH or --manifest, not both");
   const std::filesystem::path out = std::filesystem::absolute(args.out_dir).lexically_normal();
-  const std::string codec = value_or(args.scene.values, "codec", "h264");
-  const std::string format = value_or(args.scene.values, "format", "png");
+  const std::string& codec = args.codec;
+  const std::string& format = args.format;
   if (const auto crf = args.scene.values.find("crf"); crf != args.scene.values.end())
     if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
       throw InputError("--crf " + problem);
@@ -134,7 +134,7 @@ void run_farm_slurm(const FarmJob& args) {
     write_text(out / "batch.sbatch", script, true);
     first_sbatch = " " + shell_quote((out / "batch.sbatch").string());
     submit_script += "batch=$(sbatch --parsable" + first_sbatch + ")\necho \"batch_job=${batch%%;*}\"\n";
-    if (value_or(args.scene.values, "web", "false") == "true") {
+    if (args.web) {
       // The contact sheet once every task ended, failed ones included (they are on the page).
       std::string page = sbatch_header(args, "meshtour-page", (out / "logs" / "page_%j.log").string());
       page += "# runs after every batch task ended (submitted with --dependency=afterany:<batch array job>)\n";

@@ -23,6 +23,9 @@ struct FarmJob {
   std::string output;  // video name inside out_dir
   std::string executable;
   std::string partition, time_limit;
+  std::string codec = "h264";  // of the video the encode job writes
+  std::string format = "png";  // of the frames: png, exr or png+exr
+  bool web = false;            // with a manifest: web outputs per item and the contact sheet
   int chunk_size = 10;
   int cpus_per_task = 1;
   bool submit = false;

@@ -80,9 +80,6 @@ void run_path(PathJob& a) {
   // --up auto needs the model: decided once it is loaded, below.
   const bool up_auto = is_auto_up(a.up);
   if (!up_auto) a.options.up = UpDirection::parse(a.up);
-  a.threads = int_value_or(a.values, "threads", 0);
-  a.gltf = value_or(a.values, "gltf", "");
-  a.camera_frames = value_or(a.values, "camera-frames", "");
   a.threads = thread_count(a.threads, a.quiet);
   a.options.surface.threads = a.threads;
   a.options.validate();
