@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/video_settings.h"
+#include "scenes/scene_options.h"
 #include "options/cli_options.h"
 #include "core/error.h"
 #include "encoder/video_encoder.h"
@@ -84,12 +86,12 @@ void add_encode_command(CLI::App& app) {
                                {{"fps", options::to(job.fps)},
                                 {"exposure", options::to(job.exposure)},
                                 {"crf", options::to(job.crf)},
-                                {"codec", options::to(job.codec)},
+                                {"codec", options::to(job.codec, parse_video_codec)},
                                 {"frame-selection", options::to(job.frames)},
                                 {"output", options::to(job.output)},
                                 {"quiet", options::to(job.quiet)},
                                 {"input-format", options::to(job.input_format)},
-                                {"tone-mapping", options::to(job.tone_mapping)}});
+                                {"tone-mapping", options::to(job.tone_mapping, parse_tone_mapping)}});
   cmd->callback([args] { run_encode(*args); });
 }
 

@@ -22,8 +22,18 @@
 
 namespace meshtour::cli {
 
+namespace {
+
+struct EvaluateArgs {
+  SceneArgs scene;
+  EvaluateJob job;
+};
+
+}  // namespace
+
 void add_evaluate_command(CLI::App& app) {
-  auto args = std::make_shared<EvaluateJob>();
+  auto args = std::make_shared<EvaluateArgs>();
+  EvaluateJob& job = args->job;
   CLI::App* cmd = app.add_subcommand(
       "evaluate",
       "Measures what a tour shows: asks what every frame of the tour `meshtour tour` would render (same "
@@ -51,12 +61,12 @@ void add_evaluate_command(CLI::App& app) {
       "well in a frame when at least --region-share of it is. Motion is measured around the loop including "
       "the jump from the last frame back to the first.");
   add_mesh_argument(*cmd, args->scene.input);
-  CoverageOptions& coverage = args->evaluation.coverage;
+  CoverageOptions& coverage = job.evaluation.coverage;
   add_scene_options(*cmd, args->scene, options::evaluate,
-                    {{"threads", options::to(args->threads)},
-                     {"quiet", options::to(args->quiet)},
-                     {"compare", options::to(args->compare)},
-                     {"json-file", options::to(args->json)},
+                    {{"threads", options::to(job.threads)},
+                     {"quiet", options::to(job.quiet)},
+                     {"compare", options::to(job.compare)},
+                     {"json-file", options::to(job.json)},
                      {"coverage-samples", options::to(coverage.samples)},
                      // One row per seen-well angle of CoverageOptions, in its order.
                      {"seen-angle", options::to(coverage.seen_angle_deg[0])},
@@ -64,9 +74,15 @@ void add_evaluate_command(CLI::App& app) {
                      {"stricter-angle", options::to(coverage.seen_angle_deg[2])},
                      {"strictest-angle", options::to(coverage.seen_angle_deg[3])},
                      {"feature-quantile", options::to(coverage.feature_quantile)},
-                     {"region-share", options::to(args->evaluation.region_seen_share)}},
+                     {"region-share", options::to(job.evaluation.region_seen_share)}},
                     /*with_input=*/false);
-  cmd->callback([args] { run_evaluate(*args); });
+  cmd->callback([args] {
+    const options::Values& given = args->scene.values;
+    if (given.contains("path") && given.contains("path-file")) throw InputError("give --path or --path-file, not both");
+    args->job.mesh = args->scene.input;
+    args->job.scene = resolve_scene(args->scene);
+    run_evaluate(args->job);
+  });
 }
 
 }  // namespace meshtour::cli

@@ -24,11 +24,49 @@
 #include "pathgen/path_file.h"
 
 namespace meshtour::cli {
+namespace {
+
+struct FarmArgs {
+  SceneArgs scene;  // the input and every value given: the tour's settings, and what the tasks are given again
+  FarmJob job;
+};
+
+// The settings of the farm's tasks, resolved here: the tour's scene (without a manifest), the
+// manifest's item count, and the options each task is given again.
+void run_farm(FarmArgs& args) {
+  FarmJob& job = args.job;
+  const options::Values& given = args.scene.values;
+  if (!job.manifest.empty() && !args.scene.input.empty()) throw InputError("give either a SCENE|MESH or --manifest, not both");
+  const std::string codec(video_codec_info(job.codec).name);
+  if (const auto crf = given.find("crf"); crf != given.end())
+    if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
+      throw InputError("--crf " + problem);
+  job.input = args.scene.input;
+  if (job.manifest.empty()) {
+    job.scene = resolve_scene(args.scene, codec);
+  } else {
+    job.manifest_items = static_cast<int>(read_batch_manifest(std::filesystem::absolute(job.manifest)).size());
+  }
+  job.render_args = options::forwarded_args(given, options::render_tasks, options::render);
+  job.batch_args = options::forwarded_args(given, options::batch_tasks, options::batch);
+  const std::vector<std::string> to_encode = options::forwarded_args(given, options::encode_job, options::encode);
+  for (std::size_t i = 0; i < to_encode.size(); i += 2) {
+    const std::string& flag = to_encode[i];
+    if (flag == options::option("codec").flag) continue;  // the farm gives it, with its default
+    // Files named here are found from the job's own directory too.
+    const bool file = flag == options::option("poster").flag || flag == options::option("font").flag;
+    job.encode_args.insert(job.encode_args.end(), {flag, file ? std::filesystem::absolute(to_encode[i + 1]).string() : to_encode[i + 1]});
+  }
+  run_farm_slurm(job);
+}
+
+}  // namespace
 
 void add_farm_command(CLI::App& app) {
   CLI::App* farm = app.add_subcommand("farm", "Split a tour (or a batch) over a render farm's job engine.");
   farm->require_subcommand(1);
-  auto args = std::make_shared<FarmJob>();
+  auto args = std::make_shared<FarmArgs>();
+  FarmJob& job = args->job;
   CLI::App* cmd = farm->add_subcommand("slurm", "Write (and with --submit, submit) Slurm jobs: a job array of frame chunks and a dependent encode.");
   cmd->description(
       "Computes the camera path once (DIR/path.json), writes DIR/render.sbatch (a job array: task i runs\n"
@@ -40,20 +78,20 @@ void add_farm_command(CLI::App& app) {
       "Re-submitting resumes: frames and videos that exist are skipped.");
   options::Values& given = args->scene.values;  // what the tasks are given again (forwarded_args)
   add_scene_options(*cmd, args->scene, options::farm,
-                    {{"codec", options::recorded(given, "codec", options::to(args->codec))},
-                     {"format", options::to(args->format)},
-                     {"web", options::recorded(given, "web", options::to(args->web))},
-                     {"manifest", options::to(args->manifest)},
-                     {"out-dir", options::to(args->out_dir)},
-                     {"output", options::to(args->output)},
-                     {"chunk-size", options::to(args->chunk_size)},
-                     {"partition", options::to(args->partition)},
-                     {"time", options::to(args->time_limit)},
-                     {"cpus-per-task", options::to(args->cpus_per_task)},
-                     {"executable", options::to(args->executable)},
-                     {"submit", options::to(args->submit)},
-                     {"quiet", options::to(args->quiet)}});
-  cmd->callback([args] { run_farm_slurm(*args); });
+                    {{"codec", options::recorded(given, "codec", options::to(job.codec, parse_video_codec))},
+                     {"format", options::to(job.format, parse_frame_formats)},
+                     {"web", options::recorded(given, "web", options::to(job.web))},
+                     {"manifest", options::to(job.manifest)},
+                     {"out-dir", options::to(job.out_dir)},
+                     {"output", options::to(job.output)},
+                     {"chunk-size", options::to(job.chunk_size)},
+                     {"partition", options::to(job.partition)},
+                     {"time", options::to(job.time_limit)},
+                     {"cpus-per-task", options::to(job.cpus_per_task)},
+                     {"executable", options::to(job.executable)},
+                     {"submit", options::to(job.submit)},
+                     {"quiet", options::to(job.quiet)}});
+  cmd->callback([args] { run_farm(*args); });
 }
 
 }  // namespace meshtour::cli

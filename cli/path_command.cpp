@@ -17,15 +17,45 @@
 #include "cli/scene_args.h"
 #include "core/error.h"
 #include "mesh/mesh.h"
-#include "scenes/scene.h"
+#include "mesh/up_axis.h"
+#include "scenes/scene_options.h"
 #include "pathgen/camera_export.h"
 #include "pathgen/debug_output.h"
 #include "pathgen/path_file.h"
 
 namespace meshtour::cli {
+namespace {
+
+struct PathArgs {
+  PathJob job;
+  options::Values values;       // the tour's settings path takes: frames, size, lens, path search
+  std::string up = "y";         // checked by the row; parsed once the path mode is known
+  int samples = PaperPathOptions{}.samples;
+};
+
+void run_path_command(PathArgs& args) {
+  PathJob& job = args.job;
+  job.up_auto = is_auto_up(args.up);
+  if (!job.up_auto) {
+    job.up = UpDirection::parse(args.up);
+    if (job.mode != PathMode::paper) (void)Axis::parse(args.up);  // the other modes take a coordinate axis
+  }
+  // The cameras exactly as `meshtour tour MESH --path MODE --frames N` renders them (default frame
+  // size and field of view "auto"): the tour's settings applied as `tour` applies them.
+  job.scene = default_scene();
+  job.scene.source = job.mesh;
+  job.scene.mesh_file = job.mesh;
+  apply_options(job.scene, args.values);
+  job.options = job.scene.path_search;
+  job.options.samples = args.samples;
+  run_path(job);
+}
+
+}  // namespace
 
 void add_path_command(CLI::App& app) {
-  auto args = std::make_shared<PathJob>();
+  auto args = std::make_shared<PathArgs>();
+  PathJob& job = args->job;
   CLI::App* cmd = app.add_subcommand(
       "path",
       "Computes the camera path of a mesh by the toroidal-patch method of Choi et al. 2024 "
@@ -36,23 +66,26 @@ void add_path_command(CLI::App& app) {
       "B-spline through them gives the height of the camera as it circles the model. Lengths "
       "in options are in units of the bounding-box diagonal; I-n refers to the interpretations "
       "in docs/METHOD.md §15.");
-  add_mesh_argument(*cmd, args->mesh);
+  add_mesh_argument(*cmd, job.mesh);
+  const auto overview_size = [&job](const std::string& text) {
+    (void)options::parse_pixel_size(text, job.overview_width, job.overview_height);  // checked by the row
+  };
   options::add_command_options(*cmd, options::path, args->values,
                                {{"up", options::to(args->up)},
-                                {"path", options::to(args->mode)},
-                                {"threads", options::to(args->threads)},
-                                {"gltf", options::to(args->gltf)},
-                                {"camera-frames", options::to(args->camera_frames)},
-                                {"output", options::to(args->output)},
-                                {"plot", options::to(args->plot)},
-                                {"debug-dir", options::to(args->debug_dir)},
-                                {"overview", options::to(args->overview)},
-                                {"overview-size", options::to(args->overview_size)},
-                                {"path-samples", options::to(args->options.samples)},
-                                {"max-memory", options::to(args->resources.max_memory)},
-                                {"verbose", options::to(args->resources.verbose)},
-                                {"quiet", options::to(args->quiet)}});
-  cmd->callback([args] { run_path(*args); });
+                                {"path", options::to(job.mode, parse_path_mode)},
+                                {"threads", options::to(job.threads)},
+                                {"gltf", options::to(job.gltf)},
+                                {"camera-frames", options::to(job.camera_frames)},
+                                {"output", options::to(job.output)},
+                                {"plot", options::to(job.plot)},
+                                {"debug-dir", options::to(job.debug_dir)},
+                                {"overview", options::to(job.overview)},
+                                {"overview-size", overview_size},
+                                {"path-samples", options::to(args->samples)},
+                                {"max-memory", options::to(job.resources.max_memory)},
+                                {"verbose", options::to(job.resources.verbose)},
+                                {"quiet", options::to(job.quiet)}});
+  cmd->callback([args] { run_path_command(*args); });
 }
 
 }  // namespace meshtour::cli

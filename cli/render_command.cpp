@@ -19,8 +19,18 @@
 
 namespace meshtour::cli {
 
+namespace {
+
+struct RenderArgs {
+  SceneArgs scene;
+  RenderJob job;
+};
+
+}  // namespace
+
 void add_render_command(CLI::App& app) {
-  auto args = std::make_shared<RenderJob>();
+  auto args = std::make_shared<RenderArgs>();
+  RenderJob& job = args->job;
   CLI::App* cmd = app.add_subcommand("render", "Render frames of a tour into a directory (all, or a farm chunk); resumable.");
   cmd->description(
       "Render the frames of a tour (or the ones --frames names) into --out-dir as frame_000123.png/.exr,\n"
@@ -29,16 +39,19 @@ void add_render_command(CLI::App& app) {
       "running it again. Any split of the frames over processes gives the same bytes as one run.\n"
       "SIGINT/SIGTERM stop after the current frame (exit 130).");
   add_scene_options(*cmd, args->scene, options::render,
-                    {{"frame-selection", options::to(args->frames)},
-                     {"format", options::to(args->format)},
-                     {"threads", options::to(args->threads)},
-                     {"out-dir", options::to(args->out_dir)},
-                     {"overwrite", options::to(args->overwrite)},
-                     {"progress", options::to(args->progress, parse_progress_mode)},
-                     {"max-memory", options::to(args->resources.max_memory)},
-                     {"verbose", options::to(args->resources.verbose)},
-                     {"quiet", options::to(args->quiet)}});
-  cmd->callback([args] { run_render(*args); });
+                    {{"frame-selection", options::to(job.frames)},
+                     {"format", options::to(job.format, parse_frame_formats)},
+                     {"threads", options::to(job.threads)},
+                     {"out-dir", options::to(job.out_dir)},
+                     {"overwrite", options::to(job.overwrite)},
+                     {"progress", options::to(job.progress, parse_progress_mode)},
+                     {"max-memory", options::to(job.resources.max_memory)},
+                     {"verbose", options::to(job.resources.verbose)},
+                     {"quiet", options::to(job.quiet)}});
+  cmd->callback([args] {
+    args->job.scene = resolve_scene(args->scene);
+    run_render(args->job);
+  });
 }
 
 }  // namespace meshtour::cli

@@ -1,13 +1,14 @@
 #pragma once
 // The command-line side of a tour: the positional arguments naming the model, and the registry
-// options a command takes, resolved by the tour library (tour/tour.h).
+// options a command takes: its own bound to its job's fields, the tour's settings gathered in
+// SceneArgs and resolved into a Scene (scenes/scene_options.h) before the job runs.
 #include <CLI/CLI.hpp>
 
 #include <string>
 #include <string_view>
 
 #include "options/cli_options.h"
-#include "tour/tour.h"
+#include "scenes/scene_options.h"
 
 namespace meshtour::cli {
 

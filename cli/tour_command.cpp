@@ -15,6 +15,8 @@
 #include "encoder/video_encoder.h"
 #include "jobs/frame_dir.h"
 #include "pathgen/camera_export.h"
+#include "cli/video_settings.h"
+#include "tour/tour.h"
 #include "scenes/scene.h"
 #include "tracer/tracer.h"
 
@@ -54,7 +56,7 @@ void add_tour_command(CLI::App& app) {
       "Options given here override the scene file; a mesh file gets the default scene's settings.");
   TourVideoJob& job = args->job;
   add_scene_options(*cmd, args->scene, options::tour,
-                    {{"format", options::to(job.format)},
+                    {{"format", options::to(job.format, parse_frame_formats)},
                      {"threads", options::to(job.threads)},
                      {"gltf", options::to(job.gltf)},
                      {"camera-frames", options::to(job.camera_frames)},

@@ -10,11 +10,13 @@
 // else in the sources repeats them. Text is checked by check_value() wherever it comes from, so a
 // value is accepted or refused the same way on the command line, in a scene file and in a
 // manifest, and it is parsed once, at that edge, into the typed field of a library's settings:
-// a tour setting (a row with a scene key or a manifest column) by the scene's binding
-// (scenes/scene.cpp), a command's own setting by options::bind() (options/cli_options.h).
+// a setting of the tour by the scene's binding table (scenes/scene_options.h), the video's poster
+// and caption by cli/video_settings.h, a command's own setting by the binding its command gives
+// the row (options::add_command_options, options/cli_options.h). Nothing below cli/ and these
+// readers sees an option's text.
 //
-// Adding an option = one row in option_registry.cpp plus its binding: one bind() line in the
-// command that takes it, or one entry of the scene's binding table for a tour setting.
+// Adding an option = one row in option_registry.cpp plus its binding: one options::to(field) in
+// the command that takes it, or one entry of the scene's binding table for a tour setting.
 #include <map>
 #include <optional>
 #include <string>

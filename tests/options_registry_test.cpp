@@ -15,6 +15,7 @@
 #include "options/option_registry.h"
 #include "pathgen/feature_orbit.h"
 #include "scenes/scene.h"
+#include "scenes/scene_options.h"
 
 namespace meshtour {
 namespace {
@@ -27,9 +28,14 @@ const options::Command kCommands[] = {options::tour,  options::render,   options
 
 // A valid value of the row that is not its default (so that applying it shows).
 std::string sample_value(const Option& o) {
+  // A number inside the range, or another one when that is the default.
+  const auto number_not_default = [&o](double first, double second) {
+    const std::string text = options::number_text(first);
+    return text == o.default_text ? options::number_text(second) : text;
+  };
   switch (o.kind) {
-    case Kind::integer: return std::to_string(static_cast<long long>(o.lo) + (o.hi > o.lo ? 1 : 0));
-    case Kind::number: return options::number_text(o.lo + 0.25 * (o.hi - o.lo));
+    case Kind::integer: return number_not_default(o.lo + (o.hi > o.lo ? 1 : 0), o.lo);
+    case Kind::number: return number_not_default(o.lo + 0.25 * (o.hi - o.lo), o.lo + 0.75 * (o.hi - o.lo));
     case Kind::positive: return "0.0025";
     case Kind::choice: return std::string(o.choices.back());
     case Kind::choice_list: return std::string(o.choices.front()) + "," + std::string(o.choices.back());
@@ -114,13 +120,19 @@ nlohmann::json scene_with(const Option& o, const std::string& text) {
 // The parts of a Scene the registry's rows set, as text, for comparisons.
 std::string scene_fingerprint(const Scene& s) {
   nlohmann::json j = {{"w", s.render.width}, {"h", s.render.height}, {"fps", s.fps}, {"frames", s.frames},
-                      {"up", s.up_auto ? std::string("auto") : s.up.name()}, {"path", s.path_mode}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
+                      {"up", s.up_auto ? std::string("auto") : s.up.name()}, {"path", std::string(path_mode_name(s.path_mode))}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
                       {"elev", s.elevation_deg}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
                       {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"crease", s.render.shading.material.crease_angle_deg},
                       {"denoise", s.render.denoise}, {"tone", int(s.render.shading.tone_mapping)},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},
                       {"file", s.path_file ? s.path_file->string() : ""}, {"grey", s.missing_textures_grey}};
-  for (const auto& [id, text] : s.path_search) j["search"][id] = text;
+  const PaperPathOptions& p = s.path_search;
+  const SurfaceOptions& f = p.surface;
+  j["search"] = {f.tolerance, int(f.tolerance_unit), int(f.smoothing), f.smoothing_strength, int(f.curvature_fit), f.kappa_min,
+                 int(f.face_samples), int(f.patch_measure), f.patch_normal_angle_deg, f.patches_on_unsmoothed, int(f.seed_order),
+                 int(f.leftovers), f.keep_inaccurate_patches, int(f.weight_neighbourhood), f.merge_duplicate_vertices,
+                 int(p.axis_point), p.rows, p.columns, int(p.cell_averaging), int(p.empty_columns), p.degree, p.gaze_scale,
+                 p.position_scale, int(p.height_reference), int(p.gaze_radius)};
   return j.dump();
 }
 

@@ -42,19 +42,14 @@ private:
   bool dir_existed_ = false, manifest_existed_ = false, kept_ = false;
 };
 
-std::vector<std::string> formats_of(const std::string& format) {
-  if (format == "png+exr") return {"png", "exr"};
-  return {format};
-}
-
 }  // namespace
 
 void run_render(const RenderJob& args) {
   install_interrupt_handlers();
-  const Scene scene = resolve_scene(args.scene);
+  const Scene& scene = args.scene;
   const std::filesystem::path dir = args.out_dir;
   const std::vector<int> selected = parse_frame_range(args.frames, scene.frames);
-  const std::vector<std::string> formats = formats_of(args.format);
+  const std::vector<std::string> formats = frame_extensions(args.format);
 
   const FrameDirInfo info = frame_dir_info(scene, formats);
   NewFrameDirGuard guard(dir);

@@ -15,10 +15,10 @@
 namespace meshtour {
 
 struct RenderJob {
-  SceneArgs scene;
+  Scene scene;
   std::string out_dir;
   std::string frames = "all";  ///< the frames to render: a selection (jobs/frame_range.h)
-  std::string format = "png";  ///< png, exr or png+exr
+  FrameFormats format = FrameFormats::png;
   int threads = 0;             ///< 0 = thread_count()'s default
   ProgressMode progress = ProgressMode::automatic;
   ResourceArgs resources;  // --max-memory, --verbose
