@@ -13,6 +13,7 @@
 #include "options/batch_manifest.h"
 #include "options/cli_options.h"
 #include "options/option_registry.h"
+#include "evaluate/evaluate.h"
 #include "pathgen/feature_orbit.h"
 #include "scenes/scene.h"
 #include "scenes/scene_options.h"
@@ -261,6 +262,32 @@ TEST(OptionRegistry, FovHelpNamesTheLensTheFeatureOrbitPlansFor) {
   // repeats it in words, so a change of the lens must change the help too.
   const std::string lens = std::to_string(static_cast<int>(FeatureOrbitOptions{}.vertical_fov_deg)) + "-degree lens";
   EXPECT_NE(options::option("fov").help.find(lens), std::string::npos) << "--fov help does not name the " << lens;
+}
+
+// A command's own rows show a default that the bound field of its settings starts with: the row's
+// text is what --help and docs/OPTIONS.md say, the field's initializer what the job does.
+TEST(OptionRegistry, DefaultsShownAreTheSettingsDefaults) {
+  const auto shown = [](std::string_view id) { return std::string(options::option(id).default_text); };
+  const EvaluationOptions evaluation;
+  EXPECT_EQ(shown("path-samples"), options::number_text(PaperPathOptions{}.samples));
+  EXPECT_EQ(shown("coverage-samples"), options::number_text(static_cast<double>(evaluation.coverage.samples)));
+  const char* const angles[] = {"seen-angle", "strict-angle", "stricter-angle", "strictest-angle"};
+  for (std::size_t i = 0; i < std::size(angles); ++i)
+    EXPECT_EQ(shown(angles[i]), options::number_text(evaluation.coverage.seen_angle_deg[i])) << angles[i];
+  EXPECT_EQ(shown("feature-quantile"), options::number_text(evaluation.coverage.feature_quantile));
+  EXPECT_EQ(shown("region-share"), options::number_text(evaluation.region_seen_share));
+  // The tour's settings: the built-in scene's values.
+  const Scene scene = default_scene();
+  EXPECT_EQ(shown("width"), options::number_text(scene.render.width));
+  EXPECT_EQ(shown("height"), options::number_text(scene.render.height));
+  EXPECT_EQ(shown("fps"), options::number_text(scene.fps));
+  EXPECT_EQ(shown("frame-count"), options::number_text(scene.frames));
+  EXPECT_EQ(shown("spp"), options::number_text(scene.render.samples_per_pixel));
+  EXPECT_EQ(shown("elevation"), options::number_text(scene.elevation_deg));
+  EXPECT_EQ(shown("path"), std::string(path_mode_name(scene.path_mode)));
+  EXPECT_EQ(shown("rows"), options::number_text(scene.path_search.rows));
+  EXPECT_EQ(shown("columns"), options::number_text(scene.path_search.columns));
+  EXPECT_EQ(shown("degree"), options::number_text(scene.path_search.degree));
 }
 
 TEST(OptionRegistry, ManifestAcceptsEveryPathMode) {
