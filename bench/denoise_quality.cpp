@@ -36,6 +36,7 @@
 #include "mesh/mesh.h"
 #include "pathgen/camera_path.h"
 #include "scenes/scene.h"
+#include "scenes/scene_options.h"  // resolve_scene
 #include "textured_cube.h"
 #include "tour/tour.h"
 #include "tracer/tracer.h"

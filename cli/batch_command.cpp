@@ -12,16 +12,77 @@
 
 #include "cli/commands.h"
 #include "tour/batch_job.h"
-#include "cli/common_options.h"
 #include "cli/scene_args.h"
+#include "cli/video_settings.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 
 namespace meshtour::cli {
+namespace {
+
+struct BatchArgs {
+  SceneArgs defaults;  // the tour's settings for every item; the manifest's columns override them
+  BatchJob job;
+};
+
+std::string value_or(const options::Values& values, const std::string& id, const std::string& fallback) {
+  const auto it = values.find(id);
+  return it == values.end() ? fallback : it->second;
+}
+
+// The batch's command-line values with the item's columns on top; a column replaces the option
+// it excludes too (an item's "seconds" wins over a --frames given for the whole batch).
+SceneArgs item_scene_args(const SceneArgs& defaults, const BatchItem& item) {
+  SceneArgs a = defaults;
+  a.input = item.mesh.string();
+  for (const auto& [id, text] : item.values) {
+    const options::Option& o = options::option(id);
+    if (!o.excludes.empty()) a.values.erase(std::string(o.excludes));
+    a.values[id] = text;
+  }
+  return a;
+}
+
+// The manifest's items with their settings resolved, each parsed once here: the scene, the poster
+// and the caption. An item whose settings are bad keeps why, and fails when it runs (the others
+// do not stop); with --item only that item is resolved.
+std::vector<BatchEntry> batch_entries(const std::vector<BatchItem>& items, const SceneArgs& defaults, std::optional<int> only) {
+  std::vector<BatchEntry> entries;
+  for (const BatchItem& item : items) {
+    BatchEntry e;
+    e.index = item.index;
+    e.line = item.line;
+    e.mesh = item.mesh;
+    e.output = item.output;
+    e.error = item.error;
+    e.poster = value_or(item.values, "poster", std::filesystem::path(item.output).stem().string() + ".poster.png");
+    e.caption = value_or(item.values, "caption", value_or(defaults.values, "caption", ""));
+    if (item.error.empty() && (!only || *only == item.index)) {
+      try {
+        const SceneArgs scene_args = item_scene_args(defaults, item);
+        e.scene = resolve_scene(scene_args);
+        e.poster_job = poster_job(scene_args.values);
+        // A batch-wide caption style applies to the items that have a caption and is no error for the others.
+        options::Values caption_values = scene_args.values;
+        if (!caption_values.contains("caption"))
+          for (const char* id : {"caption-position", "caption-size", "font"}) caption_values.erase(id);
+        e.caption_args = caption_args(caption_values);
+      } catch (const std::exception&) {
+        e.scene.reset();
+        e.settings_failure = std::current_exception();
+      }
+    }
+    entries.push_back(std::move(e));
+  }
+  return entries;
+}
+
+}  // namespace
 
 void add_batch_command(CLI::App& app) {
-  auto args = std::make_shared<BatchJob>();
+  auto args = std::make_shared<BatchArgs>();
+  BatchJob& job = args->job;
   CLI::App* cmd = app.add_subcommand("batch", "Render one video per item of a manifest (CSV or JSON); for catalogues.");
   cmd->description(
       "Render one tour video per item of MANIFEST into --out-dir, each by the tour pipeline.\n"
@@ -34,14 +95,22 @@ void add_batch_command(CLI::App& app) {
       "missing. Prints a summary table and writes DIR/batch-summary.json.\n"
       "Exit code 5 when some items failed (the others are done), 0 when none did.\n"
       "Example CSV:\n  mesh,up,output,preset\n  bunny.ply,y,bunny.mp4,studio\n  dragon.stl,z,,plain");
-  cmd->add_option("manifest", args->manifest, "Manifest: .csv with a header row, or .json")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--out-dir", args->out_dir, "Directory for the videos and batch-summary.json (created if needed)")->required();
-  cmd->add_option("--item", args->item, "Run only the item with this 0-based index (one farm array task per item)")
-      ->check(CLI::NonNegativeNumber);
-  add_scene_options(*cmd, args->defaults, options::batch, /*with_input=*/false);
-  add_progress_option(*cmd, args->progress);
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors and the summary table");
-  cmd->callback([args] { run_batch(*args); });
+  cmd->add_option("manifest", job.manifest, "Manifest: .csv with a header row, or .json")->required()->check(CLI::ExistingFile);
+  add_scene_options(*cmd, args->defaults, options::batch,
+                    {{"threads", options::to(job.threads)},
+                     {"web", options::to(job.web)},
+                     {"page-only", options::to(job.page_only)},
+                     {"out-dir", options::to(job.out_dir)},
+                     {"item", options::to(job.item)},
+                     {"progress", options::to(job.progress, parse_progress_mode)},
+                     {"quiet", options::to(job.quiet)}},
+                    /*with_input=*/false);
+  cmd->callback([args] {
+    // The contact sheet alone needs no manifest: it is made from the summaries in --out-dir.
+    if (!args->job.page_only)
+      args->job.items = batch_entries(read_batch_manifest(args->job.manifest), args->defaults, args->job.item);
+    run_batch(args->job);
+  });
 }
 
 }  // namespace meshtour::cli

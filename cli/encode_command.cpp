@@ -14,8 +14,9 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/video_settings.h"
+#include "scenes/scene_options.h"
 #include "options/cli_options.h"
-#include "cli/common_options.h"
 #include "core/error.h"
 #include "encoder/video_encoder.h"
 #include "jobs/frame_dir.h"
@@ -30,22 +31,14 @@ namespace fs = std::filesystem;
 
 struct EncodeArgs {
   EncodeJob job;
-  options::Values values;  // registry rows of `encode`: codec, crf, fps, frames, exposure
+  options::Values values;  // the video's registry rows: poster, caption, title card
 };
 
-void run_encode(EncodeArgs args) {
+void run_encode(EncodeArgs& args) {
   install_interrupt_handlers();
-  EncodeJob& job = args.job;
-  for (const auto& [id, text] : args.values) {
-    if (id == "codec") job.codec = text;
-    else if (id == "crf") job.crf = std::stoi(text);
-    else if (id == "fps") job.fps = std::stoi(text);
-    else if (id == "frame-selection") job.frames = text;
-    else if (id == "exposure") job.exposure = std::stod(text);
-  }
-  job.poster = poster_job(args.values);
-  job.caption = caption_args(args.values);
-  encode_frames(job);
+  args.job.poster = poster_job(args.values);
+  args.job.caption = caption_args(args.values);
+  encode_frames(args.job);
 }
 
 std::string codec_table() {
@@ -88,13 +81,17 @@ void add_encode_command(CLI::App& app) {
       "  meshtour encode frames/ -o preview.gif --frames 0-119:2 --fps 15\n"
       "  meshtour encode shots/ -o clip.mov --frames 0-47 --fps 24   # frames from elsewhere, no manifest");
   cmd->add_option("dir", args->job.dir, "Directory holding the frames (frame_000000.png ...)")->required();
-  cmd->add_option("-o,--output", args->job.output, "Video file to write; its extension must match the codec")->required();
-  options::add_registered_options(*cmd, options::encode, args->values);
-  cmd->add_option("--input-format", args->job.input_format, "Frame files to read: png or exr (default: png when present)")
-      ->check(CLI::IsMember({"png", "exr"}));
-  cmd->add_option("--tone-mapping", args->job.tone_mapping, "EXR frames: filmic or clamp (default: from the EXR header, else filmic)")
-      ->check(CLI::IsMember({"filmic", "clamp"}));
-  cmd->add_flag("-q,--quiet", args->job.quiet, "Print nothing but errors");
+  EncodeJob& job = args->job;
+  options::add_command_options(*cmd, options::encode, args->values,
+                               {{"fps", options::to(job.fps)},
+                                {"exposure", options::to(job.exposure)},
+                                {"crf", options::to(job.crf)},
+                                {"codec", options::to(job.codec, parse_video_codec)},
+                                {"frame-selection", options::to(job.frames)},
+                                {"output", options::to(job.output)},
+                                {"quiet", options::to(job.quiet)},
+                                {"input-format", options::to(job.input_format)},
+                                {"tone-mapping", options::to(job.tone_mapping, parse_tone_mapping)}});
   cmd->callback([args] { run_encode(*args); });
 }
 

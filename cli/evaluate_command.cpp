@@ -13,7 +13,6 @@
 
 #include "cli/commands.h"
 #include "tour/evaluate_job.h"
-#include "cli/path_options.h"
 #include "cli/scene_args.h"
 #include "core/error.h"
 #include "evaluate/evaluate.h"
@@ -23,8 +22,18 @@
 
 namespace meshtour::cli {
 
+namespace {
+
+struct EvaluateArgs {
+  SceneArgs scene;
+  EvaluateJob job;
+};
+
+}  // namespace
+
 void add_evaluate_command(CLI::App& app) {
-  auto args = std::make_shared<EvaluateJob>();
+  auto args = std::make_shared<EvaluateArgs>();
+  EvaluateJob& job = args->job;
   CLI::App* cmd = app.add_subcommand(
       "evaluate",
       "Measures what a tour shows: asks what every frame of the tour `meshtour tour` would render (same "
@@ -51,46 +60,29 @@ void add_evaluate_command(CLI::App& app) {
       "level circle and the turntable) and the frame whose view alone scores highest. A feature region is a connected part of the features; it is seen "
       "well in a frame when at least --region-share of it is. Motion is measured around the loop including "
       "the jump from the last frame back to the first.");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("mesh", args->scene.input, "Mesh file (" + supported_mesh_formats() + ")")->required()->type_name("MESH");
-  add_scene_options(*cmd, args->scene, options::evaluate, /*with_input=*/false);
-  cmd->add_flag("--compare", args->compare, "Evaluate turntable, paper and feature-orbit and print one table");
-  cmd->add_option("--json", args->json,
-                  "Also write the numbers as JSON: {\"modes\": {\"<mode>\": {\"feature_coverage\": ..., "
-                  "\"surface_coverage\": ..., \"feature_min_frames\": ..., \"feature_median_frames\": ..., "
-                  "\"camera_max_angular_speed\": ..., \"view_max_angular_speed\": ..., "
-                  "\"view_max_angular_acceleration\": ..., \"frames_out_of_frame\": ..., \"objective\": ..., "
-                  "\"frame_scores\": [...], \"definitions\": {\"patch-density-75deg\": {\"feature_coverage\": ..., "
-                  "\"surface_coverage\": ..., \"feature_min_frames\": ..., \"feature_median_frames\": ...}, "
-                  "\"saliency-75deg\": {...}, \"patch-density-60deg\": {...}, \"saliency-60deg\": {...}, "
-                  "\"patch-density-45deg\": {...}, \"saliency-45deg\": {...}, \"patch-density-30deg\": {...}, "
-                  "\"saliency-30deg\": {...}}}}} "
-                  "(fractions, rad/frame, rad/frame^2; the top-level coverage keys are the first definition's)")
-      ->type_name("FILE");
-  cmd->add_option("--samples", args->evaluation.coverage.samples, "Surface samples the coverage is measured on")
-      ->check(CLI::Range(1024, 1 << 24))
-      ->capture_default_str();
-  // One option per seen-well angle of CoverageOptions, in its order (each names a pair of definitions).
-  static constexpr std::array<std::pair<const char*, const char*>, kSeenAngles> angle_options{{
-      {"--seen-angle", "A visible sample is seen well when its normal is within this many degrees of the direction to the camera"},
-      {"--strict-angle", "The seen-well angle of the second pair of feature definitions (stricter)"},
-      {"--stricter-angle", "The seen-well angle of the third pair of feature definitions (stricter still)"},
-      {"--strictest-angle", "The seen-well angle of the fourth pair of feature definitions (the strictest)"},
-  }};
-  for (std::size_t i = 0; i < angle_options.size(); ++i)
-    cmd->add_option(angle_options[i].first, args->evaluation.coverage.seen_angle_deg[i], angle_options[i].second)
-        ->check(CLI::Range(1.0, 90.0))
-        ->capture_default_str();
-  cmd->add_option("--feature-quantile", args->evaluation.coverage.feature_quantile,
-                  "Features: the samples at or above this quantile of a measure")
-      ->check(CLI::Range(0.0, 0.99))
-      ->capture_default_str();
-  cmd->add_option("--region-share", args->evaluation.region_seen_share,
-                  "Share of a feature region's area that must be seen well for the region to count as seen in a frame")
-      ->check(CLI::Range(0.01, 1.0))
-      ->capture_default_str();
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
-  cmd->callback([args] { run_evaluate(*args); });
+  add_mesh_argument(*cmd, args->scene.input);
+  CoverageOptions& coverage = job.evaluation.coverage;
+  add_scene_options(*cmd, args->scene, options::evaluate,
+                    {{"threads", options::to(job.threads)},
+                     {"quiet", options::to(job.quiet)},
+                     {"compare", options::to(job.compare)},
+                     {"json-file", options::to(job.json)},
+                     {"coverage-samples", options::to(coverage.samples)},
+                     // One row per seen-well angle of CoverageOptions, in its order.
+                     {"seen-angle", options::to(coverage.seen_angle_deg[0])},
+                     {"strict-angle", options::to(coverage.seen_angle_deg[1])},
+                     {"stricter-angle", options::to(coverage.seen_angle_deg[2])},
+                     {"strictest-angle", options::to(coverage.seen_angle_deg[3])},
+                     {"feature-quantile", options::to(coverage.feature_quantile)},
+                     {"region-share", options::to(job.evaluation.region_seen_share)}},
+                    /*with_input=*/false);
+  cmd->callback([args] {
+    const options::Values& given = args->scene.values;
+    if (given.contains("path") && given.contains("path-file")) throw InputError("give --path or --path-file, not both");
+    args->job.mesh = args->scene.input;
+    args->job.scene = resolve_scene(args->scene);
+    run_evaluate(args->job);
+  });
 }
 
 }  // namespace meshtour::cli

@@ -19,16 +19,54 @@
 #include "cli/scene_args.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 #include "jobs/frame_dir.h"
 #include "pathgen/path_file.h"
 
 namespace meshtour::cli {
+namespace {
+
+struct FarmArgs {
+  SceneArgs scene;  // the input and every value given: the tour's settings, and what the tasks are given again
+  FarmJob job;
+};
+
+// The settings of the farm's tasks, resolved here: the tour's scene (without a manifest), the
+// manifest's item count, and the options each task is given again.
+void run_farm(FarmArgs& args) {
+  FarmJob& job = args.job;
+  const options::Values& given = args.scene.values;
+  if (!job.manifest.empty() && !args.scene.input.empty()) throw InputError("give either a SCENE|MESH or --manifest, not both");
+  const std::string codec(video_codec_info(job.codec).name);
+  if (const auto crf = given.find("crf"); crf != given.end())
+    if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
+      throw InputError("--crf " + problem);
+  job.input = args.scene.input;
+  if (job.manifest.empty()) {
+    job.scene = resolve_scene(args.scene, codec);
+  } else {
+    job.manifest_items = static_cast<int>(read_batch_manifest(std::filesystem::absolute(job.manifest)).size());
+  }
+  job.render_args = options::forwarded_args(given, options::render_tasks, options::render);
+  job.batch_args = options::forwarded_args(given, options::batch_tasks, options::batch);
+  const std::vector<std::string> to_encode = options::forwarded_args(given, options::encode_job, options::encode);
+  for (std::size_t i = 0; i < to_encode.size(); i += 2) {
+    const std::string& flag = to_encode[i];
+    if (flag == options::option("codec").flag) continue;  // the farm gives it, with its default
+    // Files named here are found from the job's own directory too.
+    const bool file = flag == options::option("poster").flag || flag == options::option("font").flag;
+    job.encode_args.insert(job.encode_args.end(), {flag, file ? std::filesystem::absolute(to_encode[i + 1]).string() : to_encode[i + 1]});
+  }
+  run_farm_slurm(job);
+}
+
+}  // namespace
 
 void add_farm_command(CLI::App& app) {
   CLI::App* farm = app.add_subcommand("farm", "Split a tour (or a batch) over a render farm's job engine.");
   farm->require_subcommand(1);
-  auto args = std::make_shared<FarmJob>();
+  auto args = std::make_shared<FarmArgs>();
+  FarmJob& job = args->job;
   CLI::App* cmd = farm->add_subcommand("slurm", "Write (and with --submit, submit) Slurm jobs: a job array of frame chunks and a dependent encode.");
   cmd->description(
       "Computes the camera path once (DIR/path.json), writes DIR/render.sbatch (a job array: task i runs\n"
@@ -38,21 +76,22 @@ void add_farm_command(CLI::App& app) {
       "With --manifest, one array task per batch item instead ('meshtour batch --item i'), printing\n"
       "batch_job=ID. Paths in the scripts are absolute: DIR must be on a filesystem every node shares.\n"
       "Re-submitting resumes: frames and videos that exist are skipped.");
-  add_scene_options(*cmd, args->scene, options::farm);
-  cmd->add_option("--manifest", args->manifest, "A batch manifest (CSV or JSON, see 'meshtour batch --help'): one array task per item")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--out-dir", args->out_dir, "Directory for the scripts, the path, the frames, logs and the video (shared by all nodes)")
-      ->required();
-  cmd->add_option("-o,--output", args->output, "Video file name inside --out-dir (default <input name> + the codec's extension)");
-  cmd->add_option("--chunk-size", args->chunk_size, "Frames per array task (default 10)")->check(CLI::Range(1, 1000000));
-  cmd->add_option("--partition", args->partition, "Slurm partition (sbatch --partition; default: the cluster's default)");
-  cmd->add_option("--time", args->time_limit, "Time limit of each task (sbatch --time, e.g. 30 or 2:00:00)");
-  cmd->add_option("--cpus-per-task", args->cpus_per_task, "CPUs per task (sbatch --cpus-per-task); render uses that many threads (default 1)")
-      ->check(CLI::Range(1, 1024));
-  cmd->add_option("--executable", args->executable, "The meshtour executable the jobs run (default: this one)");
-  cmd->add_flag("--submit", args->submit, "Submit the jobs with sbatch and print their ids");
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors and the job ids");
-  cmd->callback([args] { run_farm_slurm(*args); });
+  options::Values& given = args->scene.values;  // what the tasks are given again (forwarded_args)
+  add_scene_options(*cmd, args->scene, options::farm,
+                    {{"codec", options::recorded(given, "codec", options::to(job.codec, parse_video_codec))},
+                     {"format", options::to(job.format, parse_frame_formats)},
+                     {"web", options::recorded(given, "web", options::to(job.web))},
+                     {"manifest", options::to(job.manifest)},
+                     {"out-dir", options::to(job.out_dir)},
+                     {"output", options::to(job.output)},
+                     {"chunk-size", options::to(job.chunk_size)},
+                     {"partition", options::to(job.partition)},
+                     {"time", options::to(job.time_limit)},
+                     {"cpus-per-task", options::to(job.cpus_per_task)},
+                     {"executable", options::to(job.executable)},
+                     {"submit", options::to(job.submit)},
+                     {"quiet", options::to(job.quiet)}});
+  cmd->callback([args] { run_farm(*args); });
 }
 
 }  // namespace meshtour::cli

@@ -14,6 +14,7 @@
 #include "mesh/mesh.h"
 #include "mesh/mesh_statistics.h"
 #include "mesh/up_axis.h"
+#include "cli/scene_args.h"
 #include "options/cli_options.h"
 #include "tour/resources.h"
 
@@ -22,7 +23,8 @@ namespace {
 
 struct InfoArgs {
   std::string mesh;
-  options::Values values;
+  bool json = false;
+  options::Values values;  // info takes no tour settings: stays empty
 };
 
 nlohmann::json describe(const std::string& file) {
@@ -119,11 +121,11 @@ void print_text(const nlohmann::json& j) {
 void add_info_command(CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* cmd = app.add_subcommand("info", "Describe a mesh file without rendering it (counts, bounds, materials, textures, memory).");
-  cmd->add_option("mesh", args->mesh, "Mesh file (" + supported_mesh_formats() + ")")->required();
-  options::add_registered_options(*cmd, options::info, args->values);
+  add_mesh_argument(*cmd, args->mesh);
+  options::add_command_options(*cmd, options::info, args->values, {{"json", options::to(args->json)}});
   cmd->callback([args] {
     const nlohmann::json j = describe(args->mesh);
-    if (args->values.count("json")) std::cout << j.dump(1) << "\n";
+    if (args->json) std::cout << j.dump(1) << "\n";
     else print_text(j);
   });
 }

@@ -12,7 +12,6 @@
 
 #include "cli/commands.h"
 #include "tour/render_job.h"
-#include "cli/common_options.h"
 #include "cli/scene_args.h"
 #include "core/error.h"
 #include "jobs/frame_dir.h"
@@ -20,8 +19,18 @@
 
 namespace meshtour::cli {
 
+namespace {
+
+struct RenderArgs {
+  SceneArgs scene;
+  RenderJob job;
+};
+
+}  // namespace
+
 void add_render_command(CLI::App& app) {
-  auto args = std::make_shared<RenderJob>();
+  auto args = std::make_shared<RenderArgs>();
+  RenderJob& job = args->job;
   CLI::App* cmd = app.add_subcommand("render", "Render frames of a tour into a directory (all, or a farm chunk); resumable.");
   cmd->description(
       "Render the frames of a tour (or the ones --frames names) into --out-dir as frame_000123.png/.exr,\n"
@@ -29,13 +38,20 @@ void add_render_command(CLI::App& app) {
       "already exist are skipped (each file appears only when complete), so a killed job is resumed by\n"
       "running it again. Any split of the frames over processes gives the same bytes as one run.\n"
       "SIGINT/SIGTERM stop after the current frame (exit 130).");
-  add_scene_options(*cmd, args->scene, options::render);
-  cmd->add_option("--out-dir", args->out_dir, "Directory for the frames and the manifest (created if needed)")->required();
-  cmd->add_flag("--overwrite", args->overwrite, "Render the selected frames again even if they exist");
-  add_progress_option(*cmd, args->progress);
-  add_resource_options(*cmd, args->resources);
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
-  cmd->callback([args] { run_render(*args); });
+  add_scene_options(*cmd, args->scene, options::render,
+                    {{"frame-selection", options::to(job.frames)},
+                     {"format", options::to(job.format, parse_frame_formats)},
+                     {"threads", options::to(job.threads)},
+                     {"out-dir", options::to(job.out_dir)},
+                     {"overwrite", options::to(job.overwrite)},
+                     {"progress", options::to(job.progress, parse_progress_mode)},
+                     {"max-memory", options::to(job.resources.max_memory)},
+                     {"verbose", options::to(job.resources.verbose)},
+                     {"quiet", options::to(job.quiet)}});
+  cmd->callback([args] {
+    args->job.scene = resolve_scene(args->scene);
+    run_render(args->job);
+  });
 }
 
 }  // namespace meshtour::cli

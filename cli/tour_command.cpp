@@ -10,12 +10,13 @@
 #include <optional>
 
 #include "cli/commands.h"
-#include "cli/common_options.h"
 #include "cli/scene_args.h"
 #include "core/error.h"
 #include "encoder/video_encoder.h"
 #include "jobs/frame_dir.h"
 #include "pathgen/camera_export.h"
+#include "cli/video_settings.h"
+#include "tour/tour.h"
 #include "scenes/scene.h"
 #include "tracer/tracer.h"
 
@@ -24,11 +25,8 @@ namespace {
 
 struct TourArgs {
   SceneArgs scene;  // model, size, timing, camera, look: shared with render, batch and farm
+  TourVideoJob job;
   std::string output;
-  std::string frames_dir;
-  std::string progress = "auto";
-  ResourceArgs resources;  // --max-memory, --verbose
-  bool quiet = false;
 };
 
 std::filesystem::path default_output(const TourArgs& a) {
@@ -36,22 +34,14 @@ std::filesystem::path default_output(const TourArgs& a) {
   return std::filesystem::path(a.scene.input).stem().string() + ".mp4";
 }
 
-void run_tour(const TourArgs& args) {
+void run_tour(TourArgs& args) {
   install_interrupt_handlers();
   const Scene scene = resolve_scene(args.scene);
-  TourVideoJob job;
+  TourVideoJob& job = args.job;
   job.output = args.output.empty() ? default_output(args) : std::filesystem::path(args.output);
-  job.frames_dir = args.frames_dir;
-  const options::Values& values = args.scene.values;
-  job.format = value_or(values, "format", "png");
-  job.threads = int_value_or(values, "threads", 0);
-  job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
-  job.quiet = args.quiet;
-  job.resources = args.resources;
-  job.gltf = value_or(values, "gltf", "");
-  job.camera_frames = value_or(values, "camera-frames", "");
-  job.poster = poster_job(values);
-  job.caption = caption_args(values);
+  if (job.quiet) job.progress = ProgressMode::none;
+  job.poster = poster_job(args.scene.values);
+  job.caption = caption_args(args.scene.values);
   render_tour_video(scene, job);
 }
 
@@ -64,12 +54,18 @@ void add_tour_command(CLI::App& app) {
       "Render a tour video: load the model, compute the camera path, render every frame with the\n"
       "ray tracer and encode them to an H.264 MP4. With no INPUT, renders the built-in default scene.\n"
       "Options given here override the scene file; a mesh file gets the default scene's settings.");
-  add_scene_options(*cmd, args->scene, options::tour);
-  cmd->add_option("-o,--output", args->output, "Video file to write (.mp4); default: <input name>.mp4 in the current directory");
-  cmd->add_option("--frames-dir", args->frames_dir, "Also write every frame as an image into this directory (frame_000000.png, ...)");
-  add_progress_option(*cmd, args->progress);
-  add_resource_options(*cmd, args->resources);
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
+  TourVideoJob& job = args->job;
+  add_scene_options(*cmd, args->scene, options::tour,
+                    {{"format", options::to(job.format, parse_frame_formats)},
+                     {"threads", options::to(job.threads)},
+                     {"gltf", options::to(job.gltf)},
+                     {"camera-frames", options::to(job.camera_frames)},
+                     {"output", options::to(args->output)},
+                     {"frames-dir", options::to(job.frames_dir)},
+                     {"progress", options::to(job.progress, parse_progress_mode)},
+                     {"max-memory", options::to(job.resources.max_memory)},
+                     {"verbose", options::to(job.resources.verbose)},
+                     {"quiet", options::to(job.quiet)}});
   cmd->callback([args] { run_tour(*args); });
 }
 

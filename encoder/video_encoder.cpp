@@ -35,19 +35,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::array<VideoCodecInfo, 5> kCodecs = {{
-    {VideoCodec::h264, "h264", ".mp4", "MP4", "H.264 High, 8-bit 4:2:0, BT.709",
-     "sharing, players, browsers (the default)", false, true},
-    {VideoCodec::prores, "prores", ".mov", "QuickTime MOV", "ProRes 422 HQ, 10-bit 4:2:2, BT.709",
-     "editing (Final Cut, Resolve, Premiere); visually lossless, large", false, true},
-    {VideoCodec::ffv1, "ffv1", ".mkv", "Matroska MKV", "FFV1 level 3, 8-bit RGB, intra only",
-     "archives: decodes to exactly the frames given", true, false},
-    {VideoCodec::vp9, "vp9", ".webm", "WebM", "VP9 profile 0, 8-bit 4:2:0, BT.709",
-     "web pages (HTML5 <video>); smaller than H.264 at the same quality, slower", false, true},
-    {VideoCodec::gif, "gif", ".gif", "GIF", "animated GIF, one 256-colour palette per clip, dithered",
-     "previews where video cannot play (e-mail, READMEs); short, small clips only", false, false},
-}};
-
 // Muxers that write random or run-dependent fields (Matroska's segment UID) or version strings
 // unless told to be bit-exact. MP4 (H.264) keeps the bytes it always had: it writes no random
 // fields, only the library version, which is the same for every run of the same binary.
@@ -153,7 +140,7 @@ void validate(const fs::path& output, const VideoOptions& o) {
                      " pixels a side (3840x2160 or less plays everywhere)");
   if (o.fps < 1 || o.fps > 240)
     throw InputError("video frame rate " + std::to_string(o.fps) + " is out of range; use 1..240 fps");
-  const std::optional<options::CodecRange> crf = crf_range(o.codec);
+  const std::optional<CrfRange> crf = crf_range(o.codec);
   if (o.crf && !crf)
     throw InputError(std::string("crf does not apply to ") + codec +
                      (info.lossless ? " (it is lossless)" : o.codec == VideoCodec::prores
@@ -256,29 +243,6 @@ AVPixelFormat encoder_pixel_format(VideoCodec codec) {
 
 }  // namespace
 
-std::span<const VideoCodecInfo> video_codecs() { return kCodecs; }
-
-std::optional<options::CodecRange> crf_range(VideoCodec codec) {
-  const options::CodecRange r = options::codec_range(options::option("crf"), video_codec_info(codec).name);
-  if (r.lo == 0 && r.hi == 0) return std::nullopt;
-  return r;
-}
-
-const VideoCodecInfo& video_codec_info(VideoCodec codec) {
-  for (const auto& info : kCodecs)
-    if (info.codec == codec) return info;
-  return kCodecs[0];
-}
-
-VideoCodec parse_video_codec(std::string_view name) {
-  std::string list;
-  for (const auto& info : kCodecs) {
-    if (info.name == name) return info.codec;
-    list += (list.empty() ? "" : ", ") + std::string(info.name);
-  }
-  throw InputError("unknown video codec '" + std::string(name) + "'; use one of: " + list);
-}
-
 struct VideoEncoder::Impl {
   enum class State { Open, Finished, Failed };
 
@@ -323,7 +287,7 @@ struct VideoEncoder::Impl {
   // Codec-specific settings. Thread counts are fixed constants, never "auto": the bytes must not
   // depend on the machine's core count.
   void configure_codec(const AVCodec* encoder) {
-    const std::optional<options::CodecRange> range = crf_range(options.codec);
+    const std::optional<CrfRange> range = crf_range(options.codec);
     const int crf = options.crf.value_or(range ? range->fallback : 0);
     const bool yuv = options.codec != VideoCodec::ffv1 && options.codec != VideoCodec::gif;
     if (yuv) {

@@ -10,38 +10,13 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <optional>
 #include <span>
-
-#include "options/option_registry.h"
 #include <string>
 #include <string_view>
 
+#include "encoder/video_codecs.h"
+
 namespace meshtour {
-
-enum class VideoCodec { h264, prores, ffv1, vp9, gif };
-
-/// What a codec is for and how it is stored; one row per codec, for option checks and help texts.
-struct VideoCodecInfo {
-  VideoCodec codec;
-  std::string_view name;         ///< option value: "h264", "prores", ...
-  std::string_view extension;    ///< the output file's extension, with the dot: ".mp4"
-  std::string_view container;    ///< for people: "MP4", "QuickTime MOV", ...
-  std::string_view format;       ///< what is stored: "H.264 High, yuv420p BT.709, crf"
-  std::string_view use;          ///< what it is good for
-  bool lossless;                 ///< decodes to exactly the frames given
-  bool needs_even_size;          ///< chroma subsampling: width and height must be even
-};
-
-/// The CRF range and default of `codec`, as the option registry's "crf" row gives them (the one
-/// place they are written), or nullopt when the codec takes no CRF.
-std::optional<options::CodecRange> crf_range(VideoCodec codec);
-
-/// The codecs, in help-text order (h264 first: the default).
-std::span<const VideoCodecInfo> video_codecs();
-const VideoCodecInfo& video_codec_info(VideoCodec codec);
-/// \throw InputError for an unknown name, listing the known ones.
-VideoCodec parse_video_codec(std::string_view name);
 
 struct VideoOptions {
   int width = 0;               ///< pixels; even for h264, prores, vp9 (chroma subsampling)

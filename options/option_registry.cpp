@@ -7,7 +7,11 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "core/memory_size.h"
+#include "encoder/video_codecs.h"
 #include "jobs/frame_range.h"
+#include "mesh/up_axis.h"
+#include "pathgen/cylinder.h"
 
 // Each row names only the fields it sets (designated initializers); the others keep the defaults
 // of their declarations, which is what GCC's -Wmissing-field-initializers would complain about.
@@ -51,7 +55,13 @@ std::vector<Option> make_registry() {
        .help = "The model's up axis: x, y, z, -x, -y, -z or auto (the side the model stands on: its firmest rest and\n"
                "flattest base, never across its plane of symmetry; y when no side clearly wins, and y for glTF unless\n"
                "the shape clearly disagrees; said on stderr) (default y)",
-       .scene_key = "up", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
+       .scene_key = "up", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks,
+       .meanings = {{.commands = path,
+                     .help = "Up direction of the model = axis of the bounding cylinder the camera circles (I-18): "
+                             "x, y, z, -x, -y, -z, a vector such as 0,1,0.2, 'longest-aabb' (longest side of the "
+                             "bounding box), 'pca' (principal axis of the surface) or 'auto' (the side the model rests on most "
+                             "firmly, else y)",
+                     .kind = Kind::up_direction}}});
   add({.id = "missing-textures", .flag = "--missing-textures", .kind = Kind::choice, .choices = {"error", "grey"},
        .default_text = "error",
        .help = "A texture the model names that is missing or unreadable: error (default; the message names the file and\n"
@@ -65,7 +75,11 @@ std::vector<Option> make_registry() {
                "feature area smoothly; see 'meshtour evaluate --compare' for how it compares on your meshes),\n"
                "paper (the toroidal-patch method of Choi et al. 2024, see 'meshtour path --help') or turntable\n"
                "(circular orbit around the up axis)",
-       .scene_key = "camera.path", .manifest_column = true, .commands = kRendering | evaluate, .farm = kToTasks});
+       .scene_key = "camera.path", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks,
+       .meanings = {{.commands = path,
+                     .help = "Path mode: paper (this method; the path file, --plot and --debug-dir describe it), turntable or "
+                             "feature-orbit (see 'meshtour evaluate --help'); the other modes need a coordinate --up axis",
+                     .default_text = "paper"}}});
   add({.id = "path-file", .flag = "--path-file", .kind = Kind::existing_file,
        .help = "Use the camera path in this file, written by 'meshtour path -o' (overrides --path)",
        .long_help = "Not forwarded as given by `farm slurm`: the farm passes its tasks the file's absolute path.",
@@ -124,7 +138,7 @@ std::vector<Option> make_registry() {
        .help = "Video quality (CRF), lower is better; the range and default are the codec's. h264: 18 looks lossless,\n"
                "23 is x264's default, 0 is lossless but High 4:4:4, which browsers do not play; prores, ffv1 and gif take none",
        .scene_key = "output.crf", .manifest_column = true, .commands = tour | batch | farm | encode,
-       .farm = encode_job | batch_tasks, .codec_ranges = {{"h264", 0, 51, 18}, {"vp9", 0, 63, 31}}});
+       .farm = encode_job | batch_tasks, .codec_dependent = true});
   add({.id = "codec", .flag = "--codec", .kind = Kind::choice, .choices = {"h264", "prores", "ffv1", "vp9", "gif"},
        .default_text = "h264", .help = "Video codec: h264 (default, .mp4), prores (.mov), ffv1 (.mkv), vp9 (.webm) or gif",
        .commands = farm | encode, .farm = encode_job});
@@ -149,6 +163,7 @@ std::vector<Option> make_registry() {
   // frames `render` writes stay clean, so `encode` can caption one set of frames in several languages).
   constexpr unsigned kVideoMakers = tour | batch | farm | encode;
   add({.id = "poster", .flag = "--poster", .kind = Kind::text,
+       .type_name = "PNG",
        .help = "Also write the poster still (PNG): the tour's best-scored frame, bit-identical to that frame when the\n"
                "sizes agree (batch: default <video name>.poster.png beside the video; encode: from the frames directory)",
        .long_help = "The best frame is the one the path search scores highest (`best_view_frame` of the frames manifest); "
@@ -157,7 +172,7 @@ std::vector<Option> make_registry() {
        .manifest_column = true, .commands = tour | farm | encode, .farm = encode_job});
   add({.id = "poster-size", .flag = "--poster-size", .kind = Kind::size, .lo = 16, .hi = 16384,
        .help = "Poster size WIDTHxHEIGHT (default: the frames' size); the best frame is cropped to its aspect and resampled",
-       .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks});
+       .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks, .even_sides = true});
   add({.id = "caption", .flag = "--caption", .kind = Kind::text,
        .help = "Text burned into the video (UTF-8, e.g. \"Nefertiti \u2014 ÄM 21300\"); the frames stay clean. Text wider\n"
                "than the frame is an error naming the limit, never cut",
@@ -181,6 +196,115 @@ std::vector<Option> make_registry() {
   add({.id = "page-only", .flag = "--page-only", .kind = Kind::flag,
        .help = "Write only the contact sheet (index.html) from the batch summaries already in --out-dir (the farm's last job)",
        .commands = batch});
+  // ---- The commands' own settings: inputs and outputs, progress, resources, the farm, the path
+  // command's extra outputs and the evaluation's yardstick.
+  add({.id = "output", .flag = "--output", .kind = Kind::text, .short_flag = "-o", .type_name = "FILE",
+       .help = "Video file to write (.mp4); default: <input name>.mp4 in the current directory",
+       .commands = tour | farm | path | encode, .required = encode,
+       .meanings = {{.commands = farm, .help = "Video file name inside --out-dir (default <input name> + the codec's extension)"},
+                    {.commands = path,
+                     .help = "Path file to write (JSON, normalized units plus the transform back to model units). Default: "
+                             "<mesh name>.path.json in the current folder"},
+                    {.commands = encode, .help = "Video file to write; its extension must match the codec"}}});
+  add({.id = "frames-dir", .flag = "--frames-dir", .kind = Kind::text, .type_name = "DIR",
+       .help = "Also write every frame as an image into this directory (frame_000000.png, ...)", .commands = tour});
+  add({.id = "out-dir", .flag = "--out-dir", .kind = Kind::text, .type_name = "DIR",
+       .help = "Directory for the frames and the manifest (created if needed)", .commands = render | batch | farm,
+       .required = render | batch | farm,
+       .meanings = {{.commands = batch, .help = "Directory for the videos and batch-summary.json (created if needed)"},
+                    {.commands = farm,
+                     .help = "Directory for the scripts, the path, the frames, logs and the video (shared by all nodes)"}}});
+  add({.id = "overwrite", .flag = "--overwrite", .kind = Kind::flag,
+       .help = "Render the selected frames again even if they exist", .commands = render});
+  add({.id = "manifest", .flag = "--manifest", .kind = Kind::existing_file,
+       .help = "A batch manifest (CSV or JSON, see 'meshtour batch --help'): one array task per item", .commands = farm});
+  add({.id = "item", .flag = "--item", .kind = Kind::integer, .lo = 0, .hi = 1000000000,
+       .help = "Run only the item with this 0-based index (one farm array task per item)", .commands = batch});
+  add({.id = "chunk-size", .flag = "--chunk-size", .kind = Kind::integer, .lo = 1, .hi = 1000000, .default_text = "10",
+       .help = "Frames per array task (default 10)", .commands = farm});
+  add({.id = "partition", .flag = "--partition", .kind = Kind::text, .type_name = "NAME",
+       .help = "Slurm partition (sbatch --partition; default: the cluster's default)", .commands = farm});
+  add({.id = "time", .flag = "--time", .kind = Kind::text, .type_name = "TIME",
+       .help = "Time limit of each task (sbatch --time, e.g. 30 or 2:00:00)", .commands = farm});
+  add({.id = "cpus-per-task", .flag = "--cpus-per-task", .kind = Kind::integer, .lo = 1, .hi = 1024, .default_text = "1",
+       .help = "CPUs per task (sbatch --cpus-per-task); render uses that many threads (default 1)", .commands = farm});
+  add({.id = "executable", .flag = "--executable", .kind = Kind::text,
+       .help = "The meshtour executable the jobs run (default: this one)", .commands = farm});
+  add({.id = "submit", .flag = "--submit", .kind = Kind::flag, .help = "Submit the jobs with sbatch and print their ids",
+       .commands = farm});
+  add({.id = "progress", .flag = "--progress", .kind = Kind::choice, .choices = {"auto", "bar", "json", "none"},
+       .default_text = "auto",
+       .help = "Progress on stderr: bar (frames done, frames/s, time left), json (one JSON line per finished frame\n"
+               "and a summary line, for farm logs), none, or auto (default): bar on a terminal, json otherwise",
+       .commands = tour | render | batch});
+  add({.id = "max-memory", .flag = "--max-memory", .kind = Kind::memory_size, .type_name = "SIZE",
+       .help = "Memory the job may use, e.g. 512M or 8G (default: 75% of this machine's memory). A job whose "
+               "estimated peak is larger is refused before it allocates anything",
+       .commands = tour | render | path, .group = "Resources"});
+  add({.id = "verbose", .flag = "--verbose", .kind = Kind::flag,
+       .help = "Report the time and memory (resident, peak) of every stage on stderr", .commands = tour | render | path,
+       .group = "Resources"});
+  add({.id = "quiet", .flag = "--quiet", .kind = Kind::flag, .short_flag = "-q", .help = "Print nothing but errors",
+       .commands = tour | render | batch | farm | path | evaluate | encode,
+       .meanings = {{.commands = batch, .help = "Print nothing but errors and the summary table"},
+                    {.commands = farm, .help = "Print nothing but errors and the job ids"},
+                    {.commands = path | evaluate, .help = "Print nothing on success"}}});
+  add({.id = "plot", .flag = "--plot", .kind = Kind::text, .type_name = "PNG",
+       .help = "Also draw a PNG of the grid weights over the (angle, height) domain with the control points (white discs), "
+               "the base (white), gaze (cyan) and position (magenta) curves and the start cell (red)",
+       .commands = path});
+  add({.id = "debug-dir", .flag = "--debug-dir", .kind = Kind::text, .type_name = "DIR",
+       .help = "Also write the debug outputs of §14 into this folder: patches.ply, face_weights.ply, cell_weights.ply (the "
+               "smoothed mesh in model units, faces coloured by patch / by w(f) / by the weight of their cell, green = low, "
+               "red = high) and samples.csv (the sampled curves and camera poses)",
+       .commands = path});
+  add({.id = "overview", .flag = "--overview", .kind = Kind::text, .type_name = "PNG",
+       .help = "Also render a picture of the path (PNG): the model, its bounding cylinder (blue-grey), the camera positions "
+               "(magenta), the points looked at (cyan), sight lines (yellow) and the start (red)",
+       .commands = path});
+  add({.id = "overview-size", .flag = "--overview-size", .kind = Kind::size, .lo = 16, .hi = 16384, .default_text = "1200x900",
+       .help = "Size of the --overview picture, WIDTHxHEIGHT", .commands = path});
+  add({.id = "path-samples", .flag = "--samples", .kind = Kind::integer, .lo = 1, .hi = 1000000, .default_text = "360",
+       .help = "Samples per loop K in samples.csv (§13.3)", .commands = path});
+  add({.id = "compare", .flag = "--compare", .kind = Kind::flag,
+       .help = "Evaluate turntable, paper and feature-orbit and print one table", .commands = evaluate});
+  add({.id = "json-file", .flag = "--json", .kind = Kind::text, .type_name = "FILE",
+       .help = "Also write the numbers as JSON: {\"modes\": {\"<mode>\": {\"feature_coverage\": ..., "
+               "\"surface_coverage\": ..., \"feature_min_frames\": ..., \"feature_median_frames\": ..., "
+               "\"camera_max_angular_speed\": ..., \"view_max_angular_speed\": ..., "
+               "\"view_max_angular_acceleration\": ..., \"frames_out_of_frame\": ..., \"objective\": ..., "
+               "\"frame_scores\": [...], \"definitions\": {\"patch-density-75deg\": {\"feature_coverage\": ..., "
+               "\"surface_coverage\": ..., \"feature_min_frames\": ..., \"feature_median_frames\": ...}, "
+               "\"saliency-75deg\": {...}, \"patch-density-60deg\": {...}, \"saliency-60deg\": {...}, "
+               "\"patch-density-45deg\": {...}, \"saliency-45deg\": {...}, \"patch-density-30deg\": {...}, "
+               "\"saliency-30deg\": {...}}}}} "
+               "(fractions, rad/frame, rad/frame^2; the top-level coverage keys are the first definition's)",
+       .commands = evaluate});
+  add({.id = "coverage-samples", .flag = "--samples", .kind = Kind::integer, .lo = 1024, .hi = 1 << 24, .default_text = "65536",
+       .help = "Surface samples the coverage is measured on", .commands = evaluate});
+  // One row per seen-well angle of CoverageOptions, in its order (each names a pair of definitions).
+  add({.id = "seen-angle", .flag = "--seen-angle", .kind = Kind::number, .lo = 1, .hi = 90, .default_text = "75",
+       .help = "A visible sample is seen well when its normal is within this many degrees of the direction to the camera",
+       .commands = evaluate});
+  add({.id = "strict-angle", .flag = "--strict-angle", .kind = Kind::number, .lo = 1, .hi = 90, .default_text = "60",
+       .help = "The seen-well angle of the second pair of feature definitions (stricter)", .commands = evaluate});
+  add({.id = "stricter-angle", .flag = "--stricter-angle", .kind = Kind::number, .lo = 1, .hi = 90, .default_text = "45",
+       .help = "The seen-well angle of the third pair of feature definitions (stricter still)", .commands = evaluate});
+  add({.id = "strictest-angle", .flag = "--strictest-angle", .kind = Kind::number, .lo = 1, .hi = 90, .default_text = "30",
+       .help = "The seen-well angle of the fourth pair of feature definitions (the strictest)", .commands = evaluate});
+  add({.id = "feature-quantile", .flag = "--feature-quantile", .kind = Kind::number, .lo = 0, .hi = 0.99, .default_text = "0.75",
+       .help = "Features: the samples at or above this quantile of a measure", .commands = evaluate});
+  add({.id = "region-share", .flag = "--region-share", .kind = Kind::number, .lo = 0.01, .hi = 1, .default_text = "0.25",
+       .help = "Share of a feature region's area that must be seen well for the region to count as seen in a frame",
+       .commands = evaluate});
+  add({.id = "input-format", .flag = "--input-format", .kind = Kind::choice, .choices = {"png", "exr"},
+       .help = "Frame files to read: png or exr (default: png when present)", .commands = encode});
+  add({.id = "tone-mapping", .flag = "--tone-mapping", .kind = Kind::choice, .choices = {"filmic", "clamp"},
+       .default_text = "filmic",
+       .help = "Tone curve of PNG frames and the video: filmic or clamp (EXR frames stay linear and record it in their header)",
+       .scene_key = "look.tone_mapping", .commands = encode,
+       .meanings = {{.commands = encode, .help = "EXR frames: filmic or clamp (default: from the EXR header, else filmic)",
+                     .default_text = "from the EXR header"}}});
   // ---- The toroidal-patch path (docs/METHOD.md); the feature orbit uses the patch options too.
   const unsigned kPathCommands = kRendering | path | evaluate;
   add({.id = "tolerance", .flag = "--tolerance", .kind = Kind::positive, .default_text = "0.001",
@@ -383,9 +507,11 @@ bool parse_pixel_size(std::string_view text, int& width, int& height) {
   return whole(text.substr(0, x), width) && whole(text.substr(x + 1), height);
 }
 
-std::string check_value(const Option& o, const std::string& text) {
+namespace {
+
+std::string check_as(const Option& o, Kind kind, const std::string& text) {
   double v = 0;
-  switch (o.kind) {
+  switch (kind) {
     case Kind::integer: {
       long long i = 0;
       const auto [p, ec] = std::from_chars(text.data() + (text.starts_with('+') ? 1 : 0), text.data() + text.size(), i);
@@ -432,12 +558,53 @@ std::string check_value(const Option& o, const std::string& text) {
     case Kind::size: {
       int w = 0, h = 0;
       if (!parse_pixel_size(text, w, h)) return "must be WIDTHxHEIGHT in pixels, e.g. 640x360, got '" + text + "'";
-      if (w < o.lo || w > o.hi || h < o.lo || h > o.hi || w % 2 != 0 || h % 2 != 0)
-        return "must have even sides between " + range_text(o) + " pixels, got " + text;
+      if (w < o.lo || w > o.hi || h < o.lo || h > o.hi || (o.even_sides && (w % 2 != 0 || h % 2 != 0)))
+        return "must have " + std::string(o.even_sides ? "even " : "") + "sides between " + range_text(o) + " pixels, got " + text;
       return {};
     }
+    case Kind::memory_size:
+      try {
+        (void)parse_memory_size(text);
+      } catch (const std::exception& e) {
+        return e.what();
+      }
+      return {};
+    case Kind::up_direction:
+      if (is_auto_up(text)) return {};  // decided on the loaded model (mesh/up_axis.h)
+      try {
+        (void)UpDirection::parse(text);
+      } catch (const std::exception& e) {
+        return e.what();
+      }
+      return {};
   }
   return {};
+}
+
+}  // namespace
+
+std::string check_value(const Option& o, const std::string& text) { return check_as(o, o.kind, text); }
+
+std::string check_value(const Option& o, const std::string& text, Command command) {
+  return check_as(o, o.kind_in(command), text);
+}
+
+std::string_view Option::help_in(Command command) const {
+  for (const CommandMeaning& m : meanings)
+    if ((m.commands & command) && !m.help.empty()) return m.help;
+  return help;
+}
+
+std::string_view Option::default_in(Command command) const {
+  for (const CommandMeaning& m : meanings)
+    if ((m.commands & command) && !m.default_text.empty()) return m.default_text;
+  return default_text;
+}
+
+Kind Option::kind_in(Command command) const {
+  for (const CommandMeaning& m : meanings)
+    if ((m.commands & command) && m.kind) return *m.kind;
+  return kind;
 }
 
 std::string normalize_value(const Option& o, const std::string& text) {
@@ -457,33 +624,32 @@ std::string normalize_value(const Option& o, const std::string& text) {
 
 std::string check_value_for_codec(const Option& o, const std::string& text, std::string_view codec) {
   if (std::string problem = check_value(o, text); !problem.empty()) return problem;
-  if (o.codec_ranges.empty()) return {};
-  const CodecRange c = codec_range(o, codec);
-  if (c.lo == 0 && c.hi == 0) return "does not apply to " + std::string(codec) + " (it takes none)";
+  if (!o.codec_dependent) return {};
+  const VideoCodec known = parse_video_codec(codec);
+  const std::optional<CrfRange> c = crf_range(known);
+  if (!c) return "does not apply to " + std::string(codec) + " (it takes none)";
   const long long v = std::stoll(text);
-  if (v < c.lo || v > c.hi)
-    return "must be between " + std::to_string(c.lo) + " and " + std::to_string(c.hi) + " for " + std::string(codec) + ", got " + text;
+  if (v < c->lo || v > c->hi)
+    return "must be between " + std::to_string(c->lo) + " and " + std::to_string(c->hi) + " for " + std::string(codec) + ", got " + text;
   return {};
 }
 
 Target target(const Option& o) {
   if (o.scene_key.starts_with("patches.") || o.scene_key.starts_with("paper.")) return Target::path_search;
-  if (!o.scene_key.empty()) return Target::scene;
+  if (!o.scene_key.empty() || o.id == "seconds") return Target::scene;  // --seconds: the tour length in other units
+  static constexpr std::string_view kVideo[] = {"poster", "poster-size", "caption", "caption-position", "caption-size", "font", "title-card"};
+  if (std::find(std::begin(kVideo), std::end(kVideo), o.id) != std::end(kVideo)) return Target::video;
   return Target::command;
 }
 
 std::string codec_ranges_text(const Option& o) {
   std::string text;
-  for (const CodecRange& c : o.codec_ranges)
-    text += (text.empty() ? "" : "; ") + std::string(c.codec) + " " + std::to_string(c.lo) + ".." + std::to_string(c.hi) +
-            ", default " + std::to_string(c.fallback);
+  if (!o.codec_dependent) return text;
+  for (const VideoCodecInfo& c : video_codecs())
+    if (c.crf)
+      text += (text.empty() ? "" : "; ") + std::string(c.name) + " " + std::to_string(c.crf->lo) + ".." + std::to_string(c.crf->hi) +
+              ", default " + std::to_string(c.crf->fallback);
   return text;
-}
-
-CodecRange codec_range(const Option& o, std::string_view codec) {
-  for (const CodecRange& c : o.codec_ranges)
-    if (c.codec == codec) return c;
-  return {codec, 0, 0, 0};
 }
 
 std::vector<std::string> forwarded_args(const Values& values, FarmPass pass, Command command) {
@@ -517,30 +683,31 @@ std::string_view command_name(Command c) {
 }
 
 std::string misplaced_flag_hint(std::string_view command, std::string_view flag) {
-  const Command all[] = {tour, render, batch, farm, path, evaluate, encode, info};
   unsigned bit = 0;
-  for (const Command c : all)
+  for (const Command c : kAllCommands)
     if (command_name(c) == command || (c == farm && command == "slurm")) bit = c;
+  // The commands that take a row under this name (several rows may share it: --json, --samples).
+  std::vector<std::string_view> owners;
+  for (const Command c : kAllCommands)
+    for (const Option& o : registry())
+      if ((o.commands & c) && o.flag_in(c) == flag && std::find(owners.begin(), owners.end(), command_name(c)) == owners.end())
+        owners.push_back(command_name(c));
+  std::string list;
+  for (std::size_t k = 0; k < owners.size(); ++k)
+    list += std::string(k == 0 ? "" : k + 1 == owners.size() ? " and " : ", ") + std::string(owners[k]);
   for (const Option& o : registry()) {
     if (o.flag != flag && (o.alt_flag.empty() || o.alt_flag != flag)) continue;
-    // The commands that take the row under this name, as "a, b and c".
-    std::vector<std::string_view> owners;
-    for (const Command c : all)
-      if ((o.commands & c) && o.flag_in(c) == flag) owners.push_back(command_name(c));
-    std::string list;
-    for (std::size_t k = 0; k < owners.size(); ++k)
-      list += std::string(k == 0 ? "" : k + 1 == owners.size() ? " and " : ", ") + std::string(owners[k]);
-    if (!(o.commands & bit)) return list.empty() ? "" : std::string(flag) + " is an option of " + list + ", not of " + std::string(command);
+    if (!(o.commands & bit)) continue;
     const std::string_view here = o.flag_in(static_cast<Command>(bit));
     if (here != flag)  // the same setting under this command's own name
       return std::string(command) + " takes it as " + std::string(here) + " (" + std::string(flag) + " is " + list + "'s name)";
   }
-  return "";
+  return list.empty() ? "" : std::string(flag) + " is an option of " + list + ", not of " + std::string(command);
 }
 
 namespace {
-std::string kind_text(const Option& o) {
-  switch (o.kind) {
+std::string kind_text(const Option& o, Kind kind) {
+  switch (kind) {
     case Kind::integer: return "integer " + number_text(o.lo) + "..." + number_text(o.hi);
     case Kind::number: return "number " + number_text(o.lo) + "..." + number_text(o.hi);
     case Kind::positive: return "number > 0";
@@ -551,7 +718,10 @@ std::string kind_text(const Option& o) {
     case Kind::text: return "text";
     case Kind::existing_file: return "existing file";
     case Kind::flag: return "flag";
-    case Kind::size: return "WIDTHxHEIGHT, even sides " + number_text(o.lo) + "..." + number_text(o.hi);
+    case Kind::size:
+      return "WIDTHxHEIGHT, " + std::string(o.even_sides ? "even " : "") + "sides " + number_text(o.lo) + "..." + number_text(o.hi);
+    case Kind::memory_size: return "bytes, or a number with K, M, G or T (1M...1000000T)";
+    case Kind::up_direction: return "x, y, z, -x, -y, -z, a vector a,b,c, longest-aabb, pca or auto";
   }
   return "";
 }
@@ -566,6 +736,13 @@ std::string one_line(std::string_view text) {
   }
   return out;
 }
+
+std::string command_list(unsigned commands) {
+  std::string list;
+  for (const Command c : kAllCommands)
+    if (commands & c) list += (list.empty() ? "" : ", ") + std::string(command_name(c));
+  return list;
+}
 }  // namespace
 
 std::string options_markdown() {
@@ -575,28 +752,52 @@ std::string options_markdown() {
       "do not edit by hand (a test fails when this file is stale). Every option is declared once there:\n"
       "its command-line flag, range, help, scene-file key and batch-manifest column all come from that row.\n\n"
       "Columns: **commands** that take it; **scene key** in a scene file (`meshtour-scene/1`); **column**\n"
-      "= also a batch-manifest column (named by the option's id); **farm** = what `farm slurm` passes it to.\n\n";
-  const Command all[] = {tour, render, batch, farm, path, evaluate, encode, info};
+      "= also a batch-manifest column (named by the option's id); **farm** = what `farm slurm` passes it to.\n\n"
+      "## Flags of each command\n\n"
+      "Besides `-h`/`--help`; `meshtour <command> --help` lists the same (a test compares them).\n\n";
+  for (const Command c : kAllCommands) {
+    md += "- `meshtour " + std::string(command_name(c)) + "`:";
+    bool first = true;
+    for (const Option& o : registry()) {
+      if (!(o.commands & c)) continue;
+      md += first ? " " : ", ";
+      first = false;
+      if (!o.short_flag.empty()) md += "`" + std::string(o.short_flag) + "` ";
+      md += "`" + std::string(o.flag_in(c)) + "`";
+    }
+    md += "\n";
+  }
+  md += "\n";
   for (const Option& o : registry()) {
     md += "## `" + std::string(o.flag) + "`";
+    if (!o.short_flag.empty()) md += " (`" + std::string(o.short_flag) + "`)";
     if (o.alt_flag_commands) md += " (`" + std::string(o.alt_flag) + "` in render)";
     md += " — " + std::string(o.id) + "\n\n" + one_line(o.help) + "\n\n";
     if (!o.long_help.empty()) md += one_line(o.long_help) + "\n\n";
-    std::string commands;
-    for (const Command c : all)
-      if (o.commands & c) commands += (commands.empty() ? "" : ", ") + std::string(command_name(c));
+    for (const CommandMeaning& m : o.meanings) {
+      md += "- in " + command_list(m.commands) + ":";
+      if (!m.help.empty()) md += " " + one_line(m.help);
+      if (!m.default_text.empty()) md += " (default " + std::string(m.default_text) + ")";
+      if (m.kind) md += " (" + kind_text(o, *m.kind) + ")";
+      md += "\n";
+    }
+    if (!o.meanings.empty()) md += "\n";
     std::string farm;
     if (o.farm & render_tasks) farm += "render tasks";
     if (o.farm & encode_job) farm += std::string(farm.empty() ? "" : ", ") + "encode job";
     if (o.farm & batch_tasks) farm += std::string(farm.empty() ? "" : ", ") + "batch tasks";
+    std::string commands = command_list(o.commands);
+    if (o.required) commands += " (required in " + command_list(o.required) + ")";
     md += "| type | default | commands | scene key | column | farm |\n|---|---|---|---|---|---|\n";
-    md += "| " + kind_text(o) + " | " + (o.default_text.empty() ? "—" : std::string(o.default_text)) + " | " + commands + " | " +
-          (o.scene_key.empty() ? "—" : "`" + std::string(o.scene_key) + "`") + " | " +
+    md += "| " + kind_text(o, o.kind) + " | " + (o.default_text.empty() ? "—" : std::string(o.default_text)) + " | " + commands +
+          " | " + (o.scene_key.empty() ? "—" : "`" + std::string(o.scene_key) + "`") + " | " +
           (o.manifest_column ? "`" + std::string(o.id) + "`" : "—") + " | " + (farm.empty() ? "—" : farm) + " |\n";
-    for (const CodecRange& c : o.codec_ranges)
-      md += "\n- " + std::string(c.codec) + ": " + std::to_string(c.lo) + "..." + std::to_string(c.hi) + ", default " +
-            std::to_string(c.fallback);
-    md += o.codec_ranges.empty() ? "\n" : "\n\n";
+    if (o.codec_dependent)
+      for (const VideoCodecInfo& c : video_codecs())
+        if (c.crf)
+          md += "\n- " + std::string(c.name) + ": " + std::to_string(c.crf->lo) + "..." + std::to_string(c.crf->hi) + ", default " +
+                std::to_string(c.crf->fallback);
+    md += o.codec_dependent ? "\n\n" : "\n";
   }
   return md;
 }

@@ -1,5 +1,7 @@
 #include "scenes/scene.h"
 
+#include "scenes/scene_options.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -7,6 +9,7 @@
 #include <cstdio>
 #include <optional>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -19,19 +22,6 @@ namespace meshtour {
 namespace {
 
 using nlohmann::json;
-
-// A string that must be one of `choices` (listed in the message otherwise).
-void read_choice(JsonReader& r, const std::string& key, std::string& out, const std::vector<std::string>& choices) {
-  if (!r.has(key)) return;
-  std::string value;
-  r.read(key, value);
-  if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
-    std::string list;
-    for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-    r.fail_key(key, "is '" + value + "'; use one of " + list);
-  }
-  out = value;
-}
 
 // A linear RGB colour.
 void read_color(JsonReader& r, const std::string& key, Eigen::Vector3f& out) {
@@ -57,52 +47,35 @@ std::optional<std::string> read_registered(JsonReader& r, const std::string& key
     r.fail_key(key, "must be " + std::string(o.kind == options::Kind::choice_list ? "an array of names" : "a number or a string"));
   }
   // Scene files describe tours, whose video is H.264: a codec-dependent value is checked for it.
-  const std::string problem = o.codec_ranges.empty() ? options::check_value(o, text) : options::check_value_for_codec(o, text, "h264");
+  const std::string problem = !o.codec_dependent ? options::check_value(o, text) : options::check_value_for_codec(o, text, "h264");
   if (!problem.empty()) r.fail_key(key, problem);
   return options::normalize_value(o, text);
 }
 
-// Reads every registry row whose scene key lies directly in the object `section` ("" = the
-// document's top level) and applies it.
-void read_registered_keys(JsonReader& r, std::string_view section, Scene& scene, const std::filesystem::path& base_dir) {
-  for (const options::Option& o : options::registry()) {
-    const std::string_view key = o.scene_key;
-    const auto dot = key.rfind('.');
-    const std::string_view parent = dot == std::string_view::npos ? std::string_view() : key.substr(0, dot);
-    if (key.empty() || parent != section) continue;
-    const std::string leaf(dot == std::string_view::npos ? key : key.substr(dot + 1));
-    std::optional<std::string> text = read_registered(r, leaf, o);
-    if (!text) continue;
-    if (o.kind == options::Kind::existing_file) {
-      const std::filesystem::path p(*text);
-      text = (p.is_absolute() ? p : base_dir / p).string();
-    }
-    apply_option(scene, o, *text);
-  }
+// The look values that are also options, each parsed once into the Shading's typed field.
+void set_background(Shading& sh, const std::string& text) {
+  sh.background = text == "transparent" ? BackgroundKind::transparent : BackgroundKind::gradient;
+}
+void set_exposure(Shading& sh, const std::string& text) { sh.exposure = std::stof(text); }
+void set_crease_angle(Shading& sh, const std::string& text) { sh.material.crease_angle_deg = std::stof(text); }
+void set_tone_mapping(Shading& sh, const std::string& text) { sh.tone_mapping = parse_tone_mapping(text); }
+
+// One registered look key: checked by its row, then set.
+void read_look_value(JsonReader& look, const std::string& key, std::string_view id, Shading& sh,
+                     void (*set)(Shading&, const std::string&)) {
+  if (const auto text = read_registered(look, key, options::option(id))) set(sh, *text);
 }
 
-// The look values that are also command-line options (registry rows "background", "exposure",
-// "crease-angle").
-void apply_look_value(Shading& sh, std::string_view id, const std::string& text) {
-  if (id == "background") sh.background = text == "transparent" ? BackgroundKind::transparent : BackgroundKind::gradient;
-  if (id == "exposure") sh.exposure = std::stof(text);
-  if (id == "crease-angle") sh.material.crease_angle_deg = std::stof(text);
-}
-
-// The "look" object: a preset, then any of its values overridden. `preset_override`, when not
-// empty, replaces the file's preset (the command line's --preset).
-void apply_look(const json& look_json, const std::string& source, Shading& sh, const std::string& preset_override) {
-  JsonReader look(look_json, source, "look");
-  std::string preset = read_registered(look, "preset", options::option("preset")).value_or(sh.preset);
-  if (!preset_override.empty()) preset = preset_override;
-  sh = look_preset(preset);
+// The values of a "look" object over `sh` (the preset is the caller's: apply_look). The object
+// was checked when the file was read, so putting them back over another preset cannot fail.
+void apply_look_values(JsonReader& look, const std::string& source, Shading& sh) {
   Material& m = sh.material;
   read_color(look, "base_color", m.base_color);
   look.read("roughness", m.roughness, 0.0, 1.0);
   look.read("specular", m.specular, 0.0, 10.0);
   look.read("vertex_colors", m.use_vertex_colors);
   look.read("texture", m.use_texture);
-  if (auto crease = read_registered(look, "crease_angle", options::option("crease-angle"))) apply_look_value(sh, "crease-angle", *crease);
+  read_look_value(look, "crease_angle", "crease-angle", sh, set_crease_angle);
   if (look.has("lights")) {
     const json& lights = look.raw("lights");
     if (!lights.is_array() || lights.size() > 8)
@@ -135,17 +108,163 @@ void apply_look(const json& look_json, const std::string& source, Shading& sh, c
   look.read("ao_distance", sh.ao_distance, 0.0, 100.0);
   look.read("ground", sh.ground);
   look.read("ground_shadow", sh.ground_shadow, 0.0, 1.0);
-  if (auto background = read_registered(look, "background", options::option("background"))) apply_look_value(sh, "background", *background);
+  read_look_value(look, "background", "background", sh, set_background);
   read_color(look, "background_top", sh.background_top);
   read_color(look, "background_bottom", sh.background_bottom);
-  if (auto exposure = read_registered(look, "exposure", options::option("exposure"))) apply_look_value(sh, "exposure", *exposure);
-  std::string tone = sh.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp";
-  read_choice(look, "tone_mapping", tone, {"filmic", "clamp"});
-  sh.tone_mapping = tone == "filmic" ? ToneMapping::filmic : ToneMapping::clamp;
+  read_look_value(look, "exposure", "exposure", sh, set_exposure);
+  read_look_value(look, "tone_mapping", "tone-mapping", sh, set_tone_mapping);
+}
+
+// The "look" object: its preset, then its values; kept as the scene's file_look, so that a preset
+// chosen later (--preset) gets the file's values too.
+void apply_look(const json& look_json, const std::string& source, Scene& scene) {
+  JsonReader look(look_json, source, "look");
+  const std::string preset = read_registered(look, "preset", options::option("preset")).value_or(scene.render.shading.preset);
+  scene.render.shading = look_preset(preset);
+  apply_look_values(look, source, scene.render.shading);
   look.finish();
+  scene.file_look = [look_json, source](Shading& sh) {
+    JsonReader again(look_json, source, "look");
+    apply_look_values(again, source, sh);
+  };
+}
+
+// Reads every registry row whose scene key lies directly in the object `section` ("" = the
+// document's top level) and applies it.
+void read_registered_keys(JsonReader& r, std::string_view section, Scene& scene, const std::filesystem::path& base_dir) {
+  for (const options::Option& o : options::registry()) {
+    const std::string_view key = o.scene_key;
+    const auto dot = key.rfind('.');
+    const std::string_view parent = dot == std::string_view::npos ? std::string_view() : key.substr(0, dot);
+    if (key.empty() || parent != section) continue;
+    const std::string leaf(dot == std::string_view::npos ? key : key.substr(dot + 1));
+    std::optional<std::string> text = read_registered(r, leaf, o);
+    if (!text) continue;
+    if (o.kind == options::Kind::existing_file) {
+      const std::filesystem::path p(*text);
+      text = (p.is_absolute() ? p : base_dir / p).string();
+    }
+    apply_option(scene, o, *text);
+  }
+}
+
+// The tour settings, each parsed once from its row's checked text into the Scene's typed field.
+using SceneSetter = void (*)(Scene&, const std::string&);
+int whole(const std::string& text) { return static_cast<int>(std::stol(text)); }
+double real(const std::string& text) { return std::stod(text); }
+bool given(const std::string& text) { return text == "true"; }
+
+const std::map<std::string_view, SceneSetter>& scene_bindings() {
+  using S = Scene&;
+  using T = const std::string&;
+  static const std::map<std::string_view, SceneSetter> table = {
+      {"width", [](S s, T t) { s.render.width = whole(t); }},
+      {"height", [](S s, T t) { s.render.height = whole(t); }},
+      {"fps", [](S s, T t) { s.fps = whole(t); }},
+      {"frame-count", [](S s, T t) { s.frames = whole(t); }},
+      {"seconds",
+       [](S s, T t) {
+         const double frames = real(t) * s.fps;  // after --fps: the registry applies fps first
+         if (!(frames >= 1.0 && frames <= 1e6))
+           throw InputError("--seconds gives " + std::to_string(frames) + " frames; it must give 1 to 1000000");
+         s.frames = static_cast<int>(std::lround(frames));
+       }},
+      {"up",
+       [](S s, T t) {
+         s.up_auto = is_auto_up(t);
+         s.up = s.up_auto ? Axis{1, false} : Axis::parse(t);
+       }},
+      {"missing-textures", [](S s, T t) { s.missing_textures_grey = t == "grey"; }},
+      {"path", [](S s, T t) { s.path_mode = parse_path_mode(t); }},
+      {"path-file", [](S s, T t) { s.path_file = std::filesystem::path(t); }},
+      {"fov",
+       [](S s, T t) {
+         s.auto_fov = t == "auto";
+         if (!s.auto_fov) s.vertical_fov_deg = real(t);
+       }},
+      {"elevation", [](S s, T t) { s.elevation_deg = real(t); }},
+      {"preset", [](S s, T t) { set_look_preset(s, t); }},
+      {"crease-angle", [](S s, T t) { set_crease_angle(s.render.shading, t); }},
+      {"spp", [](S s, T t) { s.render.samples_per_pixel = whole(t); }},
+      {"denoise", [](S s, T t) { s.render.denoise = t == "on"; }},
+      {"background", [](S s, T t) { set_background(s.render.shading, t); }},
+      {"exposure", [](S s, T t) { set_exposure(s.render.shading, t); }},
+      {"tone-mapping", [](S s, T t) { set_tone_mapping(s.render.shading, t); }},
+      {"exr-layers",
+       [](S s, T t) {
+         ExtraLayers& layers = s.render.layers;
+         for (std::size_t begin = 0; begin <= t.size();) {
+           const std::size_t end = std::min(t.find(',', begin), t.size());
+           const std::string_view layer = std::string_view(t).substr(begin, end - begin);
+           layers.albedo = layers.albedo || layer == "albedo";
+           layers.normal = layers.normal || layer == "normal";
+           layers.depth = layers.depth || layer == "depth";
+           begin = end + 1;
+         }
+       }},
+      // Checked for the video's codec by the reader (scene file: h264; command line: --codec).
+      {"crf", [](S s, T t) { s.crf = whole(t); }},
+      // The path search (PaperPathOptions and its SurfaceOptions).
+      {"tolerance", [](S s, T t) { s.path_search.surface.tolerance = real(t); }},
+      {"tolerance-unit", [](S s, T t) { s.path_search.surface.tolerance_unit = parse_tolerance_unit(t); }},
+      {"smoothing", [](S s, T t) { s.path_search.surface.smoothing = parse_smoothing_method(t); }},
+      {"smoothing-strength", [](S s, T t) { s.path_search.surface.smoothing_strength = real(t); }},
+      {"curvature-fit", [](S s, T t) { s.path_search.surface.curvature_fit = parse_curvature_fit(t); }},
+      {"kappa-min", [](S s, T t) { s.path_search.surface.kappa_min = real(t); }},
+      {"face-samples", [](S s, T t) { s.path_search.surface.face_samples = parse_face_samples(t); }},
+      {"patch-measure", [](S s, T t) { s.path_search.surface.patch_measure = parse_patch_measure(t); }},
+      {"patch-normal-angle", [](S s, T t) { s.path_search.surface.patch_normal_angle_deg = real(t); }},
+      {"patches-on-unsmoothed", [](S s, T t) { s.path_search.surface.patches_on_unsmoothed = given(t); }},
+      {"seed-order", [](S s, T t) { s.path_search.surface.seed_order = parse_seed_order(t); }},
+      {"leftovers", [](S s, T t) { s.path_search.surface.leftovers = parse_leftover_mode(t); }},
+      {"keep-inaccurate", [](S s, T t) { s.path_search.surface.keep_inaccurate_patches = given(t); }},
+      {"weight-neighbourhood", [](S s, T t) { s.path_search.surface.weight_neighbourhood = parse_weight_neighbourhood(t); }},
+      {"keep-duplicate-vertices", [](S s, T t) { s.path_search.surface.merge_duplicate_vertices = !given(t); }},
+      {"axis-point",
+       [](S s, T t) {
+         s.path_search.axis_point = t == "aabb-center" ? AxisPointMode::aabb_center : AxisPointMode::surface_centroid;
+       }},
+      {"rows", [](S s, T t) { s.path_search.rows = whole(t); }},
+      {"columns", [](S s, T t) { s.path_search.columns = whole(t); }},
+      {"cell-averaging",
+       [](S s, T t) { s.path_search.cell_averaging = t == "area-weighted" ? CellAveraging::area_weighted : CellAveraging::mean; }},
+      {"empty-columns",
+       [](S s, T t) {
+         s.path_search.empty_columns = t == "interpolate" ? EmptyColumnMode::interpolate : EmptyColumnMode::middle_row;
+       }},
+      {"degree", [](S s, T t) { s.path_search.degree = whole(t); }},
+      {"gaze-scale", [](S s, T t) { s.path_search.gaze_scale = real(t); }},
+      {"position-scale", [](S s, T t) { s.path_search.position_scale = real(t); }},
+      {"height-reference",
+       [](S s, T t) {
+         s.path_search.height_reference = t == "curve-mean" ? HeightReference::curve_mean : HeightReference::mid_height;
+       }},
+      {"gaze-radius",
+       [](S s, T t) { s.path_search.gaze_radius = t == "scaled" ? GazeRadiusMode::scaled : GazeRadiusMode::cylinder; }},
+  };
+  return table;
 }
 
 }  // namespace
+
+std::string_view path_mode_name(PathMode mode) {
+  switch (mode) {
+    case PathMode::feature_orbit: return "feature-orbit";
+    case PathMode::paper: return "paper";
+    case PathMode::turntable: return "turntable";
+  }
+  return "feature-orbit";
+}
+
+PathMode parse_path_mode(std::string_view text) {
+  for (const PathMode m : {PathMode::feature_orbit, PathMode::paper, PathMode::turntable})
+    if (path_mode_name(m) == text) return m;
+  throw InputError("unknown path mode '" + std::string(text) + "'; use feature-orbit, paper or turntable");
+}
+
+bool is_scene_setting(const options::Option& o) { return scene_bindings().contains(o.id); }
+
+ToneMapping parse_tone_mapping(const std::string& text) { return text == "clamp" ? ToneMapping::clamp : ToneMapping::filmic; }
 
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::filesystem::path& base_dir) {
   const json doc = parse_json_document(json_text, source);
@@ -182,64 +301,13 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     if (std::string_view(section) == "output") object.read("filter_radius", scene.render.filter_radius, 0.5, 2.0);
     object.finish();
   }
-  if (top.has("look")) {
-    scene.look_json = top.raw("look").dump();
-    apply_look(top.raw("look"), source, scene.render.shading, "");
-  }
+  if (top.has("look")) apply_look(top.raw("look"), source, scene);
   top.finish();
   return scene;
 }
 
 void apply_option(Scene& scene, const options::Option& o, const std::string& text) {
-  using options::Target;
-  if (options::target(o) == Target::path_search) {
-    scene.path_search[std::string(o.id)] = text;
-    return;
-  }
-  const std::string_view id = o.id;
-  const auto integer = [&] { return static_cast<int>(std::stol(text)); };
-  if (id == "width") scene.render.width = integer();
-  else if (id == "height") scene.render.height = integer();
-  else if (id == "fps") scene.fps = integer();
-  else if (id == "frame-count") scene.frames = integer();
-  else if (id == "seconds") {
-    const double frames = std::stod(text) * scene.fps;
-    if (!(frames >= 1.0 && frames <= 1e6)) throw InputError("--seconds gives " + std::to_string(frames) + " frames; it must give 1 to 1000000");
-    scene.frames = static_cast<int>(std::lround(frames));
-  } else if (id == "up") {
-    scene.up_auto = is_auto_up(text);
-    scene.up = scene.up_auto ? Axis{1, false} : Axis::parse(text);
-  } else if (id == "missing-textures") {
-    scene.missing_textures_grey = text == "grey";
-  } else if (id == "path") {
-    scene.path_mode = text;
-  } else if (id == "path-file") {
-    scene.path_file = std::filesystem::path(text);
-  } else if (id == "fov") {
-    scene.auto_fov = text == "auto";
-    if (!scene.auto_fov) scene.vertical_fov_deg = std::stod(text);
-  } else if (id == "elevation") {
-    scene.elevation_deg = std::stod(text);
-  } else if (id == "preset") {
-    set_look_preset(scene, text);
-  } else if (id == "spp") {
-    scene.render.samples_per_pixel = integer();
-  } else if (id == "denoise") {
-    scene.render.denoise = text == "on";
-  } else if (id == "background" || id == "exposure" || id == "crease-angle") {
-    apply_look_value(scene.render.shading, id, text);
-  } else if (id == "exr-layers") {
-    for (std::size_t begin = 0; begin <= text.size();) {
-      const std::size_t end = std::min(text.find(',', begin), text.size());
-      const std::string_view layer = std::string_view(text).substr(begin, end - begin);
-      if (layer == "albedo") scene.render.layers.albedo = true;
-      if (layer == "normal") scene.render.layers.normal = true;
-      if (layer == "depth") scene.render.layers.depth = true;
-      begin = end + 1;
-    }
-  } else if (id == "crf") {
-    scene.crf = integer();  // checked for the codec by the reader (scene file: h264; command line: --codec)
-  }
+  if (const auto it = scene_bindings().find(o.id); it != scene_bindings().end()) it->second(scene, text);
 }
 
 void apply_options(Scene& scene, const options::Values& values) {
@@ -249,12 +317,27 @@ void apply_options(Scene& scene, const options::Values& values) {
   scene.render.world_up = scene.up.vector();
 }
 
-void set_look_preset(Scene& scene, const std::string& preset) {
-  if (scene.look_json.empty()) {
-    scene.render.shading = look_preset(preset);
-    return;
+Scene resolve_scene(const std::string& input, const options::Values& values, std::string_view codec) {
+  Scene scene;
+  if (input.empty()) {
+    scene = default_scene();
+  } else if (std::filesystem::path(input).extension() == ".json") {
+    scene = load_scene(input);
+  } else {
+    scene = default_scene();  // defaults for everything but the model
+    scene.source = input;
+    scene.mesh_file = input;
   }
-  apply_look(json::parse(scene.look_json), scene.source, scene.render.shading, preset);
+  if (const auto crf = values.find("crf"); crf != values.end())
+    if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
+      throw InputError("--crf " + problem);
+  apply_options(scene, values);
+  return scene;
+}
+
+void set_look_preset(Scene& scene, const std::string& preset) {
+  scene.render.shading = look_preset(preset);
+  if (scene.file_look) scene.file_look(scene.render.shading);
 }
 
 Scene default_scene() {

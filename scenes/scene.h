@@ -1,16 +1,32 @@
 #pragma once
-// Scene files: a JSON document naming the model and how to tour it. Every key is optional except
-// the model; command-line options override what the file says. See scenes/README.md.
+// Scenes: the model and everything a tour needs besides the output name, as typed settings of
+// the libraries (the tracer's RenderOptions, the path search's PaperPathOptions, the camera and
+// the timing). Scene files (JSON) are read here; every key is optional except the model, and
+// command-line options override what the file says (scenes/scene_options.h applies them). See
+// scenes/README.md.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "core/axis.h"
 #include "mesh/mesh.h"
-#include "options/option_registry.h"
+#include "pathgen/paper_path.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
+
+/// How the camera goes round the model.
+enum class PathMode {
+  feature_orbit,  ///< an orbit that shows the most feature area smoothly (pathgen/feature_orbit.h)
+  paper,          ///< the toroidal-patch method (docs/METHOD.md)
+  turntable,      ///< a circle around the up axis (pathgen/turntable.h)
+};
+/// "feature-orbit", "paper" or "turntable": the --path value.
+std::string_view path_mode_name(PathMode mode);
+/// The inverse of path_mode_name. \throw InputError for anything else.
+PathMode parse_path_mode(std::string_view text);
 
 /// Everything a tour needs besides the output name.
 struct Scene {
@@ -26,7 +42,7 @@ struct Scene {
   bool missing_textures_grey = false;  ///< --missing-textures grey
 
   // Camera and timing.
-  std::string path_mode = "feature-orbit";  ///< "feature-orbit" (pathgen/feature_orbit.h), "paper" (toroidal patches, docs/METHOD.md) or "turntable"
+  PathMode path_mode = PathMode::feature_orbit;
   std::optional<std::filesystem::path> path_file;
   double vertical_fov_deg = 35.0;
   /// "fov": "auto": geometry-driven paths keep their camera distance and the field of view is
@@ -40,24 +56,16 @@ struct Scene {
   // Output.
   RenderOptions render;
   int crf = 18;
-  /// The file's "look" object as JSON text ("" if none), kept so that a preset chosen on the
-  /// command line can be applied under the file's own overrides (set_look_preset).
-  std::string look_json;
-  /// Settings of the path search (registry rows with scene keys "patches.*" and "paper.*"), as
-  /// checked text; turned into the path stage's options by cli/path_options.h.
-  options::Values path_search;
+  /// The scene file's own look values (its "look" object, checked when the file was read), put
+  /// back over a preset chosen later (set_look_preset): --preset keeps what the file says.
+  std::function<void(Shading&)> file_look;
+  /// Settings of the path search (toroidal patches, cylinder, curve): registry rows with scene
+  /// keys "patches.*" and "paper.*". The up direction is the scene's.
+  PaperPathOptions path_search;
 };
 
-/// Applies one registry value (checked text, see options::check_value) to the scene: the one
-/// place where a tour setting given on the command line, in a scene file or in a batch manifest
-/// takes effect. Rows of the path search are kept in scene.path_search; rows only a command reads
-/// are ignored. \throw InputError when the value is valid alone but not for this scene.
-void apply_option(Scene& scene, const options::Option& option, const std::string& text);
-/// Applies every value of `values` in registry order, then points the ground under the up axis.
-void apply_options(Scene& scene, const options::Values& values);
-
 /// Switches the scene's look to another preset, keeping the values the scene file's "look" sets
-/// explicitly. \throw InputError for an unknown preset.
+/// explicitly.
 void set_look_preset(Scene& scene, const std::string& preset);
 
 /// The scene compiled into the program (scenes/default.json).

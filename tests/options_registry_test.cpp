@@ -10,11 +10,13 @@
 
 #include "core/error.h"
 #include "helpers.h"
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 #include "options/cli_options.h"
 #include "options/option_registry.h"
+#include "evaluate/evaluate.h"
 #include "pathgen/feature_orbit.h"
 #include "scenes/scene.h"
+#include "scenes/scene_options.h"
 
 namespace meshtour {
 namespace {
@@ -27,9 +29,14 @@ const options::Command kCommands[] = {options::tour,  options::render,   options
 
 // A valid value of the row that is not its default (so that applying it shows).
 std::string sample_value(const Option& o) {
+  // A number inside the range, or another one when that is the default.
+  const auto number_not_default = [&o](double first, double second) {
+    const std::string text = options::number_text(first);
+    return text == o.default_text ? options::number_text(second) : text;
+  };
   switch (o.kind) {
-    case Kind::integer: return std::to_string(static_cast<long long>(o.lo) + (o.hi > o.lo ? 1 : 0));
-    case Kind::number: return options::number_text(o.lo + 0.25 * (o.hi - o.lo));
+    case Kind::integer: return number_not_default(o.lo + (o.hi > o.lo ? 1 : 0), o.lo);
+    case Kind::number: return number_not_default(o.lo + 0.25 * (o.hi - o.lo), o.lo + 0.75 * (o.hi - o.lo));
     case Kind::positive: return "0.0025";
     case Kind::choice: return std::string(o.choices.back());
     case Kind::choice_list: return std::string(o.choices.front()) + "," + std::string(o.choices.back());
@@ -39,6 +46,8 @@ std::string sample_value(const Option& o) {
     case Kind::existing_file: return "/dev/null";
     case Kind::flag: return "true";
     case Kind::size: return "64x48";
+    case Kind::memory_size: return "512M";
+    case Kind::up_direction: return "0,1,0.2";
   }
   return "";
 }
@@ -54,7 +63,9 @@ std::string bad_value(const Option& o) {
     case Kind::number_or_choice: return options::number_text(o.hi + 1);
     case Kind::frame_selection: return "5-x";
     case Kind::flag: return "maybe";
-    case Kind::size: return "65x48";
+    case Kind::size: return o.even_sides ? "65x48" : "8x48";
+    case Kind::memory_size: return "12Q";
+    case Kind::up_direction: return "sideways";
     case Kind::text:
     case Kind::existing_file: return "";
   }
@@ -66,6 +77,10 @@ std::pair<options::Values, std::string> parse_cli(options::Command command, std:
   CLI::App app;
   options::Values values;
   options::add_registered_options(app, command, values);
+  // The options the command requires (--out-dir, encode's -o), unless the test gives them.
+  for (const Option& o : options::registry())
+    if ((o.required & command) && std::find(args.begin(), args.end(), o.flag_in(command)) == args.end())
+      args.insert(args.end(), {std::string(o.flag_in(command)), sample_value(o)});
   std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
   try {
     app.parse(args);
@@ -106,13 +121,19 @@ nlohmann::json scene_with(const Option& o, const std::string& text) {
 // The parts of a Scene the registry's rows set, as text, for comparisons.
 std::string scene_fingerprint(const Scene& s) {
   nlohmann::json j = {{"w", s.render.width}, {"h", s.render.height}, {"fps", s.fps}, {"frames", s.frames},
-                      {"up", s.up_auto ? std::string("auto") : s.up.name()}, {"path", s.path_mode}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
+                      {"up", s.up_auto ? std::string("auto") : s.up.name()}, {"path", std::string(path_mode_name(s.path_mode))}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
                       {"elev", s.elevation_deg}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
                       {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"crease", s.render.shading.material.crease_angle_deg},
-                      {"denoise", s.render.denoise},
+                      {"denoise", s.render.denoise}, {"tone", int(s.render.shading.tone_mapping)},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},
                       {"file", s.path_file ? s.path_file->string() : ""}, {"grey", s.missing_textures_grey}};
-  for (const auto& [id, text] : s.path_search) j["search"][id] = text;
+  const PaperPathOptions& p = s.path_search;
+  const SurfaceOptions& f = p.surface;
+  j["search"] = {f.tolerance, int(f.tolerance_unit), int(f.smoothing), f.smoothing_strength, int(f.curvature_fit), f.kappa_min,
+                 int(f.face_samples), int(f.patch_measure), f.patch_normal_angle_deg, f.patches_on_unsmoothed, int(f.seed_order),
+                 int(f.leftovers), f.keep_inaccurate_patches, int(f.weight_neighbourhood), f.merge_duplicate_vertices,
+                 int(p.axis_point), p.rows, p.columns, int(p.cell_averaging), int(p.empty_columns), p.degree, p.gaze_scale,
+                 p.position_scale, int(p.height_reference), int(p.gaze_radius)};
   return j.dump();
 }
 
@@ -166,7 +187,7 @@ TEST(OptionRegistry, CommandLineAndFarmArgumentsRoundTrip) {
       const options::Values given = {{std::string(o.id), options::normalize_value(o, sample_value(o))}};
       const auto [back, error] = parse_cli(receiver, options::forwarded_args(given, pass, receiver));
       EXPECT_EQ(error, "") << o.id;
-      EXPECT_EQ(back, given) << o.id << " via " << command_name(receiver);
+      EXPECT_EQ(back.at(std::string(o.id)), given.at(std::string(o.id))) << o.id << " via " << command_name(receiver);
     }
   }
 }
@@ -174,7 +195,8 @@ TEST(OptionRegistry, CommandLineAndFarmArgumentsRoundTrip) {
 // Every option that changes the path or the pixels of a tour reaches the farm's render tasks.
 TEST(OptionRegistry, FarmPassesEverySceneAndPathSettingToItsTasks) {
   for (const Option& o : options::registry()) {
-    if (options::target(o) == options::Target::command || !(o.commands & options::farm)) continue;
+    const options::Target target = options::target(o);
+    if ((target != options::Target::scene && target != options::Target::path_search) || !(o.commands & options::farm)) continue;
     if (o.id == "crf" || o.id == "path-file") continue;  // the encode job's; the farm's own absolute path
     EXPECT_TRUE(o.farm & options::render_tasks) << o.id;
     EXPECT_TRUE(o.farm & options::batch_tasks) << o.id;
@@ -240,6 +262,32 @@ TEST(OptionRegistry, FovHelpNamesTheLensTheFeatureOrbitPlansFor) {
   // repeats it in words, so a change of the lens must change the help too.
   const std::string lens = std::to_string(static_cast<int>(FeatureOrbitOptions{}.vertical_fov_deg)) + "-degree lens";
   EXPECT_NE(options::option("fov").help.find(lens), std::string::npos) << "--fov help does not name the " << lens;
+}
+
+// A command's own rows show a default that the bound field of its settings starts with: the row's
+// text is what --help and docs/OPTIONS.md say, the field's initializer what the job does.
+TEST(OptionRegistry, DefaultsShownAreTheSettingsDefaults) {
+  const auto shown = [](std::string_view id) { return std::string(options::option(id).default_text); };
+  const EvaluationOptions evaluation;
+  EXPECT_EQ(shown("path-samples"), options::number_text(PaperPathOptions{}.samples));
+  EXPECT_EQ(shown("coverage-samples"), options::number_text(static_cast<double>(evaluation.coverage.samples)));
+  const char* const angles[] = {"seen-angle", "strict-angle", "stricter-angle", "strictest-angle"};
+  for (std::size_t i = 0; i < std::size(angles); ++i)
+    EXPECT_EQ(shown(angles[i]), options::number_text(evaluation.coverage.seen_angle_deg[i])) << angles[i];
+  EXPECT_EQ(shown("feature-quantile"), options::number_text(evaluation.coverage.feature_quantile));
+  EXPECT_EQ(shown("region-share"), options::number_text(evaluation.region_seen_share));
+  // The tour's settings: the built-in scene's values.
+  const Scene scene = default_scene();
+  EXPECT_EQ(shown("width"), options::number_text(scene.render.width));
+  EXPECT_EQ(shown("height"), options::number_text(scene.render.height));
+  EXPECT_EQ(shown("fps"), options::number_text(scene.fps));
+  EXPECT_EQ(shown("frame-count"), options::number_text(scene.frames));
+  EXPECT_EQ(shown("spp"), options::number_text(scene.render.samples_per_pixel));
+  EXPECT_EQ(shown("elevation"), options::number_text(scene.elevation_deg));
+  EXPECT_EQ(shown("path"), std::string(path_mode_name(scene.path_mode)));
+  EXPECT_EQ(shown("rows"), options::number_text(scene.path_search.rows));
+  EXPECT_EQ(shown("columns"), options::number_text(scene.path_search.columns));
+  EXPECT_EQ(shown("degree"), options::number_text(scene.path_search.degree));
 }
 
 TEST(OptionRegistry, ManifestAcceptsEveryPathMode) {

@@ -1,6 +1,8 @@
 #include "tour/batch_job.h"
 
 #include <chrono>
+#include <exception>
+#include <stdexcept>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,7 +11,6 @@
 #include <string>
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "jobs/batch_manifest.h"
 #include "core/interrupt.h"
 #include "tour/mesh_warnings.h"
 #include "tour/path_overview.h"
@@ -21,7 +22,7 @@ namespace meshtour {
 namespace {
 
 struct ItemResult {
-  const BatchItem* item = nullptr;
+  const BatchEntry* item = nullptr;
   std::string status;  // "rendered", "skipped" (video already there) or "failed"
   double seconds = 0.0;
   std::string error;
@@ -31,32 +32,16 @@ struct ItemResult {
   double duration = -1;
 };
 
-bool flag_given(const options::Values& values, std::string_view id) { return value_or(values, id, "false") == "true"; }
-
-// The batch's command-line values with the item's columns on top; a column replaces the option
-// it excludes too (an item's "seconds" wins over a --frames given for the whole batch).
-SceneArgs item_scene_args(const SceneArgs& defaults, const BatchItem& item) {
-  SceneArgs a = defaults;
-  a.input = item.mesh.string();
-  for (const auto& [id, text] : item.values) {
-    const options::Option& o = options::option(id);
-    if (!o.excludes.empty()) a.values.erase(std::string(o.excludes));
-    a.values[id] = text;
-  }
-  return a;
-}
-
-ItemResult run_item(const BatchJob& args, const BatchItem& item) {
+ItemResult run_item(const BatchJob& args, const BatchEntry& item) {
   ItemResult r;
   r.item = &item;
   const auto start = std::chrono::steady_clock::now();
   const std::filesystem::path dir(args.out_dir);
   const std::filesystem::path video = dir / item.output;
   const std::string stem = std::filesystem::path(item.output).stem().string();
-  const bool web = flag_given(args.defaults.values, "web");
-  r.poster = value_or(item.values, "poster", stem + ".poster.png");
-  r.caption = value_or(item.values, "caption", value_or(args.defaults.values, "caption", ""));
-  if (web) r.webm = stem + ".webm", r.gltf = stem + ".gltf";
+  r.poster = item.poster;
+  r.caption = item.caption;
+  if (args.web) r.webm = stem + ".webm", r.gltf = stem + ".gltf";
   std::error_code ec;
   const auto exists = [&](const std::string& name) { return name.empty() || std::filesystem::is_regular_file(dir / name, ec); };
   if (item.error.empty() && exists(item.output) && exists(r.poster) && exists(r.webm) && exists(r.gltf)) {
@@ -66,22 +51,18 @@ ItemResult run_item(const BatchJob& args, const BatchItem& item) {
   try {
     if (!item.error.empty()) throw InputError(item.error);
     if (!args.quiet) std::fprintf(stderr, "== item %d: %s -> %s\n", item.index, item.mesh.string().c_str(), video.string().c_str());
-    const SceneArgs scene_args = item_scene_args(args.defaults, item);
-    const Scene scene = resolve_scene(scene_args);
+    if (item.settings_failure) std::rethrow_exception(item.settings_failure);
+    if (!item.scene) throw std::logic_error("batch item " + std::to_string(item.index) + " was not resolved");
     TourVideoJob job;
     job.output = video;
-    job.poster = poster_job(scene_args.values);
+    job.poster = item.poster_job;
     job.poster.file = dir / r.poster;
-    // A batch-wide caption style applies to the items that have a caption and is no error for the others.
-    options::Values caption_values = scene_args.values;
-    if (!caption_values.contains("caption"))
-      for (const char* id : {"caption-position", "caption-size", "font"}) caption_values.erase(id);
-    job.caption = caption_args(caption_values);
-    if (web) job.webm = dir / r.webm, job.gltf = dir / r.gltf;
-    job.threads = int_value_or(args.defaults.values, "threads", 0);
-    job.progress = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
+    job.caption = item.caption_args;
+    if (args.web) job.webm = dir / r.webm, job.gltf = dir / r.gltf;
+    job.threads = args.threads;
+    job.progress = args.quiet ? ProgressMode::none : args.progress;
     job.quiet = args.quiet;
-    const TourVideoResult made = render_tour_video(scene, job);
+    const TourVideoResult made = render_tour_video(*item.scene, job);
     r.faces = static_cast<long long>(made.faces);
     r.duration = made.seconds();
     r.status = "rendered";
@@ -149,14 +130,13 @@ void print_table(const std::vector<ItemResult>& results) {
 
 void run_batch(const BatchJob& args) {
   install_interrupt_handlers();
-  const bool web = flag_given(args.defaults.values, "web");
-  if (flag_given(args.defaults.values, "page-only")) {
+  if (args.page_only) {
     // The last job of a farm's batch: the page from the array tasks' summaries.
     const std::filesystem::path page = write_contact_sheet(args.out_dir);
     if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());
     return;
   }
-  const std::vector<BatchItem> items = read_batch_manifest(args.manifest);
+  const std::vector<BatchEntry>& items = args.items;
   if (args.item && (*args.item < 0 || *args.item >= static_cast<int>(items.size())))
     throw InputError("--item " + std::to_string(*args.item) + ": the manifest has items 0.." + std::to_string(items.size() - 1));
   std::error_code ec;
@@ -173,7 +153,7 @@ void run_batch(const BatchJob& args) {
   const std::string name = args.item ? "batch-summary-" + std::to_string(*args.item) + ".json" : "batch-summary.json";
   write_summary(args, results, std::filesystem::path(args.out_dir) / name);
   // One farm task (--item) knows only its own item: the farm's last job writes the page.
-  if (web && !args.item) {
+  if (args.web && !args.item) {
     const std::filesystem::path page = write_contact_sheet(args.out_dir);
     if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());
   }

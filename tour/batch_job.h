@@ -3,6 +3,7 @@
 // this process; a bad item is reported and skipped without stopping the others, items whose video
 // exists are skipped (so a re-run does only what is missing), and a summary table (stdout) and
 // batch-summary.json say what succeeded and failed.
+#include <exception>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -23,12 +24,31 @@ struct SomeItemsFailed : std::exception {
 };
 
 
+/// One item of the manifest, its settings resolved at the edge (cli/: the batch's options with the
+/// item's columns on top): the scene and the video's deliverables, or why they could not be.
+struct BatchEntry {
+  int index = 0;               ///< 0-based position in the manifest (a farm's array task id)
+  int line = 0;                ///< CSV line or JSON array position (1-based), for messages
+  std::filesystem::path mesh;  ///< resolved against the manifest's folder
+  std::string output;          ///< video file name inside the output directory
+  std::string error;           ///< the manifest's complaint about the item ("" if it is fine): it fails
+  std::string poster;          ///< poster file name inside the output directory
+  std::string caption;         ///< the caption's text, for the summary ("" = none)
+  std::optional<Scene> scene;  ///< unset when the settings could not be resolved (or the item is not run)
+  std::exception_ptr settings_failure;  ///< why not: the item fails with it when it runs
+  PosterJob poster_job;        ///< its size (the file is `poster` in the output directory)
+  CaptionArgs caption_args;
+};
+
 struct BatchJob {
-  std::string manifest;
+  std::string manifest;            // for the summary
   std::string out_dir;
-  SceneArgs defaults;  // scene options for every item; the manifest's columns override them
+  std::vector<BatchEntry> items;   // every item of the manifest, in its order (empty with page_only)
   std::optional<int> item;
-  std::string progress = "auto";
+  int threads = 0;  // 0 = thread_count()'s default
+  bool web = false;        // per item also a VP9 WebM and a glTF camera, and index.html for the batch
+  bool page_only = false;  // only index.html, from the summaries in out_dir
+  ProgressMode progress = ProgressMode::automatic;
   bool quiet = false;
 };
 

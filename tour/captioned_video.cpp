@@ -4,25 +4,6 @@
 
 namespace meshtour {
 
-CaptionArgs caption_args(const options::Values& values) {
-  CaptionArgs a;
-  const auto text = values.find("caption");
-  if (text != values.end()) {
-    CaptionStyle style;
-    style.text = text->second;
-    if (const auto it = values.find("caption-position"); it != values.end()) style.position = parse_caption_position(it->second);
-    if (const auto it = values.find("caption-size"); it != values.end()) style.size = std::stoi(it->second);
-    if (const auto it = values.find("font"); it != values.end()) style.font = it->second;
-    a.caption = style;
-  } else {
-    for (const char* id : {"caption-position", "caption-size", "font"})
-      if (values.contains(id))
-        throw InputError(std::string(options::option(id).flag) + " has no effect without --caption; give the caption's text");
-  }
-  if (const auto it = values.find("title-card"); it != values.end()) a.title_card = std::stod(it->second);
-  return a;
-}
-
 CaptionedVideo::CaptionedVideo(VideoEncoder& encoder, const VideoOptions& video, const CaptionArgs& args)
     : encoder_(encoder), video_(video), args_(args) {
   if (args_.caption) caption_ = std::make_unique<CaptionBurner>(video.width, video.height, *args_.caption);

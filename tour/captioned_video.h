@@ -9,7 +9,6 @@
 
 #include "encoder/caption.h"
 #include "encoder/video_encoder.h"
-#include "options/option_registry.h"
 
 namespace meshtour {
 
@@ -20,10 +19,6 @@ struct CaptionArgs {
 
   bool any() const { return caption || title_card > 0.0; }
 };
-
-/// The caption settings among registry values (checked text). A position, size or font without a
-/// caption is an InputError (it would silently do nothing).
-CaptionArgs caption_args(const options::Values& values);
 
 /// An encoder with the caption and the title card in front of it.
 class CaptionedVideo {

@@ -47,7 +47,7 @@ VideoCodec choose_codec(const EncodeJob& a) {
   const std::string ext = lowercase(fs::path(a.output).extension().string());
   if (a.codec) {
     // Checked here too (the encoder does as well) so that the mistake is reported before the frames are.
-    const VideoCodecInfo& info = video_codec_info(parse_video_codec(*a.codec));
+    const VideoCodecInfo& info = video_codec_info(*a.codec);
     if (ext != info.extension)
       throw InputError(a.output + ": codec " + std::string(info.name) + " is written as " + std::string(info.container) +
                        "; name the file *" + std::string(info.extension));
@@ -267,7 +267,7 @@ void encode_frames(const EncodeJob& args) {
 
   DisplayTransform display;
   if (args.exposure) display.exposure = static_cast<float>(*args.exposure);
-  if (args.tone_mapping) display.tone_mapping = *args.tone_mapping == "clamp" ? ToneMapping::clamp : ToneMapping::filmic;
+  display.tone_mapping = args.tone_mapping;
 
   const fs::path output = args.output;
   VideoEncoder encoder(output, video);  // validates the options and the output before any work

@@ -6,6 +6,8 @@
 
 #include "tour/captioned_video.h"
 #include "tour/poster.h"
+#include "encoder/video_codecs.h"
+#include "tracer/tracer.h"
 
 namespace meshtour {
 
@@ -14,7 +16,10 @@ struct EncodeJob {
   std::string dir;     ///< the frames directory
   std::string output;  ///< the video; its extension must match the codec
   std::optional<int> fps, crf;
-  std::optional<std::string> codec, frames, input_format, tone_mapping;  ///< frames: a selection (jobs/frame_range.h)
+  std::optional<VideoCodec> codec;         ///< unset: the one the output's extension names
+  std::optional<std::string> frames;       ///< a selection (jobs/frame_range.h)
+  std::optional<std::string> input_format;  ///< "png" or "exr": the frame files to read
+  std::optional<ToneMapping> tone_mapping;  ///< EXR frames; unset: from their header
   std::optional<double> exposure;
   PosterJob poster;    ///< the best frame (the manifest's best_view_frame, else 0) as a PNG
   CaptionArgs caption;  ///< burned into the video; the frames stay as they are

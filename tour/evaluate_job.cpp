@@ -65,15 +65,13 @@ void print_definitions(const std::vector<std::pair<std::string, PathEvaluation>>
 
 void run_evaluate(EvaluateJob& a) {
   install_interrupt_handlers();
-  const options::Values& values = a.scene.values;
-  const ThreadLimit thread_limit(int_value_or(values, "threads", 0), a.quiet);
+  const ThreadLimit thread_limit(a.threads, a.quiet);
   a.evaluation.validate();
-  const bool path_file = values.count("path-file") != 0;
+  const bool path_file = a.scene.path_file.has_value();
   if (a.compare && path_file) throw InputError("--compare evaluates the built-in path modes; leave out --path-file");
-  if (values.count("path") && path_file) throw InputError("give --path or --path-file, not both");
 
-  Scene scene = resolve_scene(a.scene);
-  const PaperPathOptions paper = path_search_options(scene.path_search);
+  Scene scene = a.scene;
+  const PaperPathOptions& paper = scene.path_search;
   paper.validate();
 
   const TriangleMesh mesh = load_scene_model(scene);
@@ -88,16 +86,17 @@ void run_evaluate(EvaluateJob& a) {
   Lens lens;
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
-  std::vector<std::string> modes;
+  // The modes measured, by name; the path file's cameras are measured as "path-file".
+  std::vector<std::pair<std::string, PathMode>> modes;
   if (a.compare)
-    modes = {"turntable", "paper", "feature-orbit"};
+    for (const PathMode m : {PathMode::turntable, PathMode::paper, PathMode::feature_orbit}) modes.emplace_back(path_mode_name(m), m);
   else
-    modes = {path_file ? std::string("path-file") : scene.path_mode};
+    modes = {{path_file ? std::string("path-file") : std::string(path_mode_name(scene.path_mode)), scene.path_mode}};
   std::vector<std::pair<std::string, PathEvaluation>> rows;
   // Once per mesh, for every mode: the framing fits read only the hull's vertices.
   const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
-  for (const std::string& mode : modes) {
-    if (mode != "path-file") scene.path_mode = mode;
+  for (const auto& [mode, path_mode] : modes) {
+    scene.path_mode = path_mode;
     // With the frames' scores asked for, the feature orbit turns its loop so that its best frame
     // comes first, as `tour` does: the cameras measured are the ones the tour renders.
     std::vector<double> view_scores;
@@ -116,7 +115,7 @@ void run_evaluate(EvaluateJob& a) {
     write_text_file_atomically(a.json, text, "evaluation");
   }
   if (!a.quiet) {
-    std::cout << "meshtour evaluate: " << a.scene.input << " (up " << scene.up.name() << ", " << scene.frames << " frames, "
+    std::cout << "meshtour evaluate: " << a.mesh << " (up " << scene.up.name() << ", " << scene.frames << " frames, "
               << mesh.triangles.size() << " faces, " << evaluator.coverage().region_count(FeatureMeasure::patch_density)
               << " feature regions)\n";
     print_table(rows, std::cout);

@@ -14,10 +14,12 @@
 namespace meshtour {
 
 struct EvaluateJob {
-  SceneArgs scene;  // the mesh and the tour's registry options (size, frames, camera, path search)
+  std::string mesh;  // as given, for the report
+  Scene scene;       // the tour's settings (size, frames, camera, path search), resolved at the edge
   std::string json;
   bool compare = false;
   bool quiet = false;
+  int threads = 0;  // 0 = thread_count()'s default
   EvaluationOptions evaluation;
 };
 

@@ -7,10 +7,10 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <stdexcept>
 #include <vector>
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "jobs/batch_manifest.h"
 #include "jobs/frame_dir.h"
 #include "pathgen/path_file.h"
 #include "core/interrupt.h"
@@ -36,14 +36,6 @@ std::string join_quoted(const std::vector<std::string>& args) {
   std::string out;
   for (const auto& a : args) out.append(" ").append(shell_quote(a));  // (append: GCC 12 -Wrestrict false positive)
   return out;
-}
-
-std::string video_extension(const std::string& codec) {
-  if (codec == "prores") return ".mov";
-  if (codec == "ffv1") return ".mkv";
-  if (codec == "vp9") return ".webm";
-  if (codec == "gif") return ".gif";
-  return ".mp4";
 }
 
 void write_text(const std::filesystem::path& file, const std::string& text, bool executable) {
@@ -101,14 +93,8 @@ std::filesystem::path this_executable(const FarmJob& a) {
 }  // namespace
 
 void run_farm_slurm(const FarmJob& args) {
-  if (!args.manifest.empty() && !args.scene.input.empty())
-    throw InputError("give either a SCENE|MESH or --manifest, not both");
   const std::filesystem::path out = std::filesystem::absolute(args.out_dir).lexically_normal();
-  const std::string codec = value_or(args.scene.values, "codec", "h264");
-  const std::string format = value_or(args.scene.values, "format", "png");
-  if (const auto crf = args.scene.values.find("crf"); crf != args.scene.values.end())
-    if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
-      throw InputError("--crf " + problem);
+  const VideoCodecInfo& codec = video_codec_info(args.codec);
   const std::filesystem::path exe = this_executable(args);
   std::error_code ec;
   std::filesystem::create_directories(out / "logs", ec);
@@ -121,11 +107,9 @@ void run_farm_slurm(const FarmJob& args) {
   if (!args.manifest.empty()) {
     // One array task per item: `meshtour batch --item` renders and encodes that item's video.
     const std::filesystem::path manifest = std::filesystem::absolute(args.manifest);
-    const std::vector<BatchItem> items = read_batch_manifest(manifest);
-    tasks = static_cast<int>(items.size());
+    tasks = args.manifest_items;
     std::vector<std::string> cmd = {exe.string(), "batch", manifest.string(), "--out-dir", out.string()};
-    const auto forwarded = options::forwarded_args(args.scene.values, options::batch_tasks, options::batch);
-    cmd.insert(cmd.end(), forwarded.begin(), forwarded.end());
+    cmd.insert(cmd.end(), args.batch_args.begin(), args.batch_args.end());
     cmd.insert(cmd.end(), {"--progress", "json"});
     std::string script = sbatch_header(args, "meshtour-batch", (out / "logs" / "batch_%A_%a.log").string());
     script += "#SBATCH --array=0-" + std::to_string(tasks - 1) + "\n";
@@ -134,7 +118,7 @@ void run_farm_slurm(const FarmJob& args) {
     write_text(out / "batch.sbatch", script, true);
     first_sbatch = " " + shell_quote((out / "batch.sbatch").string());
     submit_script += "batch=$(sbatch --parsable" + first_sbatch + ")\necho \"batch_job=${batch%%;*}\"\n";
-    if (value_or(args.scene.values, "web", "false") == "true") {
+    if (args.web) {
       // The contact sheet once every task ended, failed ones included (they are on the page).
       std::string page = sbatch_header(args, "meshtour-page", (out / "logs" / "page_%j.log").string());
       page += "# runs after every batch task ended (submitted with --dependency=afterany:<batch array job>)\n";
@@ -146,18 +130,19 @@ void run_farm_slurm(const FarmJob& args) {
                        ")\necho \"page_job=${page%%;*}\"\n";
     }
   } else {
-    const Scene scene = resolve_scene(args.scene, codec);
+    if (!args.scene) throw std::logic_error("farm slurm: the tour's scene was not resolved");
+    const Scene& scene = *args.scene;
     const std::filesystem::path frames_dir = out / "frames";
     std::vector<std::string> render = {exe.string(), "render"};
-    if (!args.scene.input.empty()) render.push_back(std::filesystem::absolute(args.scene.input).string());
-    render.insert(render.end(), {"--out-dir", frames_dir.string(), "--format", format});
+    if (!args.input.empty()) render.push_back(std::filesystem::absolute(args.input).string());
+    render.insert(render.end(), {"--out-dir", frames_dir.string(), "--format", std::string(frame_formats_name(args.format))});
 
     // The path, once: every chunk must render the very same path (and it is the expensive part
     // of a process's start-up).
     std::filesystem::path path_file;
     if (scene.path_file) {
       path_file = std::filesystem::absolute(*scene.path_file);
-    } else if (scene.path_mode == "paper") {
+    } else if (scene.path_mode == PathMode::paper) {
       // Only the paper path has a path file; the turntable and the feature orbit are cheap and
       // deterministic (thread-count invariant), so every task computes the same one itself.
       const TriangleMesh mesh = load_scene_model(scene);
@@ -170,13 +155,12 @@ void run_farm_slurm(const FarmJob& args) {
     }
     if (!path_file.empty()) render.insert(render.end(), {"--path-file", path_file.string()});
     // Every option that changes pixels or the path, so each task renders the tour `tour` would.
-    const auto forwarded = options::forwarded_args(args.scene.values, options::render_tasks, options::render);
-    render.insert(render.end(), forwarded.begin(), forwarded.end());
+    render.insert(render.end(), args.render_args.begin(), args.render_args.end());
     render.insert(render.end(), {"--progress", "json"});
 
     // The frames directory and its manifest now, so that a directory of another tour is refused
     // before anything is submitted.
-    FrameDirInfo info = frame_dir_info(scene, format == "png+exr" ? std::vector<std::string>{"png", "exr"} : std::vector<std::string>{format});
+    FrameDirInfo info = frame_dir_info(scene, frame_extensions(args.format));
     info.path_file = path_file.string();
     prepare_frame_dir(frames_dir, info);
 
@@ -194,19 +178,13 @@ void run_farm_slurm(const FarmJob& args) {
     write_text(out / "render.sbatch", script, true);
 
     const std::string video = args.output.empty()
-                                  ? (args.scene.input.empty() ? std::string("meshtour-default")
-                                                              : std::filesystem::path(args.scene.input).stem().string()) +
-                                        video_extension(codec)
+                                  ? (args.input.empty() ? std::string("meshtour-default")
+                                                        : std::filesystem::path(args.input).stem().string()) +
+                                        std::string(codec.extension)
                                   : args.output;
-    std::vector<std::string> encode = {exe.string(), "encode", frames_dir.string(), "-o", (out / video).string(), "--codec", codec};
-    const auto forwarded_to_encode = options::forwarded_args(args.scene.values, options::encode_job, options::encode);
-    for (std::size_t i = 0; i < forwarded_to_encode.size(); i += 2) {
-      const std::string& flag = forwarded_to_encode[i];
-      if (flag == "--codec") continue;  // given above, with its default
-      // Files named here are found from the job's own directory too.
-      const bool file = flag == options::option("poster").flag || flag == options::option("font").flag;
-      encode.insert(encode.end(), {flag, file ? std::filesystem::absolute(forwarded_to_encode[i + 1]).string() : forwarded_to_encode[i + 1]});
-    }
+    std::vector<std::string> encode = {exe.string(), "encode", frames_dir.string(), "-o", (out / video).string(), "--codec",
+                                       std::string(codec.name)};
+    encode.insert(encode.end(), args.encode_args.begin(), args.encode_args.end());
     std::string enc = sbatch_header(args, "meshtour-encode", (out / "logs" / "encode_%j.log").string());
     enc += "# runs after every render task succeeded (submitted with --dependency=afterok:<render array job>)\n";
     enc += "set -euo pipefail\nexec" + join_quoted(encode) + "\n";

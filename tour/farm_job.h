@@ -17,12 +17,20 @@
 namespace meshtour {
 
 struct FarmJob {
-  SceneArgs scene;
+  std::string input;           // the SCENE|MESH given ("" = the built-in scene): the render tasks' input
+  std::optional<Scene> scene;  // its settings, resolved at the edge (unset with a manifest)
   std::string manifest;
+  int manifest_items = 0;      // the manifest's items: one array task each
   std::string out_dir;
   std::string output;  // video name inside out_dir
   std::string executable;
   std::string partition, time_limit;
+  VideoCodec codec = VideoCodec::h264;      // of the video the encode job writes
+  FrameFormats format = FrameFormats::png;  // of the frames
+  bool web = false;            // with a manifest: web outputs per item and the contact sheet
+  /// The options given that each task must be given again, as command-line arguments for the
+  /// scripts (options::forwarded_args): render tasks, the encode job, batch tasks.
+  std::vector<std::string> render_args, encode_args, batch_args;
   int chunk_size = 10;
   int cpus_per_task = 1;
   bool submit = false;

@@ -76,13 +76,9 @@ void print_summary(const PaperPathResult& r, const PathJob& a, const LoadReport&
 
 void run_path(PathJob& a) {
   install_interrupt_handlers();
-  a.options = path_search_options(a.values, a.options);
   // --up auto needs the model: decided once it is loaded, below.
-  const bool up_auto = is_auto_up(a.up);
-  if (!up_auto) a.options.up = UpDirection::parse(a.up);
-  a.threads = int_value_or(a.values, "threads", 0);
-  a.gltf = value_or(a.values, "gltf", "");
-  a.camera_frames = value_or(a.values, "camera-frames", "");
+  const bool up_auto = a.up_auto;
+  if (!up_auto) a.options.up = a.up;
   const ThreadLimit thread_limit(a.threads, a.quiet);
   a.threads = thread_limit.threads();
   a.options.surface.threads = a.threads;
@@ -106,14 +102,15 @@ void run_path(PathJob& a) {
   throw_if_interrupted();
   if (up_auto) {
     const UpChoice choice = choose_up_axis(mesh, a.mesh);
-    a.up = choice.up.name();
-    a.options.up = UpDirection::parse(a.up);
-    if (!a.quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", a.up.c_str(), choice.reason.c_str());
+    a.up = UpDirection{};  // the axis the model's shape gives
+    a.up.axis = choice.up;
+    a.options.up = a.up;
+    if (!a.quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", choice.up.name().c_str(), choice.reason.c_str());
     if (!choice.warning.empty()) std::fprintf(stderr, "meshtour: warning: --up auto: %s\n", choice.warning.c_str());
   }
-  const bool paper = a.mode == "paper";
+  const bool paper = a.mode == PathMode::paper;
   if (!paper && (!a.output.empty() || !a.plot.empty() || !a.debug_dir.empty()))
-    throw InputError("-o, --plot and --debug-dir describe the paper path; with --path " + a.mode +
+    throw InputError("-o, --plot and --debug-dir describe the paper path; with --path " + std::string(path_mode_name(a.mode)) +
                      " use --gltf, --camera-frames or --overview");
   std::optional<PaperPathResult> result;
   if (paper) {
@@ -127,14 +124,11 @@ void run_path(PathJob& a) {
 
   // The cameras exactly as `meshtour tour MESH --path MODE --frames N` renders them (default
   // frame size and field of view "auto"), for the exports and the overview.
-  Scene scene = default_scene();
-  scene.source = a.mesh;
-  scene.mesh_file = a.mesh;
-  apply_options(scene, a.values);  // --frames and the path search, as `tour` applies them
+  Scene scene = a.scene;
   scene.path_mode = a.mode;
   Eigen::Vector3d up_vector = result ? result->up : Eigen::Vector3d::UnitY();
   if (!paper) {
-    scene.up = Axis::parse(a.up);  // the other modes take a coordinate axis
+    scene.up = a.up.axis;  // the other modes take a coordinate axis (checked where --up was read)
     up_vector = scene.up.vector();
   } else if (a.options.up.kind == UpDirection::Kind::axis) {
     scene.up = a.options.up.axis;
@@ -171,10 +165,7 @@ void run_path(PathJob& a) {
       cylinder.radius = scale * c.radius;
       cylinder.height = scale * c.height;
     }
-    int width = 0, height = 0;
-    if (std::sscanf(a.overview_size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 || height < 16 || width > 16384 || height > 16384)
-      throw InputError("--overview-size '" + a.overview_size + "': give WIDTHxHEIGHT in pixels, e.g. 1200x900");
-    overview = render_overview(mesh, *camera_path, cylinder, width, height);
+    overview = render_overview(mesh, *camera_path, cylinder, a.overview_width, a.overview_height);
   }
   throw_if_interrupted();
 
@@ -213,7 +204,7 @@ void run_path(PathJob& a) {
   }
   if (!a.quiet) {
     if (paper) print_summary(*result, a, load, std::cout);
-    else std::cout << "meshtour path: " << a.mesh << " (--path " << a.mode << ", up " << scene.up.name() << ")\n";
+    else std::cout << "meshtour path: " << a.mesh << " (--path " << path_mode_name(a.mode) << ", up " << scene.up.name() << ")\n";
     if (exports) std::cout << "  lens       " << fixed(fov, 2) << " degrees vertical, " << scene.frames << " frames at " << scene.fps << " fps\n";
     for (const auto& f : written) std::cout << "  wrote      " << f.string() << "\n";
   }

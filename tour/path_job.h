@@ -14,17 +14,22 @@ namespace meshtour {
 
 struct PathJob {
   std::string mesh;
-  std::string up = "y";
+  /// The cylinder's axis (I-18); with up_auto, decided from the model once it is loaded. The
+  /// modes other than paper take a coordinate axis only.
+  UpDirection up;
+  bool up_auto = false;
   std::string output;
   std::string plot;
   std::string debug_dir;
-  std::string mode = "paper";
-  options::Values values;  // registry rows of `path`: frames, threads, exports, path search
+  PathMode mode = PathMode::paper;
+  /// The tour's settings (frames, size, field of view, path search) as `tour` applies them, for
+  /// the exports and the overview.
+  Scene scene;
   std::string gltf, camera_frames, overview;
-  std::string overview_size = "1200x900";
+  int overview_width = 1200, overview_height = 900;
   int threads = 0;
   bool quiet = false;
-  PaperPathOptions options;
+  PaperPathOptions options;  ///< the path search: the scene's, with the samples of samples.csv
   ResourceArgs resources;
 };
 

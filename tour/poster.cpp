@@ -19,11 +19,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void check_png_name(const fs::path& file) {
+}  // namespace
+
+void check_poster_name(const fs::path& file) {
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext != ".png") throw InputError("--poster " + file.string() + ": the poster is written as PNG; name it *.png");
 }
+
+namespace {
 
 // The frame, cropped (centred) to the poster's aspect and resampled to its size, written atomically.
 void write_resampled(const OIIO::ImageBuf& frame, const PosterSize& size, const fs::path& file) {
@@ -53,21 +57,9 @@ void write_resampled(const OIIO::ImageBuf& frame, const PosterSize& size, const 
 
 }  // namespace
 
-PosterJob poster_job(const options::Values& values) {
-  PosterJob job;
-  if (const auto it = values.find("poster"); it != values.end()) job.file = it->second;
-  if (const auto it = values.find("poster-size"); it != values.end()) {
-    PosterSize s;
-    if (!options::parse_pixel_size(it->second, s.width, s.height)) throw InputError("--poster-size " + it->second + ": not WIDTHxHEIGHT");
-    job.size = s;
-  }
-  if (!job.file.empty()) check_png_name(job.file);
-  return job;
-}
-
 void check_poster_output(const PosterJob& job) {
   if (job.file.empty()) return;
-  check_png_name(job.file);
+  check_poster_name(job.file);
   const fs::path dir = job.file.parent_path().empty() ? fs::path(".") : job.file.parent_path();
   std::error_code ec;
   if (!fs::is_directory(dir, ec))

@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "options/option_registry.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
@@ -25,8 +24,8 @@ struct PosterJob {
   std::optional<PosterSize> size;
 };
 
-/// --poster and --poster-size from registry values (checked text).
-PosterJob poster_job(const options::Values& values);
+/// Refuses (InputError) a poster file whose name does not end in .png.
+void check_poster_name(const std::filesystem::path& file);
 
 /// Refuses (before any work) a poster whose folder does not exist or is not writable.
 void check_poster_output(const PosterJob& job);

@@ -42,20 +42,14 @@ private:
   bool dir_existed_ = false, manifest_existed_ = false, kept_ = false;
 };
 
-std::vector<std::string> formats_of(const std::string& format) {
-  if (format == "png+exr") return {"png", "exr"};
-  return {format};
-}
-
 }  // namespace
 
 void run_render(const RenderJob& args) {
   install_interrupt_handlers();
-  const Scene scene = resolve_scene(args.scene);
+  const Scene& scene = args.scene;
   const std::filesystem::path dir = args.out_dir;
-  const options::Values& values = args.scene.values;
-  const std::vector<int> selected = parse_frame_range(value_or(values, "frame-selection", "all"), scene.frames);
-  const std::vector<std::string> formats = formats_of(value_or(values, "format", "png"));
+  const std::vector<int> selected = parse_frame_range(args.frames, scene.frames);
+  const std::vector<std::string> formats = frame_extensions(args.format);
 
   const FrameDirInfo info = frame_dir_info(scene, formats);
   NewFrameDirGuard guard(dir);
@@ -73,14 +67,14 @@ void run_render(const RenderJob& args) {
   if (!args.quiet)
     std::fprintf(stderr, "frames %s of %d: %zu to render, %d already there\n",
                  selected.empty() ? "(none)" : format_frame_range(selected).c_str(), scene.frames, todo.size(), skipped);
-  const ProgressMode mode = args.quiet ? ProgressMode::none : parse_progress_mode(args.progress);
+  const ProgressMode mode = args.quiet ? ProgressMode::none : args.progress;
   if (todo.empty()) {  // nothing to do: not even the model is loaded
     guard.keep();
     Progress("frame", 0, mode).finish(skipped);
     return;
   }
 
-  const ThreadLimit thread_limit(int_value_or(values, "threads", 0), args.quiet);
+  const ThreadLimit thread_limit(args.threads, args.quiet);
   if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", thread_limit.threads());
   StageLog log(args.resources.verbose);
   log.start("check");

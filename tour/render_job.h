@@ -15,9 +15,12 @@
 namespace meshtour {
 
 struct RenderJob {
-  SceneArgs scene;
+  Scene scene;
   std::string out_dir;
-  std::string progress = "auto";
+  std::string frames = "all";  ///< the frames to render: a selection (jobs/frame_range.h)
+  FrameFormats format = FrameFormats::png;
+  int threads = 0;             ///< 0 = thread_count()'s default
+  ProgressMode progress = ProgressMode::automatic;
   ResourceArgs resources;  // --max-memory, --verbose
   bool overwrite = false;
   bool quiet = false;

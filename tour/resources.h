@@ -1,7 +1,7 @@
 #pragma once
 // Resource limits shared by the commands: a memory budget checked against an estimate of the job
 // BEFORE anything big is allocated, and --verbose reports of time
-// and memory per stage. The command line gives them through cli/common_options.h.
+// and memory per stage. The command line gives them as the registry rows --max-memory and --verbose.
 
 #include <chrono>
 #include <cstddef>
@@ -10,6 +10,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "core/memory_size.h"  // parse_memory_size: --max-memory
 
 namespace meshtour {
 
@@ -21,9 +23,6 @@ struct ResourceArgs {
 };
 
 
-/// "512M", "8G", "1.5g", "2T", "100000" (bytes), "64K" -> bytes (powers of 1024).
-/// \throw InputError for anything else.
-std::uint64_t parse_memory_size(const std::string& text);
 /// Bytes as "1.5 GiB", "512 MiB".
 std::string format_bytes(double bytes);
 /// Physical memory of the machine (sysconf, else /proc/meminfo), 0 if unknown.

@@ -27,72 +27,32 @@
 
 namespace meshtour {
 
-namespace {
-bool is_scene_file(const std::filesystem::path& p) { return p.extension() == ".json"; }
-}  // namespace
+FrameFormats parse_frame_formats(std::string_view text) {
+  for (const FrameFormats f : {FrameFormats::png, FrameFormats::exr, FrameFormats::png_and_exr})
+    if (frame_formats_name(f) == text) return f;
+  throw InputError("unknown frame format '" + std::string(text) + "'; use png, exr or png+exr");
+}
 
-Scene resolve_scene(const std::string& input, const options::Values& values, std::string_view codec) {
-  Scene scene;
-  if (input.empty()) {
-    scene = default_scene();
-  } else if (is_scene_file(input)) {
-    scene = load_scene(input);
-  } else {
-    scene = default_scene();  // defaults for everything but the model
-    scene.source = input;
-    scene.mesh_file = input;
+std::string_view frame_formats_name(FrameFormats formats) {
+  switch (formats) {
+    case FrameFormats::png: return "png";
+    case FrameFormats::exr: return "exr";
+    case FrameFormats::png_and_exr: return "png+exr";
   }
-  if (const auto crf = values.find("crf"); crf != values.end())
-    if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
-      throw InputError("--crf " + problem);
-  apply_options(scene, values);
-  return scene;
+  return "png";
 }
 
-std::string value_or(const options::Values& values, std::string_view id, std::string fallback) {
-  const auto it = values.find(id);
-  return it == values.end() ? fallback : it->second;
-}
-
-int int_value_or(const options::Values& values, std::string_view id, int fallback) {
-  const auto it = values.find(id);
-  return it == values.end() ? fallback : std::stoi(it->second);
-}
-
-PaperPathOptions path_search_options(const options::Values& values, PaperPathOptions p) {
-  SurfaceOptions& s = p.surface;
-  for (const auto& [id, text] : values) {
-    if (id == "tolerance") s.tolerance = std::stod(text);
-    else if (id == "tolerance-unit") s.tolerance_unit = parse_tolerance_unit(text);
-    else if (id == "smoothing") s.smoothing = parse_smoothing_method(text);
-    else if (id == "smoothing-strength") s.smoothing_strength = std::stod(text);
-    else if (id == "curvature-fit") s.curvature_fit = parse_curvature_fit(text);
-    else if (id == "kappa-min") s.kappa_min = std::stod(text);
-    else if (id == "face-samples") s.face_samples = parse_face_samples(text);
-    else if (id == "patch-measure") s.patch_measure = parse_patch_measure(text);
-    else if (id == "patch-normal-angle") s.patch_normal_angle_deg = std::stod(text);
-    else if (id == "patches-on-unsmoothed") s.patches_on_unsmoothed = text == "true";
-    else if (id == "seed-order") s.seed_order = parse_seed_order(text);
-    else if (id == "leftovers") s.leftovers = parse_leftover_mode(text);
-    else if (id == "keep-inaccurate") s.keep_inaccurate_patches = text == "true";
-    else if (id == "weight-neighbourhood") s.weight_neighbourhood = parse_weight_neighbourhood(text);
-    else if (id == "keep-duplicate-vertices") s.merge_duplicate_vertices = text != "true";
-    else if (id == "axis-point") p.axis_point = text == "aabb-center" ? AxisPointMode::aabb_center : AxisPointMode::surface_centroid;
-    else if (id == "rows") p.rows = std::stoi(text);
-    else if (id == "columns") p.columns = std::stoi(text);
-    else if (id == "cell-averaging") p.cell_averaging = text == "area-weighted" ? CellAveraging::area_weighted : CellAveraging::mean;
-    else if (id == "empty-columns") p.empty_columns = text == "interpolate" ? EmptyColumnMode::interpolate : EmptyColumnMode::middle_row;
-    else if (id == "degree") p.degree = std::stoi(text);
-    else if (id == "gaze-scale") p.gaze_scale = std::stod(text);
-    else if (id == "position-scale") p.position_scale = std::stod(text);
-    else if (id == "height-reference") p.height_reference = text == "curve-mean" ? HeightReference::curve_mean : HeightReference::mid_height;
-    else if (id == "gaze-radius") p.gaze_radius = text == "scaled" ? GazeRadiusMode::scaled : GazeRadiusMode::cylinder;
+std::vector<std::string> frame_extensions(FrameFormats formats) {
+  switch (formats) {
+    case FrameFormats::png: return {"png"};
+    case FrameFormats::exr: return {"exr"};
+    case FrameFormats::png_and_exr: return {"png", "exr"};
   }
-  return p;
+  return {"png"};
 }
 
 PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh) {
-  PaperPathOptions paper = path_search_options(scene.path_search);
+  PaperPathOptions paper = scene.path_search;
   paper.up = UpDirection{UpDirection::Kind::axis, scene.up, scene.up.vector()};
   return compute_paper_path(mesh, paper);
 }
@@ -117,9 +77,9 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
     return frame_for_lens(std::move(path), scene, hull, lens);
   }
-  if (scene.path_mode == "feature-orbit") {
+  if (scene.path_mode == PathMode::feature_orbit) {
     FeatureOrbitOptions orbit;
-    orbit.coverage.surface = path_search_options(scene.path_search).surface;
+    orbit.coverage.surface = scene.path_search.surface;
     orbit.up = scene.up;
     orbit.aspect = lens.aspect;
     // A fixed --fov is the lens the distances are planned for; auto keeps the orbit's long lens
@@ -139,7 +99,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     }
     return frame_for_lens(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, hull, lens);
   }
-  if (scene.path_mode == "turntable") {
+  if (scene.path_mode == PathMode::turntable) {
     TurntableOptions options;
     options.up = scene.up;
     options.elevation_deg = scene.elevation_deg;
@@ -166,7 +126,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
 
 double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
                   const Lens& lens, bool quiet) {
-  if (!scene.auto_fov || (scene.path_mode == "turntable" && !scene.path_file)) return lens.vertical_fov_deg;
+  if (!scene.auto_fov || (scene.path_mode == PathMode::turntable && !scene.path_file)) return lens.vertical_fov_deg;
   // All frames of the tour, never just the ones this process renders: a farm chunk must use the
   // fov of the whole tour.
   std::vector<Camera> cameras;
@@ -200,10 +160,10 @@ TourMemoryCheck check_tour_memory(const Scene& scene, const ResourceArgs& resour
   }
   const auto& layers = scene.render.layers;
   const int extra_layers = int(layers.albedo) + int(layers.normal) + int(layers.depth);
-  const bool path_stages = !scene.path_file && scene.path_mode != "turntable";
+  const bool path_stages = !scene.path_file && scene.path_mode != PathMode::turntable;
   std::optional<MemoryPart> path;
   if (path_stages)
-    path = MemoryPart{"camera path", scene.path_mode == "paper" ? estimate_path_bytes(triangles) : estimate_coverage_bytes(triangles, vertices)};
+    path = MemoryPart{"camera path", scene.path_mode == PathMode::paper ? estimate_path_bytes(triangles) : estimate_coverage_bytes(triangles, vertices)};
   const MemoryEstimate e = estimate_job_memory(
       triangles, vertices, path,
       {{"ray-tracing BVH", estimate_bvh_bytes(triangles)},
@@ -332,8 +292,8 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   const std::filesystem::path& output = job.output;
   if (output.extension() != ".mp4") throw InputError(output.string() + ": the video is written as H.264 MP4; name it *.mp4");
   const bool keep_frames = !job.frames_dir.empty();
-  const bool write_png = keep_frames && (job.format == "png" || job.format == "png+exr");
-  const bool write_exr = keep_frames && (job.format == "exr" || job.format == "png+exr");
+  const bool write_png = keep_frames && job.format != FrameFormats::exr;
+  const bool write_exr = keep_frames && job.format != FrameFormats::png;
 
   const ThreadLimit thread_limit(job.threads, job.quiet);
 

@@ -1,9 +1,9 @@
 #pragma once
 // The tour library: what every front end that renders a tour needs (the `meshtour` commands tour,
-// render, batch, farm, path and evaluate are thin wrappers around it): how registry values
-// resolve into a Scene, the camera path of each mode, the field of view, the memory check, the
-// thread policy, the one frame loop, the frames directory's description and the whole
-// tour-to-video job. One implementation, so that a frame rendered by `render` in a farm chunk is
+// render, batch, farm, path and evaluate are thin wrappers around it): given a Scene (typed
+// settings, resolved at the edge: scenes/scene_options.h), the camera path of each mode, the
+// field of view, the memory check, the thread policy, the one frame loop, the frames directory's
+// description and the whole tour-to-video job. One implementation, so that a frame rendered by `render` in a farm chunk is
 // the frame `tour` renders.
 
 #include <filesystem>
@@ -18,7 +18,6 @@
 #include "jobs/frame_dir.h"
 #include "tour/captioned_video.h"
 #include "tour/poster.h"
-#include "options/option_registry.h"
 #include "tour/progress.h"
 #include "tour/resources.h"
 #include "pathgen/camera_path.h"
@@ -28,26 +27,13 @@
 
 namespace meshtour {
 
-/// Which tour to render: the input (mesh or .json scene; empty = built-in default scene) and
-/// every registry value given (command line, manifest).
-struct SceneArgs {
-  std::string input;
-  options::Values values;
-};
-
-/// The scene of `input` (a scene file, a mesh with the default scene's settings, or "" for the
-/// built-in default scene) with `values` (registry values, checked text) applied on top; a crf is
-/// checked for `codec` (the video the job makes).
-Scene resolve_scene(const std::string& input, const options::Values& values, std::string_view codec = "h264");
-
-/// The options of the path search (toroidal patches, cylinder, curve) that `values` set over `base`.
-inline Scene resolve_scene(const SceneArgs& args, std::string_view codec = "h264");
-
-PaperPathOptions path_search_options(const options::Values& values, PaperPathOptions base = {});
-
-/// A registry value of the command line, or `fallback` when it was not given.
-std::string value_or(const options::Values& values, std::string_view id, std::string fallback);
-int int_value_or(const options::Values& values, std::string_view id, int fallback);
+/// The image files of a frames directory's frames (--format).
+enum class FrameFormats { png, exr, png_and_exr };
+/// "png", "exr" or "png+exr": the --format value. \throw InputError for anything else.
+FrameFormats parse_frame_formats(std::string_view text);
+std::string_view frame_formats_name(FrameFormats formats);
+/// The file extensions, PNG first: {"png"}, {"exr"} or {"png", "exr"}.
+std::vector<std::string> frame_extensions(FrameFormats formats);
 
 /// The toroidal-patch path of the scene's model (deterministic: the same for any thread count).
 PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh);
@@ -125,7 +111,7 @@ struct TourVideoJob {
   std::filesystem::path output;      // .mp4
   std::filesystem::path webm;        // also a VP9 WebM of the same frames ("" = no), at VP9's default crf
   std::filesystem::path frames_dir;  // also write the frames here ("" = no)
-  std::string format = "png";        // png, exr or png+exr, for frames_dir
+  FrameFormats format = FrameFormats::png;  // for frames_dir
   std::filesystem::path gltf;           // also export the camera path as glTF 2.0 ("" = no)
   std::filesystem::path camera_frames;  // also write every frame's camera as .csv or .json ("" = no)
   int threads = 0;                   // 0 = render_threads' default
@@ -144,7 +130,5 @@ struct TourVideoResult {
   double seconds() const { return fps > 0 ? static_cast<double>(video_frames) / fps : 0.0; }
 };
 TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job);
-
-inline Scene resolve_scene(const SceneArgs& args, std::string_view codec) { return resolve_scene(args.input, args.values, codec); }
 
 }  // namespace meshtour

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "helpers.h"
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 #include "jobs/frame_dir.h"
 
 namespace meshtour {

@@ -1,4 +1,4 @@
-#include "jobs/batch_manifest.h"
+#include "options/batch_manifest.h"
 
 #include <algorithm>
 #include <cctype>
