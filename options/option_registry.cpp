@@ -762,8 +762,9 @@ std::string options_markdown() {
       if (!(o.commands & c)) continue;
       md += first ? " " : ", ";
       first = false;
-      if (!o.short_flag.empty()) md += "`" + std::string(o.short_flag) + "` ";
-      md += "`" + std::string(o.flag_in(c)) + "`";
+      // append(), not "`" + std::string(...): GCC 12 warns falsely (-Wrestrict) about the latter.
+      if (!o.short_flag.empty()) md.append("`").append(o.short_flag).append("` ");
+      md.append("`").append(o.flag_in(c)).append("`");
     }
     md += "\n";
   }
