@@ -9,7 +9,7 @@
 
 namespace meshtour {
 
-/// "512M", "8G", "1.5g", "2T", "100000" (bytes), "64K" -> bytes (powers of 1024), between 1M and
+/// "512M", "8G", "1.5g", "2T", "2000000" (bytes), "4096K" -> bytes (powers of 1024), between 1M and
 /// 1000000T. \throw InputError for anything else.
 inline std::uint64_t parse_memory_size(const std::string& text) {
   const std::string bad = "--max-memory '" + text + "' is not a size; write e.g. 512M, 8G or 1.5T";
