@@ -30,11 +30,53 @@ using simd::F16;
 using simd::U16;
 
 MESHTOUR_SIMD_INLINE U16 reverse_bits(U16 x) {
+#if defined(__AVX512BW__) || defined(__AVX2__)
+  // Byte shuffles (vpshufb, within 128-bit lanes): each byte's two nibbles reversed by table
+  // look-ups, then the four bytes of each word in reverse order. Integer operations: the same
+  // bits as the shifts below (the baseline copy's), in a third of the instructions; the sampler
+  // reverses ten words a packet. Tables list bytes from the highest, as _mm*_set_epi8 does.
+#define MESHTOUR_NIBBLES_LOW 0xf0, 0x70, 0xb0, 0x30, 0xd0, 0x50, 0x90, 0x10, 0xe0, 0x60, 0xa0, 0x20, 0xc0, 0x40, 0x80, 0x00
+#define MESHTOUR_NIBBLES_HIGH 0x0f, 0x07, 0x0b, 0x03, 0x0d, 0x05, 0x09, 0x01, 0x0e, 0x06, 0x0a, 0x02, 0x0c, 0x04, 0x08, 0x00
+#define MESHTOUR_WORD_BYTES 12, 13, 14, 15, 8, 9, 10, 11, 4, 5, 6, 7, 0, 1, 2, 3
+#if defined(__AVX512BW__)
+  using Bytes = __m512i;
+  const Bytes low = _mm512_set_epi8(MESHTOUR_NIBBLES_LOW, MESHTOUR_NIBBLES_LOW, MESHTOUR_NIBBLES_LOW, MESHTOUR_NIBBLES_LOW);
+  const Bytes high = _mm512_set_epi8(MESHTOUR_NIBBLES_HIGH, MESHTOUR_NIBBLES_HIGH, MESHTOUR_NIBBLES_HIGH, MESHTOUR_NIBBLES_HIGH);
+  const Bytes words = _mm512_set_epi8(MESHTOUR_WORD_BYTES, MESHTOUR_WORD_BYTES, MESHTOUR_WORD_BYTES, MESHTOUR_WORD_BYTES);
+  const Bytes nibble = _mm512_set1_epi8(0x0f);
+#else
+  using Bytes = __m256i;
+  const Bytes low = _mm256_set_epi8(MESHTOUR_NIBBLES_LOW, MESHTOUR_NIBBLES_LOW);
+  const Bytes high = _mm256_set_epi8(MESHTOUR_NIBBLES_HIGH, MESHTOUR_NIBBLES_HIGH);
+  const Bytes words = _mm256_set_epi8(MESHTOUR_WORD_BYTES, MESHTOUR_WORD_BYTES);
+  const Bytes nibble = _mm256_set1_epi8(0x0f);
+#endif
+#undef MESHTOUR_NIBBLES_LOW
+#undef MESHTOUR_NIBBLES_HIGH
+#undef MESHTOUR_WORD_BYTES
+  U16 r;
+  for (int k = 0; k < U16::kPieces; ++k) {
+    Bytes v;
+    std::memcpy(&v, &x.p[k], sizeof v);
+#if defined(__AVX512BW__)
+    v = _mm512_or_si512(_mm512_shuffle_epi8(low, _mm512_and_si512(v, nibble)),
+                        _mm512_shuffle_epi8(high, _mm512_and_si512(_mm512_srli_epi16(v, 4), nibble)));
+    v = _mm512_shuffle_epi8(v, words);
+#else
+    v = _mm256_or_si256(_mm256_shuffle_epi8(low, _mm256_and_si256(v, nibble)),
+                        _mm256_shuffle_epi8(high, _mm256_and_si256(_mm256_srli_epi16(v, 4), nibble)));
+    v = _mm256_shuffle_epi8(v, words);
+#endif
+    std::memcpy(&r.p[k], &v, sizeof v);
+  }
+  return r;
+#else
   x = ((x >> 1) & 0x55555555U) | ((x & 0x55555555U) << 1);
   x = ((x >> 2) & 0x33333333U) | ((x & 0x33333333U) << 2);
   x = ((x >> 4) & 0x0f0f0f0fU) | ((x & 0x0f0f0f0fU) << 4);
   x = ((x >> 8) & 0x00ff00ffU) | ((x & 0x00ff00ffU) << 8);
   return (x >> 16) | (x << 16);
+#endif
 }
 
 /// A random permutation of 32-bit words in which bit k of the result depends only on bits 0..k

@@ -289,62 +289,95 @@ using Impl = Renderer::Impl;
 struct PacketSamples {
   int lanes = 0;  // lanes in use (the tile's last packet may have fewer)
   I16 valid;      // the lanes in use
-  alignas(64) float px[16] = {}, py[16] = {};             // the pixel's corner on the film
-  alignas(64) int sums_pixel[16] = {}, layer_pixel[16] = {};  // the pixel in the tile's sums, in the layers
-  F16 u_cam, v_cam, u_light, v_light, u_sky, v_sky;       // one 2D point per use
+  alignas(64) float px[16], py[16];             // the pixel's corner on the film
+  alignas(64) int sums_pixel[16], layer_pixel[16];  // the pixel in the tile's sums, in the layers
+  simd::U16 sample_reversed;                    // each lane's index in its block's sequence, bit-reversed
+  F16 u_cam, v_cam;                             // the point on the film
+  F16 u_light, v_light, u_sky, v_sky;           // set by TileSampler::secondary, where a ray hit something
 };
 
 // A tile's samples in order: pixel by pixel along the tile's rows, each pixel's samples one after
 // another. Owen-scrambled Sobol points, one shuffled 2D sequence per pair of dimensions (sampler.h).
+// A tile lies inside one of the sampler's blocks (kTileSize divides the block's size), so the
+// pairs' seeds are the tile's, computed once; the light's and the sky's pairs are computed only for
+// packets whose camera rays hit something (most of a frame is backdrop), the same numbers either way.
 class TileSampler {
+  static_assert((1 << sampler::kBlockBits) % kTileSize == 0, "a tile must lie inside one sampler block");
+
 public:
   MESHTOUR_SIMD_INLINE TileSampler(const Frame& f, const FilmTile& film)
-      : film_(film), frame_key_(f.index ^ f.seed), spp_(f.spp), tile_w_(film.x1 - film.x0),
-        sample_count_(tile_w_ * (film.y1 - film.y0) * f.spp) {
+      : film_(film), spp_(f.spp), tile_w_(film.x1 - film.x0), sample_count_(tile_w_ * (film.y1 - film.y0) * f.spp) {
     while ((1 << log2_spp_) < spp_) ++log2_spp_;
     for (int l = 0; l < simd::kLanes; ++l) lane_index_.set(l, l);
+    const std::uint64_t key = rng::pixel_key(f.index ^ f.seed, sampler::block_of(film.x0, film.y0));
+    const simd::U16 block_key = simd::U16{} + static_cast<std::uint32_t>(key ^ (key >> 32));
+    for (std::uint32_t pair = 0; pair < 3; ++pair) seeds_[pair] = sampler::pair_seeds(block_key, pair);
   }
   int sample_count() const { return sample_count_; }
 
-  // The next `lanes` samples (scalar set-up of pixel, sample index and random key per lane).
+  // The next `lanes` samples: their pixels and sample indices, and the point on the film.
   MESHTOUR_SIMD_INLINE void next(int lanes, PacketSamples& s) {
-    alignas(64) std::uint32_t lane_key[16] = {}, lane_sample[16] = {};
+    alignas(64) std::uint32_t lane_sample[16];
     s.lanes = lanes;
-    for (int l = 0; l < lanes; ++l) {
-      if (next_sample_ == 0) {
-        pixel_x_ = film_.x0 + next_pixel_ % tile_w_;
-        pixel_y_ = film_.y0 + next_pixel_ / tile_w_;
-        const std::uint64_t key = rng::pixel_key(frame_key_, sampler::block_of(pixel_x_, pixel_y_));
-        block_key_ = static_cast<std::uint32_t>(key ^ (key >> 32));
-        pixel_base_ = sampler::first_index(pixel_x_, pixel_y_, log2_spp_);
+    if (lanes == simd::kLanes && next_sample_ + simd::kLanes <= spp_) {
+      // All 16 samples in one pixel (at 16 spp and more, every packet).
+      start_pixel_if_due();
+      const float px = static_cast<float>(pixel_x_), py = static_cast<float>(pixel_y_);
+      const int sums = film_.sums_pixel(pixel_x_, pixel_y_), layer = film_.layer_pixel(pixel_x_, pixel_y_);
+      for (int l = 0; l < simd::kLanes; ++l) {
+        s.px[l] = px, s.py[l] = py, s.sums_pixel[l] = sums, s.layer_pixel[l] = layer;
+        lane_sample[l] = pixel_base_ | static_cast<std::uint32_t>(next_sample_ + l);
       }
-      s.px[l] = static_cast<float>(pixel_x_);
-      s.py[l] = static_cast<float>(pixel_y_);
-      s.sums_pixel[l] = film_.sums_pixel(pixel_x_, pixel_y_);
-      s.layer_pixel[l] = film_.layer_pixel(pixel_x_, pixel_y_);
-      lane_key[l] = block_key_;
-      lane_sample[l] = pixel_base_ | static_cast<std::uint32_t>(next_sample_);
-      if (++next_sample_ == spp_) {
+      if ((next_sample_ += simd::kLanes) == spp_) {
         next_sample_ = 0;
         ++next_pixel_;
       }
+    } else {
+      for (int l = 0; l < simd::kLanes; ++l) {
+        if (l >= lanes) {  // unused lanes: any pixel of the tile, never splatted
+          s.px[l] = s.px[0], s.py[l] = s.py[0], s.sums_pixel[l] = s.sums_pixel[0], s.layer_pixel[l] = s.layer_pixel[0];
+          lane_sample[l] = 0;
+          continue;
+        }
+        start_pixel_if_due();
+        s.px[l] = static_cast<float>(pixel_x_);
+        s.py[l] = static_cast<float>(pixel_y_);
+        s.sums_pixel[l] = film_.sums_pixel(pixel_x_, pixel_y_);
+        s.layer_pixel[l] = film_.layer_pixel(pixel_x_, pixel_y_);
+        lane_sample[l] = pixel_base_ | static_cast<std::uint32_t>(next_sample_);
+        if (++next_sample_ == spp_) {
+          next_sample_ = 0;
+          ++next_pixel_;
+        }
+      }
     }
     s.valid = simd::lt(lane_index_, lanes);
-    const simd::U16 key = simd::load_uint(lane_key), sample_reversed = sampler::reverse_bits(simd::load_uint(lane_sample));
-    sampler::pair(sample_reversed, sampler::pair_seeds(key, 0), s.u_cam, s.v_cam);
-    sampler::pair(sample_reversed, sampler::pair_seeds(key, 1), s.u_light, s.v_light);
-    sampler::pair(sample_reversed, sampler::pair_seeds(key, 2), s.u_sky, s.v_sky);
+    s.sample_reversed = sampler::reverse_bits(simd::load_uint(lane_sample));
+    sampler::pair(s.sample_reversed, seeds_[0], s.u_cam, s.v_cam);
+  }
+
+  // The numbers of the light's and the sky's rays of the packet `next` set up.
+  MESHTOUR_SIMD_INLINE void secondary(PacketSamples& s) const {
+    sampler::pair(s.sample_reversed, seeds_[1], s.u_light, s.v_light);
+    sampler::pair(s.sample_reversed, seeds_[2], s.u_sky, s.v_sky);
   }
 
 private:
+  MESHTOUR_SIMD_INLINE void start_pixel_if_due() {
+    if (next_sample_ != 0) return;
+    pixel_x_ = film_.x0 + next_pixel_ % tile_w_;
+    pixel_y_ = film_.y0 + next_pixel_ / tile_w_;
+    pixel_base_ = sampler::first_index(pixel_x_, pixel_y_, log2_spp_);
+  }
+
   const FilmTile& film_;
-  std::uint64_t frame_key_;
   int spp_, tile_w_, sample_count_, log2_spp_ = 0;
   I16 lane_index_;
+  sampler::PairSeeds seeds_[3];  // the tile's block's seeds of the three pairs (camera, light, sky)
   // The sample after the last one set up: its pixel (within the tile) and index in the pixel,
-  // the random key of the pixel's block, and the pixel's first index in the block's sequence.
+  // and the pixel's first index in the block's sequence.
   int next_pixel_ = 0, next_sample_ = 0;
-  std::uint32_t block_key_ = 0, pixel_base_ = 0;
+  std::uint32_t pixel_base_ = 0;
   int pixel_x_ = 0, pixel_y_ = 0;
 };
 
@@ -628,30 +661,41 @@ MESHTOUR_SIMD_INLINE void shade_ground(const Frame& f, const PacketSamples& s, c
         if (f.ground_weights[i] > 0.0f)
           shadow_possible = simd::either(shadow_possible, disc_may_hit_model(broadcast(f.lights[i].direction), simd::broadcast(f.lights[i].cos_half_angle),
                                                                              simd::broadcast(f.lights[i].sin_half_angle)));
-    F16 u_disc;
-    const I16 chosen = choose(f.ground_weights, nlights, simd::broadcast(f.ground_light_total), s.u_light, u_disc);
-    const LaneLight light = lane_light(f.lights, chosen);
-    const V3 d = light_direction(light, u_disc, s.v_light);
-    const F16 b = dot(org, d), c = dist2 - radius2;
-    const I16 may_hit = simd::either(simd::lt(c, 0.0f), simd::both(simd::lt(b, 0.0f), simd::ge(b * b, c)));
-    const I16 traced = simd::both(simd::both(on_ground, shadow_possible), simd::both(disc_may_hit_model(light.direction, light.cos_half_angle, light.sin_half_angle), may_hit));
-    unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_light_share));
-    for (int ch = 0; ch < 3; ++ch)
-      sh.with_light[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_light_share, sh.with_light[ch]);
-    sh.with_light[3] = simd::select(traced, alpha_sign * f.ground_light_share, sh.with_light[3]);
-    sh.shadow_dir = select(traced, d, sh.shadow_dir);
-    sh.shadow_valid = simd::either(sh.shadow_valid, traced);
+    const I16 candidates = simd::both(on_ground, shadow_possible);
+    if (!simd::any(candidates)) {
+      // No lane can trace a shadow ray (most of the visible ground): all get the light's share,
+      // as the selects below would give them, without choosing and sampling a light.
+      unshadowed += f.ground_light_share;
+    } else {
+      F16 u_disc;
+      const I16 chosen = choose(f.ground_weights, nlights, simd::broadcast(f.ground_light_total), s.u_light, u_disc);
+      const LaneLight light = lane_light(f.lights, chosen);
+      const V3 d = light_direction(light, u_disc, s.v_light);
+      const F16 b = dot(org, d), c = dist2 - radius2;
+      const I16 may_hit = simd::either(simd::lt(c, 0.0f), simd::both(simd::lt(b, 0.0f), simd::ge(b * b, c)));
+      const I16 traced = simd::both(candidates, simd::both(disc_may_hit_model(light.direction, light.cos_half_angle, light.sin_half_angle), may_hit));
+      unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_light_share));
+      for (int ch = 0; ch < 3; ++ch)
+        sh.with_light[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_light_share, sh.with_light[ch]);
+      sh.with_light[3] = simd::select(traced, alpha_sign * f.ground_light_share, sh.with_light[3]);
+      sh.shadow_dir = select(traced, d, sh.shadow_dir);
+      sh.shadow_valid = simd::either(sh.shadow_valid, traced);
+    }
   }
   if (f.ground_sky_share > 0.0f) {
     // Beyond the AO length from the model's bounding sphere nothing can occlude the sky.
     const I16 traced = f.ambient_occlusion ? simd::both(on_ground, simd::lt(dist2, f.ground_ao_reach2)) : simd::broadcast_int(0);
-    unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_sky_share));
-    for (int ch = 0; ch < 3; ++ch)
-      sh.with_sky[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_sky_share, sh.with_sky[ch]);
-    sh.with_sky[3] = simd::select(traced, alpha_sign * f.ground_sky_share, sh.with_sky[3]);
-    const V3 up = broadcast(f.up);
-    sh.sky_dir = select(traced, sky_direction(up, broadcast(f.up_t1), broadcast(f.up_t2), s.u_sky, s.v_sky), sh.sky_dir);
-    sh.sky_valid = simd::either(sh.sky_valid, traced);
+    if (!simd::any(traced)) {
+      unshadowed += f.ground_sky_share;  // as the selects below would give every lane
+    } else {
+      unshadowed += simd::select(traced, zero, simd::broadcast(f.ground_sky_share));
+      for (int ch = 0; ch < 3; ++ch)
+        sh.with_sky[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * f.ground_sky_share, sh.with_sky[ch]);
+      sh.with_sky[3] = simd::select(traced, alpha_sign * f.ground_sky_share, sh.with_sky[3]);
+      const V3 up = broadcast(f.up);
+      sh.sky_dir = select(traced, sky_direction(up, broadcast(f.up_t1), broadcast(f.up_t2), s.u_sky, s.v_sky), sh.sky_dir);
+      sh.sky_valid = simd::either(sh.sky_valid, traced);
+    }
   }
   sh.base[0] = simd::select(on_ground, bg.x * unshadowed, sh.base[0]);
   sh.base[1] = simd::select(on_ground, bg.y * unshadowed, sh.base[1]);
@@ -813,6 +857,7 @@ void Renderer::Impl::render_tile(const Frame& f, Scratch& scratch, const FilmTil
     ShadedSamples shaded;
     shade_background(f, bg, shaded);
     if (hits.any) {
+      sampler.secondary(samples);
       shaded.guide_depth = simd::select(simd::either(hits.on_model, hits.on_ground), hits.t * dot(camera.dir, broadcast(f.forward)), shaded.guide_depth);
       if (simd::any(hits.on_model)) {
         const SurfacePoint surface = surface_at(*this, f, scratch, scratch.primary, hits, camera.dir);
