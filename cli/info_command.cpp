@@ -65,19 +65,20 @@ nlohmann::json describe(const std::string& file) {
     j["materials"].push_back(jm);
   }
   j["warnings"] = report.warnings;
-  const double mesh_bytes = estimate_mesh_bytes(counts.triangles(), counts.vertices);
-  const double coverage = estimate_coverage_bytes(counts.triangles(), counts.vertices);
-  const double bvh = estimate_bvh_bytes(counts.triangles());
-  const double frames = estimate_frame_bytes(1280, 720, 0, true);
+  // A default tour's parts at 1280x720 (tour/resources.h): the same estimate as `tour` checks.
+  const std::size_t triangles = counts.triangles(), vertices = counts.vertices;
   const double texture_bytes = estimate_decoded_texture_bytes(mesh);
   const double texture_cache = estimate_texture_cache_bytes(texture_bytes);
-  j["memory_estimate_bytes"] = {{"mesh", mesh_bytes},
-                                {"camera_path", coverage},
-                                {"ray_tracing", bvh},
-                                {"frames_1280x720", frames},
-                                {"textures_decoded", texture_bytes},
-                                {"texture_cache", texture_cache},
-                                {"peak", 100e6 + mesh_bytes + std::max(coverage, bvh + frames) + texture_cache}};
+  const MemoryEstimate tour = estimate_job_memory(
+      triangles, vertices, {{"ray_tracing_scene", estimate_ray_scene_bytes(triangles, vertices)}},
+      MemoryPart{"camera_path", estimate_coverage_bytes(triangles, vertices)},
+      {{"shading", estimate_shading_bytes(triangles)}, {"frames_1280x720", estimate_frame_bytes(1280, 720, 0, true)}});
+  j["memory_estimate_bytes"] = nlohmann::json::object();
+  for (const auto& [part, bytes] : tour.parts)
+    if (part != "runtime") j["memory_estimate_bytes"][part] = bytes;
+  j["memory_estimate_bytes"]["textures_decoded"] = texture_bytes;
+  j["memory_estimate_bytes"]["texture_cache"] = texture_cache;
+  j["memory_estimate_bytes"]["peak"] = tour.peak + texture_cache;
   // What --up auto would choose (mesh/up_axis.h), with why; the default stays +y.
   const UpChoice up = choose_up_axis(mesh, file);
   j["up_axis"] = {{"auto", up.up.name()}, {"confident", up.confident}, {"reason", up.reason}};

@@ -213,7 +213,7 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
     timer.done("saliency");
   }
   throw_if_interrupted();
-  s.scene = std::make_unique<VisibilityScene>(mesh);
+  s.scene = options.ray_scene ? std::make_unique<VisibilityScene>(options.ray_scene) : std::make_unique<VisibilityScene>(mesh);
   timer.done("visibility scene");
 
   // Each sample takes the values of the proxy vertices near it (within one cell), weighted by a

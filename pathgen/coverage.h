@@ -62,6 +62,9 @@ struct CoverageOptions {
   /// Test hook: when not empty (one flag per face), both measures take these feature faces
   /// instead of computing w(f) and saliency.
   std::vector<std::uint8_t> face_features;
+  /// The mesh's ray-tracing scene when the caller already has one (a tour shares it with the
+  /// tracer: one BVH per job); built for the coverage model when null.
+  std::shared_ptr<const RayScene> ray_scene;
 
   /// \throw InputError naming the value out of range.
   void validate() const;

@@ -23,7 +23,8 @@ TEST(TourResources, EstimatesGrowWithTheJob) {
     EXPECT_LT(estimate_mesh_bytes(triangles, triangles / 2), estimate_mesh_bytes(more, more / 2)) << triangles;
     EXPECT_LT(estimate_mesh_bytes(triangles, triangles / 2), estimate_mesh_bytes(triangles, triangles)) << triangles;
     EXPECT_LT(estimate_path_bytes(triangles), estimate_path_bytes(more)) << triangles;
-    EXPECT_LT(estimate_bvh_bytes(triangles), estimate_bvh_bytes(more)) << triangles;
+    EXPECT_LT(estimate_shading_bytes(triangles), estimate_shading_bytes(more)) << triangles;
+    EXPECT_LT(estimate_ray_scene_bytes(triangles, triangles / 2), estimate_ray_scene_bytes(more, more / 2)) << triangles;
     EXPECT_LT(estimate_coverage_bytes(triangles, triangles / 2), estimate_coverage_bytes(more, more / 2)) << triangles;
   }
   // Frame buffers: with the pixels, the extra layers and the denoiser.

@@ -80,6 +80,9 @@ void run_evaluate(EvaluateJob& a) {
   // Features once per mesh, whatever the path mode: w(f) of §8 at the paper's settings and mesh
   // saliency, both on the coverage module's fixed-resolution proxy.
   a.evaluation.coverage.surface = paper.surface;
+  // One BVH for the evaluation and every feature orbit it plans.
+  const auto rays = std::make_shared<const RayScene>(mesh);
+  a.evaluation.coverage.ray_scene = rays;
   const PathEvaluator evaluator(mesh, a.evaluation);
   throw_if_interrupted();
 
@@ -100,7 +103,7 @@ void run_evaluate(EvaluateJob& a) {
     // With the frames' scores asked for, the feature orbit turns its loop so that its best frame
     // comes first, as `tour` does: the cameras measured are the ones the tour renders.
     std::vector<double> view_scores;
-    const auto path = make_path(scene, mesh, hull, lens, true, &view_scores);
+    const auto path = make_path(scene, mesh, hull, lens, true, &view_scores, rays);
     const double fov = choose_fov(scene, *path, mesh, hull, lens, true);
     std::vector<Camera> cameras;
     for (int k = 0; k < scene.frames; ++k) {

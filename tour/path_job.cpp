@@ -93,7 +93,7 @@ void run_path(PathJob& a) {
   log.start("check");
   const MeshFileSummary counts = check_mesh_file(a.mesh);
   const MemoryEstimate estimate =
-      estimate_job_memory(counts.triangles(), counts.vertices, MemoryPart{"camera path", estimate_path_bytes(counts.triangles())}, {});
+      estimate_job_memory(counts.triangles(), counts.vertices, {}, MemoryPart{"camera path", estimate_path_bytes(counts.triangles())}, {});
   check_memory(estimate, memory_budget(a.resources), "the camera path of " + a.mesh);
 
   log.start("load");

@@ -1,5 +1,7 @@
 #include "tour/resources.h"
 
+#include "mesh/ray_scene.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -72,9 +74,13 @@ double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices) {
   return 400.0 * static_cast<double>(triangles) + 200.0 * static_cast<double>(vertices);
 }
 double estimate_path_bytes(std::size_t triangles) { return 1800.0 * static_cast<double>(triangles); }
-double estimate_bvh_bytes(std::size_t triangles) { return 250.0 * static_cast<double>(triangles); }
+double estimate_ray_scene_bytes(std::size_t triangles, std::size_t vertices) { return RayScene::estimated_bytes(triangles, vertices); }
+// The renderer's copies of positions and triangles, normals (with the crease's vertex copies),
+// UVs, materials and the crease pass's scratch. (With the BVH, which is now the ray-tracing scene's
+// part, this was 250 bytes a face.)
+double estimate_shading_bytes(std::size_t triangles) { return 140.0 * static_cast<double>(triangles); }
 double estimate_coverage_bytes(std::size_t triangles, std::size_t vertices) {
-  return 150e6 + 130.0 * static_cast<double>(triangles) + 60.0 * static_cast<double>(vertices);
+  return 150e6 + 50.0 * static_cast<double>(triangles) + 60.0 * static_cast<double>(vertices);
 }
 double estimate_frame_bytes(int width, int height, int extra_layers, bool denoise) {
   // The float image and its film, the 8-bit copy, and the encoder's look-ahead of about 40
@@ -83,17 +89,22 @@ double estimate_frame_bytes(int width, int height, int extra_layers, bool denois
   return static_cast<double>(width) * height * (80.0 + 16.0 * extra_layers + 1.5 * 40 + (denoise ? 170.0 : 0.0));
 }
 
-MemoryEstimate estimate_job_memory(std::size_t triangles, std::size_t vertices, const std::optional<MemoryPart>& path,
-                                   const std::vector<MemoryPart>& render) {
+MemoryEstimate estimate_job_memory(std::size_t triangles, std::size_t vertices, const std::vector<MemoryPart>& held,
+                                   const std::optional<MemoryPart>& path, const std::vector<MemoryPart>& render) {
   MemoryEstimate e;
   e.parts = {{"runtime", 100e6}, {"mesh", estimate_mesh_bytes(triangles, vertices)}};
+  double held_bytes = e.parts[0].second + e.parts[1].second;
+  for (const MemoryPart& part : held) {
+    e.parts.push_back(part);
+    held_bytes += part.second;
+  }
   if (path) e.parts.push_back(*path);
   double render_bytes = 0.0;
   for (const MemoryPart& part : render) {
     e.parts.push_back(part);
     render_bytes += part.second;
   }
-  e.peak = e.parts[0].second + e.parts[1].second + std::max(path ? path->second : 0.0, render_bytes);
+  e.peak = held_bytes + std::max(path ? path->second : 0.0, render_bytes);
   return e;
 }
 

@@ -46,18 +46,21 @@ struct MemoryEstimate {
 };
 
 /// The estimate of a job on a mesh of `triangles` and `vertices` (as its file announces them): the
-/// runtime and the loaded mesh, held throughout; the camera path's structures (`path`, when the job
-/// computes a path), freed before the renderer's parts (`render`: the BVH and the frame buffers;
+/// runtime, the loaded mesh and `held` (the ray-tracing scene, which the path search and the
+/// renderer share), held throughout; the camera path's structures (`path`, when the job computes a
+/// path), freed before the renderer's parts (`render`: its shading data and the frame buffers;
 /// none when the job does not render) are made. The peak holds the larger of those two phases.
-MemoryEstimate estimate_job_memory(std::size_t triangles, std::size_t vertices, const std::optional<MemoryPart>& path,
-                                   const std::vector<MemoryPart>& render);
+MemoryEstimate estimate_job_memory(std::size_t triangles, std::size_t vertices, const std::vector<MemoryPart>& held,
+                                   const std::optional<MemoryPart>& path, const std::vector<MemoryPart>& render);
 
 /// Estimates (deliberately generous; calibrated on the Stanford bunny, see docs/USAGE.md, "Resource limits").
 double estimate_mesh_bytes(std::size_t triangles, std::size_t vertices);  ///< loading: OpenMesh + arrays
 double estimate_path_bytes(std::size_t triangles);                        ///< toroidal-patch path stages
-double estimate_bvh_bytes(std::size_t triangles);                         ///< Embree BVH + shading data
-/// The feature orbit's coverage model (pathgen/coverage.h): an Embree scene of the whole mesh,
-/// the clustering's arrays and the proxy's analysis.
+/// The model's ray-tracing scene (mesh/ray_scene.h: Embree's buffers and BVH), one per job.
+double estimate_ray_scene_bytes(std::size_t triangles, std::size_t vertices);
+double estimate_shading_bytes(std::size_t triangles);  ///< the renderer's own per-face and per-vertex data
+/// The feature orbit's coverage model (pathgen/coverage.h) besides the ray-tracing scene: the
+/// surface samples, the clustering's arrays and the proxy's analysis.
 double estimate_coverage_bytes(std::size_t triangles, std::size_t vertices);
 double estimate_frame_bytes(int width, int height, int extra_layers, bool denoise);     ///< frame buffers + encoder
 /// The textures' texels as the renderer decodes them (8 bits a channel, plus a third for the MIP

@@ -70,7 +70,8 @@ std::unique_ptr<CameraPath> frame_for_lens(std::unique_ptr<CameraPath> path, con
 }  // namespace
 
 std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
-                                      const Lens& lens, bool quiet, std::vector<double>* view_scores) {
+                                      const Lens& lens, bool quiet, std::vector<double>* view_scores,
+                                      std::shared_ptr<const RayScene> rays) {
   if (view_scores) view_scores->clear();
   if (scene.path_file) {
     auto path = read_path_file(*scene.path_file);
@@ -80,6 +81,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
   if (scene.path_mode == PathMode::feature_orbit) {
     FeatureOrbitOptions orbit;
     orbit.coverage.surface = scene.path_search.surface;
+    orbit.coverage.ray_scene = std::move(rays);
     orbit.up = scene.up;
     orbit.aspect = lens.aspect;
     // A fixed --fov is the lens the distances are planned for; auto keeps the orbit's long lens
@@ -165,8 +167,8 @@ TourMemoryCheck check_tour_memory(const Scene& scene, const ResourceArgs& resour
   if (path_stages)
     path = MemoryPart{"camera path", scene.path_mode == PathMode::paper ? estimate_path_bytes(triangles) : estimate_coverage_bytes(triangles, vertices)};
   const MemoryEstimate e = estimate_job_memory(
-      triangles, vertices, path,
-      {{"ray-tracing BVH", estimate_bvh_bytes(triangles)},
+      triangles, vertices, {{"ray-tracing scene", estimate_ray_scene_bytes(triangles, vertices)}}, path,
+      {{"shading data", estimate_shading_bytes(triangles)},
        {"frame buffers", estimate_frame_bytes(scene.render.width, scene.render.height, extra_layers, scene.render.denoise)}});
   TourMemoryCheck check{e, memory_budget(resources)};
   check_memory(check.estimate, check.budget, "this tour");
@@ -222,15 +224,18 @@ PreparedTour prepare_tour(const Scene& requested, bool quiet, StageLog* log, con
   lens.vertical_fov_deg = scene.vertical_fov_deg;
   lens.aspect = static_cast<double>(scene.render.width) / scene.render.height;
   const bool big = !quiet && mesh.face_count() >= kBigModelFaces;
+  // One BVH for the job: the feature orbit's visibility tests and the renderer share it.
+  if (big) std::fprintf(stderr, "building the ray-tracing BVH of %zu faces...\n", mesh.face_count());
+  stage("bvh");
+  const auto rays = std::make_shared<const RayScene>(mesh);
   if (big && !scene.path_file) std::fprintf(stderr, "choosing the camera path...\n");
   stage("path");
   // Once per mesh: every framing fit of the path and the lens reads only the hull's vertices.
   const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
-  tour.path = make_path(scene, mesh, hull, lens, quiet, &tour.view_scores);
+  tour.path = make_path(scene, mesh, hull, lens, quiet, &tour.view_scores, rays);
   tour.fov = choose_fov(scene, *tour.path, mesh, hull, lens, quiet);
-  if (big) std::fprintf(stderr, "building the ray-tracing BVH of %zu faces...\n", mesh.face_count());
-  stage("bvh");
-  tour.renderer = std::make_unique<Renderer>(mesh, scene.render);
+  stage("shading");
+  tour.renderer = std::make_unique<Renderer>(mesh, scene.render, rays);
   if (log) log->stop();
   return tour;
 }

@@ -43,9 +43,12 @@ PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh&
 /// `hull` is convex_hull_vertices(mesh.positions) (mesh/convex_hull.h), computed once per mesh by
 /// the caller: the framing fits read its few vertices instead of every vertex, with the same result.
 /// When the path search scores each frame's view (the feature orbit), the scores are stored in
-/// `view_scores` if given (one per frame of scene.frames), else it is left empty.
+/// `view_scores` if given (one per frame of scene.frames), else it is left empty. `rays`, the
+/// mesh's ray-tracing scene when the caller has one (a tour shares it with its renderer), serves
+/// the feature orbit's visibility tests; null builds one for them.
 std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
-                                      const Lens& lens, bool quiet, std::vector<double>* view_scores = nullptr);
+                                      const Lens& lens, bool quiet, std::vector<double>* view_scores = nullptr,
+                                      std::shared_ptr<const RayScene> rays = nullptr);
 
 /// The field of view to render with. With "auto", a geometry-driven path keeps its distances and
 /// the lens is fitted to the model over EVERY frame of the tour (one fov for the whole tour, so

@@ -34,12 +34,6 @@
 namespace meshtour {
 namespace {
 
-void embree_error(void* user, RTCError code, const char* text) {
-  auto* sink = static_cast<EmbreeErrorSink*>(user);
-  std::lock_guard lock(sink->mutex);
-  if (sink->message.empty()) sink->message = "Embree error " + std::to_string(code) + ": " + (text ? text : "");
-}
-
 float luminance(const Eigen::Vector3f& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
 
 // An orthonormal basis around a unit vector (Duff et al. 2017, "Building an orthonormal basis,
@@ -347,7 +341,10 @@ std::vector<Eigen::Vector3f> crease_normals(std::vector<Eigen::Vector3f>& positi
   return normals;
 }
 
-Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : impl_(std::make_unique<Impl>()) {
+Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : Renderer(mesh, options, nullptr) {}
+
+Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::shared_ptr<const RayScene> rays)
+    : impl_(std::make_unique<Impl>()) {
   if (options.width <= 0 || options.height <= 0 || options.width > 16384 || options.height > 16384)
     throw InputError("image size must be between 1x1 and 16384x16384, got " + std::to_string(options.width) + "x" +
                      std::to_string(options.height));
@@ -384,31 +381,10 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
   }
   set_up_surfaces(s, mesh, material.use_texture);
 
-  s.device.reset(rtcNewDevice(nullptr));
-  if (!s.device) throw RuntimeFailure("cannot create the Embree device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
-  rtcSetDeviceErrorFunction(s.device.get(), embree_error, &s.errors);
-
-  s.scene.reset(rtcNewScene(s.device.get()));
-  // Robust traversal: no cracks between triangles sharing an edge, which a turntable would show
-  // as flickering pixels.
-  rtcSetSceneFlags(s.scene.get(), RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(s.scene.get(), RTC_BUILD_QUALITY_HIGH);
-  // Shared buffers: Embree reads our arrays directly. The vertex buffer needs 16-byte padding at
-  // its end, which the 3-float stride plus one spare vertex provides.
-  auto attach = [&](std::vector<Eigen::Vector3f>& vertices, std::vector<std::array<std::uint32_t, 3>>& tris,
-                    unsigned id, unsigned mask) {
-    RTCGeometry geometry = rtcNewGeometry(s.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-    vertices.push_back(Eigen::Vector3f::Zero());
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices.data(), 0,
-                               sizeof(Eigen::Vector3f), vertices.size() - 1);
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, tris.data(), 0,
-                               sizeof(std::array<std::uint32_t, 3>), tris.size());
-    rtcSetGeometryMask(geometry, mask);
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometryByID(s.scene.get(), geometry, id);
-    rtcReleaseGeometry(geometry);
-  };
-  attach(s.positions, s.triangles, kModelGeometry, kModelMask);
+  s.rays = rays ? std::move(rays) : std::make_shared<const RayScene>(mesh);
+  if (s.rays->triangle_count() != mesh.triangles.size())
+    throw InputError("the ray-tracing scene given to the renderer is of another mesh (" + std::to_string(s.rays->triangle_count()) +
+                     " triangles, not " + std::to_string(mesh.triangles.size()) + ")");
 
   s.up = options.world_up.normalized().cast<float>();
   if (options.shading.ground) {
@@ -416,20 +392,10 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options) : imp
     for (const auto& t : s.triangles)
       for (auto v : t) lowest = std::min(lowest, s.positions[v].dot(s.up));
     // A hair below the model: a flat base resting on the ground must not fight with it.
+    s.has_ground = true;
     s.ground_height = lowest - 5e-4f * s.scale;
-    Eigen::Vector3f e1, e2;
-    basis(s.up, e1, e2);
-    const float half = 100.0f * s.scale;  // far beyond any shadow; looks infinite
-    const Eigen::Vector3f c = s.ground_height * s.up;
-    s.ground_vertices = {c - half * e1 - half * e2, c + half * e1 - half * e2, c + half * e1 + half * e2, c - half * e1 + half * e2};
-    s.ground_triangles = {{0, 1, 2}, {0, 2, 3}};
-    attach(s.ground_vertices, s.ground_triangles, kGroundGeometry, kGroundMask);
+    s.ground_half = 100.0f * s.scale;  // far beyond any shadow; looks infinite
   }
-  // A BVH build of millions of faces takes seconds: Ctrl-C or SIGTERM cancels it.
-  rtcSetSceneProgressMonitorFunction(s.scene.get(), [](void*, double) { return !interrupt_requested(); }, nullptr);
-  rtcCommitScene(s.scene.get());
-  throw_if_interrupted();  // a cancelled build is an interrupt, not an Embree failure
-  s.check("building the ray-tracing scene");
 }
 
 Renderer::~Renderer() = default;
@@ -440,7 +406,7 @@ Image Renderer::render(const Camera& camera, std::uint64_t frame_index, RenderSt
   return impl_->render(camera, frame_index, stats, nullptr);
 }
 
-RTCScene RendererAccess::scene(const Renderer& renderer) { return renderer.impl_->scene.get(); }
+RTCScene RendererAccess::scene(const Renderer& renderer) { return renderer.impl_->rays->scene(); }
 Image RendererAccess::render(const Renderer& renderer, const Camera& camera, std::uint64_t frame_index, RenderStats* stats,
                              RayRecording* recording) {
   return renderer.impl_->render(camera, frame_index, stats, recording);
@@ -498,9 +464,11 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   f.spec_scale = 0.08f * mat.specular * (f.shininess + 8.0f) / 8.0f;
   // Below this cosine the highlight is under 1e-4 of its peak: skip it.
   f.spec_cutoff = std::pow(1e-4f, 1.0f / f.shininess);
-  const bool has_ground = !ground_vertices.empty();
+  f.has_ground = has_ground;
   // From below the ground the camera must see the model, not the ground's underside.
-  f.camera_mask = has_ground && f.eye.dot(up) > ground_height ? (kModelMask | kGroundMask) : kModelMask;
+  f.ground_visible = has_ground && f.eye.dot(up) > ground_height;
+  f.ground_height = ground_height;
+  f.ground_half = ground_half;
   f.eps = 1e-4f * scale;
   f.ao_length = sh.ao_distance * scale;
   f.model_radius = 0.5f * scale * 1.001f;  // bounding sphere around the box's centre (the origin)

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "mesh/ray_scene.h"
 #include "tracer/denoiser.h"
 #include "tracer/film.h"
 #include "tracer/instruction_set.h"
@@ -23,28 +24,14 @@
 namespace meshtour {
 namespace render_detail {
 
-// Embree reports errors through a callback; keep the first message so the throwing site can
-// quote it (exceptions must not cross Embree's C frames).
-struct EmbreeErrorSink {
-  std::mutex mutex;
-  std::string message;
-};
-
-struct DeviceDeleter {
-  void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
-};
-struct SceneDeleter {
-  void operator()(RTCScene s) const { rtcReleaseScene(s); }
-};
 struct TextureSystemDeleter {
   void operator()(OIIO::TextureSystem* t) const { OIIO::TextureSystem::destroy(t); }
 };
-using DevicePtr = std::unique_ptr<RTCDeviceTy, DeviceDeleter>;
-using ScenePtr = std::unique_ptr<RTCSceneTy, SceneDeleter>;
 using TextureSystemPtr = std::unique_ptr<OIIO::TextureSystem, TextureSystemDeleter>;
 
-constexpr unsigned kModelGeometry = 0, kGroundGeometry = 1;
-constexpr unsigned kModelMask = 1, kGroundMask = 2;
+// The Embree scene holds the model alone (mesh/ray_scene.h, shared with the visibility module);
+// the ground is a plane the kernel intersects itself.
+constexpr unsigned kModelGeometry = RayScene::kModelGeometry, kModelMask = RayScene::kModelMask;
 
 // A light as one frame sees it: world direction, colour and its disc's size.
 struct FrameLight {
@@ -64,7 +51,11 @@ struct Frame {
   Eigen::Vector3f eye, forward;
   // Camera ray through film position (fx, fy): corner + fx * step_x + fy * step_y, normalised.
   Eigen::Vector3f corner, step_x, step_y;
-  unsigned camera_mask = 0;
+  // The ground (a square of half side ground_half around the model, perpendicular to `up`, at
+  // dot(point, up) = ground_height): whether there is one, and whether camera rays see it (from
+  // below, the camera must see the model, not the ground's underside).
+  bool has_ground = false, ground_visible = false;
+  float ground_height = 0.0f, ground_half = 0.0f;
   std::vector<FrameLight> lights;
   Eigen::Vector3f base_color, ambient, background_top, background_bottom;
   bool shadows = true, ambient_occlusion = true;
@@ -96,9 +87,7 @@ using namespace render_detail;
 
 struct Renderer::Impl {
   RenderOptions options;
-  EmbreeErrorSink errors;
-  DevicePtr device;
-  ScenePtr scene;
+  std::shared_ptr<const RayScene> rays;  // the model's BVH, perhaps shared with the visibility module
   // The scene is stored relative to the model's centre in float; cameras are shifted the same
   // way, so models far from the origin (georeferenced scans) keep their precision.
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
@@ -109,9 +98,9 @@ struct Renderer::Impl {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   // Ground: a large square perpendicular to `up`, just under the model's lowest vertex.
   Eigen::Vector3f up = Eigen::Vector3f::UnitY();
+  bool has_ground = false;
   float ground_height = 0.0f;  // dot(point, up) of the ground plane
-  std::vector<Eigen::Vector3f> ground_vertices;
-  std::vector<std::array<std::uint32_t, 3>> ground_triangles;
+  float ground_half = 0.0f;    // half its side: far beyond any shadow; looks infinite
   // The mesh's materials as the tiles use them: texture handle, colour factor and wrap modes.
   struct Surface {
     OIIO::TextureSystem::TextureHandle* texture = nullptr;  // none: untextured
@@ -136,10 +125,6 @@ struct Renderer::Impl {
   mutable FilmMemory film_memory;
   mutable SparePool<DenoiseWorkspace> denoiser_memory;
 
-  void check(const char* what) {
-    std::lock_guard lock(errors.mutex);
-    if (!errors.message.empty()) throw RuntimeFailure(std::string(what) + ": " + errors.message);
-  }
   // A frame: its set-up, its tiles traced onto the Film, the Film gathered, the denoiser run on
   // the Film's layers, and the layers written into the Image.
   Image render(const Camera& camera, std::uint64_t frame, RenderStats* stats, RayRecording* recording) const;

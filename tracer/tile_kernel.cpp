@@ -397,10 +397,10 @@ MESHTOUR_SIMD_INLINE CameraRays camera_rays(const Frame& f, const PacketSamples&
 
 // 2. Intersection: the camera rays through rtcIntersect16 (coherent: neighbouring rays), and
 // what they hit. Returns the packet's recording (RendererAccess), or null.
-MESHTOUR_SIMD_INLINE RayRecording::Packet* intersect(const Impl& r, const Frame& f, RTCIntersectContext& coherent, RTCRayHit16& primary,
+MESHTOUR_SIMD_INLINE RayRecording::Packet* intersect(const Impl& r, RTCIntersectContext& coherent, RTCRayHit16& primary,
                                                    const PacketSamples& s, const V3& eye, const V3& dir, RayRecording::Tile* recorded,
                                                    TileCounts& counts) {
-  set_rays(primary.ray, s.valid, eye, dir, std::numeric_limits<float>::infinity(), f.camera_mask);
+  set_rays(primary.ray, s.valid, eye, dir, std::numeric_limits<float>::infinity(), kModelMask);
   simd::store_int(primary.hit.geomID, simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
   simd::store_int(primary.hit.instID[0], simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
   ValidMask primary_valid;
@@ -411,7 +411,7 @@ MESHTOUR_SIMD_INLINE RayRecording::Packet* intersect(const Impl& r, const Frame&
     rec->primary = primary;
     rec->primary_valid = primary_valid;
   }
-  rtcIntersect16(primary_valid.data(), r.scene.get(), &coherent, &primary);
+  rtcIntersect16(primary_valid.data(), r.rays->scene(), &coherent, &primary);
   counts.primary += static_cast<std::uint64_t>(s.lanes);
   return rec;
 }
@@ -424,21 +424,43 @@ struct Hits {
   V3 ng{t, t, t};                 // unit geometric normal, facing the camera (two-sided)
   V3 org;  // where the secondary rays start: the hit, a hair off the surface (the eye elsewhere)
 };
+// Where rays from `org` along `dir` (unit) meet the ground's square within (0, tfar): the ground
+// is a plane the kernel intersects itself rather than two huge triangles in the BVH, whose boxes
+// every ray near the floor would have to open; the BVH holds the model alone and is shared with
+// the visibility module (mesh/ray_scene.h). `t` is set where the result is true.
+MESHTOUR_SIMD_INLINE I16 ground_hit(const Frame& f, const V3& org, const V3& dir, F16 tfar, F16& t) {
+  const V3 up = broadcast(f.up);
+  const F16 along = dot(dir, up), height = dot(org, up) - f.ground_height;
+  // From above going down, or from below going up: the plane is two-sided for occlusion.
+  const I16 towards = simd::either(simd::both(simd::gt(height, 0.0f), simd::lt(along, 0.0f)), simd::both(simd::lt(height, 0.0f), simd::gt(along, 0.0f)));
+  t = -height / simd::select(towards, along, simd::broadcast(1.0f));
+  const V3 p{org.x + t * dir.x, org.y + t * dir.y, org.z + t * dir.z};
+  const F16 a = dot(p, broadcast(f.up_t1)), b = dot(p, broadcast(f.up_t2)), half = simd::broadcast(f.ground_half);
+  const I16 inside = simd::both(simd::both(simd::le(a, half), simd::ge(a, -half)), simd::both(simd::le(b, half), simd::ge(b, -half)));
+  return simd::both(simd::both(towards, inside), simd::both(simd::gt(t, 0.0f), simd::lt(t, tfar)));
+}
+
 MESHTOUR_SIMD_INLINE Hits read_hits(const Frame& f, const RTCRayHit16& primary, const PacketSamples& s, const V3& eye, const V3& dir) {
   Hits h;
   const F16 one = simd::broadcast(1.0f);
   const I16 geom = simd::load_int(primary.hit.geomID);
   h.on_model = simd::both(s.valid, simd::eq(geom, static_cast<int>(kModelGeometry)));
-  h.on_ground = simd::both(s.valid, simd::eq(geom, static_cast<int>(kGroundGeometry)));
+  F16 t = simd::load(primary.ray.tfar);  // +inf where the ray missed the model
+  h.on_ground = simd::broadcast_int(0);
+  F16 t_ground = t;
+  if (f.ground_visible) {
+    h.on_ground = simd::both(s.valid, ground_hit(f, eye, dir, t, t_ground));
+    h.on_model = simd::both(h.on_model, ~h.on_ground);
+  }
   h.any = simd::any(simd::either(h.on_model, h.on_ground));
   h.org = eye;
   if (h.any) {
-    h.t = simd::load(primary.ray.tfar);
+    h.t = simd::select(h.on_ground, t_ground, t);
     V3 ng{simd::load(primary.hit.Ng_x), simd::load(primary.hit.Ng_y), simd::load(primary.hit.Ng_z)};
     const F16 ng_len2 = dot(ng, ng);
     // Two-sided: open scans show their inside.
     const F16 ng_scale = simd::select(simd::gt(dot(ng, dir), 0.0f), -one, one) / simd::select(simd::gt(ng_len2, 0.0f), simd::sqrt(ng_len2), one);
-    h.ng = {ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale};
+    h.ng = select(h.on_ground, broadcast(f.up), V3{ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale});
     h.org = {eye.x + h.t * dir.x + f.eps * h.ng.x, eye.y + h.t * dir.y + f.eps * h.ng.y, eye.z + h.t * dir.z + f.eps * h.ng.z};
   }
   return h;
@@ -733,24 +755,32 @@ MESHTOUR_SIMD_INLINE void add_to_extra_layers(const FilmTile& film, const Frame&
 MESHTOUR_SIMD_INLINE void trace_shadow_and_occlusion_rays(const Impl& r, const Frame& f, RTCIntersectContext& incoherent, Scratch& scratch,
                                                           const Hits& h, const ShadedSamples& sh, RayRecording::Packet* rec,
                                                           TileCounts& counts, F16 (&rgba)[4]) {
+  // The ground blocks what goes below it (the plane, intersected here); the rest is traced
+  // against the model.
+  I16 shadow_valid = sh.shadow_valid, sky_valid = sh.sky_valid;
+  if (f.has_ground) {
+    F16 t;
+    shadow_valid = simd::both(shadow_valid, ~ground_hit(f, h.org, sh.shadow_dir, simd::broadcast(std::numeric_limits<float>::infinity()), t));
+    sky_valid = simd::both(sky_valid, ~ground_hit(f, h.org, sh.sky_dir, simd::broadcast(f.ao_length), t));
+  }
   ValidMask shadow_lanes, sky_lanes;
-  simd::store_int(shadow_lanes.data(), sh.shadow_valid);
-  simd::store_int(sky_lanes.data(), sh.sky_valid);
-  const bool any_shadow = simd::any(sh.shadow_valid), any_sky = simd::any(sh.sky_valid);
-  if (any_shadow) set_rays(scratch.shadow, sh.shadow_valid, h.org, sh.shadow_dir, std::numeric_limits<float>::infinity(), kModelMask | kGroundMask);
-  if (any_sky) set_rays(scratch.sky, sh.sky_valid, h.org, sh.sky_dir, f.ao_length, kModelMask | kGroundMask);
+  simd::store_int(shadow_lanes.data(), shadow_valid);
+  simd::store_int(sky_lanes.data(), sky_valid);
+  const bool any_shadow = simd::any(shadow_valid), any_sky = simd::any(sky_valid);
+  if (any_shadow) set_rays(scratch.shadow, shadow_valid, h.org, sh.shadow_dir, std::numeric_limits<float>::infinity(), kModelMask);
+  if (any_sky) set_rays(scratch.sky, sky_valid, h.org, sh.sky_dir, f.ao_length, kModelMask);
   if (rec) {
     if (any_shadow) rec->shadow = scratch.shadow;
     if (any_sky) rec->sky = scratch.sky;
     rec->shadow_valid = shadow_lanes;
     rec->sky_valid = sky_lanes;
   }
-  if (any_shadow) rtcOccluded16(shadow_lanes.data(), r.scene.get(), &incoherent, &scratch.shadow);
-  if (any_sky) rtcOccluded16(sky_lanes.data(), r.scene.get(), &incoherent, &scratch.sky);
-  counts.secondary += static_cast<std::uint64_t>(popcount(sh.shadow_valid) + popcount(sh.sky_valid));
+  if (any_shadow) rtcOccluded16(shadow_lanes.data(), r.rays->scene(), &incoherent, &scratch.shadow);
+  if (any_sky) rtcOccluded16(sky_lanes.data(), r.rays->scene(), &incoherent, &scratch.sky);
+  counts.secondary += static_cast<std::uint64_t>(popcount(shadow_valid) + popcount(sky_valid));
   // rtcOccluded16 sets tfar to -inf where the ray is blocked.
-  const I16 light_seen = any_shadow ? simd::both(sh.shadow_valid, simd::ge(simd::load(scratch.shadow.tfar), 0.0f)) : sh.shadow_valid;
-  const I16 sky_seen = any_sky ? simd::both(sh.sky_valid, simd::ge(simd::load(scratch.sky.tfar), 0.0f)) : sh.sky_valid;
+  const I16 light_seen = any_shadow ? simd::both(shadow_valid, simd::ge(simd::load(scratch.shadow.tfar), 0.0f)) : shadow_valid;
+  const I16 sky_seen = any_sky ? simd::both(sky_valid, simd::ge(simd::load(scratch.sky.tfar), 0.0f)) : sky_valid;
   const F16 zero = simd::broadcast(0.0f);
   for (int ch = 0; ch < 4; ++ch)
     rgba[ch] = sh.base[ch] + simd::select(light_seen, sh.with_light[ch], zero) + simd::select(sky_seen, sh.with_sky[ch], zero);
@@ -851,7 +881,7 @@ void Renderer::Impl::render_tile(const Frame& f, Scratch& scratch, const FilmTil
     PacketSamples samples;
     sampler.next(std::min(simd::kLanes, sampler.sample_count() - first), samples);
     const CameraRays camera = camera_rays(f, samples);
-    RayRecording::Packet* rec = intersect(*this, f, coherent, scratch.primary, samples, eye, camera.dir, recorded, counts);
+    RayRecording::Packet* rec = intersect(*this, coherent, scratch.primary, samples, eye, camera.dir, recorded, counts);
     const Hits hits = read_hits(f, scratch.primary, samples, eye, camera.dir);
     const V3 bg = backdrop(f, camera);
     ShadedSamples shaded;

@@ -15,6 +15,8 @@
 
 namespace meshtour {
 
+class RayScene;  // mesh/ray_scene.h
+
 /// A pinhole camera in model units.
 
 /// A distant disc light (like the sun, or a large softbox far away) placed relative to the
@@ -154,6 +156,10 @@ public:
   /// \throw InputError for a mesh without triangles or bad options, IoError for an unreadable
   ///        texture, RuntimeFailure if Embree fails.
   Renderer(const TriangleMesh& mesh, const RenderOptions& options);
+  /// On the mesh's ray-tracing scene, built by the caller and shared (a tour's visibility tests
+  /// use the same one: one BVH per job); null builds one. \throw InputError also if `rays` is of
+  /// another mesh.
+  Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::shared_ptr<const RayScene> rays);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

@@ -17,15 +17,6 @@
 namespace meshtour {
 namespace {
 
-struct DeviceRelease {
-  void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
-};
-struct SceneRelease {
-  void operator()(RTCScene s) const { rtcReleaseScene(s); }
-};
-using DeviceHandle = std::unique_ptr<RTCDeviceTy, DeviceRelease>;
-using SceneHandle = std::unique_ptr<RTCSceneTy, SceneRelease>;
-
 // Samples are tested in blocks of this many: one task, one result list, concatenated in order.
 constexpr std::size_t kBlock = 2048;
 
@@ -93,72 +84,33 @@ SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count) {
 }
 
 struct VisibilityScene::Impl {
-  DeviceHandle device;
-  SceneHandle scene;
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // the scene is stored relative to this (float precision)
-  double diagonal = 0.0;
+  std::shared_ptr<const RayScene> rays;
 };
 
-VisibilityScene::VisibilityScene(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
-  if (mesh.triangles.empty()) throw InputError("the mesh has no triangles to look at");
-  Impl& s = *impl_;
-  const Bounds bounds = mesh.bounds();
-  s.origin = bounds.center();
-  s.diagonal = bounds.diagonal();
-  s.device.reset(rtcNewDevice("threads=0"));
-  if (!s.device) throw RuntimeFailure("Embree could not create a device for the visibility tests");
-  s.scene.reset(rtcNewScene(s.device.get()));
-  RTCGeometry geometry = rtcNewGeometry(s.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-  const std::size_t faces = mesh.triangles.size(), vertices = mesh.positions.size();
-  auto* vertex = static_cast<float*>(
-      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices));
-  auto* index = static_cast<std::uint32_t*>(
-      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), faces));
-  if (!vertex || !index) {
-    rtcReleaseGeometry(geometry);
-    throw RuntimeFailure("Embree could not allocate the visibility scene (out of memory?)");
-  }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t v = r.begin(); v < r.end(); ++v) {
-      const Eigen::Vector3f p = (mesh.positions[v] - s.origin).cast<float>();
-      vertex[3 * v] = p.x();
-      vertex[3 * v + 1] = p.y();
-      vertex[3 * v + 2] = p.z();
-    }
-  });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t f = r.begin(); f < r.end(); ++f)
-      for (int c = 0; c < 3; ++c) index[3 * f + c] = mesh.triangles[f][c];
-  });
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometry(s.scene.get(), geometry);
-  rtcReleaseGeometry(geometry);
-  // Occlusion rays only ask "is anything in the way", so a quick build pays off even on big scans.
-  rtcSetSceneBuildQuality(s.scene.get(), RTC_BUILD_QUALITY_MEDIUM);
-  rtcSetSceneProgressMonitorFunction(s.scene.get(), [](void*, double) { return !interrupt_requested(); }, nullptr);
-  rtcCommitScene(s.scene.get());
-  throw_if_interrupted();  // a cancelled build is an interrupt, not an Embree failure
-  if (rtcGetDeviceError(s.device.get()) != RTC_ERROR_NONE)
-    throw RuntimeFailure("Embree failed to build the visibility scene (out of memory?)");
+VisibilityScene::VisibilityScene(const TriangleMesh& mesh) : VisibilityScene(std::make_shared<const RayScene>(mesh)) {}
+
+VisibilityScene::VisibilityScene(std::shared_ptr<const RayScene> scene) : impl_(std::make_unique<Impl>()) {
+  if (!scene) throw InputError("the visibility tests need a ray-tracing scene");
+  impl_->rays = std::move(scene);
 }
 
 VisibilityScene::~VisibilityScene() = default;
 
-double VisibilityScene::diagonal() const { return impl_->diagonal; }
+double VisibilityScene::diagonal() const { return impl_->rays->diagonal(); }
 
 VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& samples, double seen_angle_deg,
                                         std::size_t stride) const {
   if (!(seen_angle_deg > 0.0 && seen_angle_deg <= 90.0)) throw InputError("the seen-well angle must be in (0, 90] degrees");
   if (!(view.aspect > 0.0)) throw InputError("the frame's aspect ratio must be positive");
   if (stride < 1 || kBlock % stride != 0) throw InputError("the sample stride must divide 2048");
-  const Impl& s = *impl_;
+  const RayScene& s = *impl_->rays;
   const LookAtFrame frame = look_at(view.camera);
   const double tan_y = std::tan(view.camera.vertical_fov_deg * std::numbers::pi / 360.0), tan_x = tan_y * view.aspect;
   const double cos_limit = std::cos(seen_angle_deg * std::numbers::pi / 180.0);
   const Eigen::Vector3d eye = view.camera.eye;
   // A ray leaves its sample this far out, so the sample's own face (or a neighbour meeting it at
   // the sample, in float precision) does not hide it.
-  const float clearance = static_cast<float>(1e-5 * s.diagonal);
+  const float clearance = static_cast<float>(1e-5 * s.diagonal());
 
   const std::size_t n = samples.size(), blocks = (n + kBlock - 1) / kBlock;
   std::vector<VisibleSamples> parts(blocks);
@@ -183,7 +135,7 @@ VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& 
       const double distance = d.norm();
       const double cosine = std::abs(samples.normals[i].dot(d)) / distance;
       if (!(cosine > cos_limit) || !(distance > 2.0 * clearance)) continue;
-      const Eigen::Vector3f from = (samples.points[i] - s.origin).cast<float>();
+      const Eigen::Vector3f from = (samples.points[i] - s.origin()).cast<float>();
       const Eigen::Vector3f towards_eye = (-d / distance).cast<float>();
       RTCRay ray;
       ray.org_x = from.x();
@@ -195,10 +147,10 @@ VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& 
       ray.tnear = clearance;
       ray.tfar = static_cast<float>(distance);
       ray.time = 0.0f;
-      ray.mask = 0xFFFFFFFFu;
+      ray.mask = RayScene::kModelMask;
       ray.id = 0;
       ray.flags = 0;
-      rtcOccluded1(s.scene.get(), &context, &ray);
+      rtcOccluded1(s.scene(), &context, &ray);
       if (ray.tfar < 0.0f) continue;  // Embree sets tfar to -inf when something is in the way
       out.samples.push_back(static_cast<std::uint32_t>(i));
       out.cosines.push_back(static_cast<float>(cosine));

@@ -4,8 +4,9 @@
 // shape split into four times as many triangles gives the same samples' worth of visible area.
 //
 // The one visibility module of meshtour: the feature orbit's path search (pathgen) and
-// `meshtour evaluate` both ask it what a view sees. It sits between mesh/ and pathgen/ and uses
-// Embree for the occlusion rays (the same library the tracer uses, on its own scene).
+// `meshtour evaluate` both ask it what a view sees. It sits between mesh/ and pathgen/ and traces
+// its occlusion rays against the mesh's RayScene (mesh/ray_scene.h), which a tour shares with the
+// tracer: one BVH per job.
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
@@ -14,6 +15,7 @@
 
 #include "core/camera.h"
 #include "mesh/mesh.h"
+#include "mesh/ray_scene.h"
 
 namespace meshtour {
 
@@ -56,6 +58,8 @@ public:
   /// \throw InputError for a mesh without triangles, RuntimeFailure if Embree fails,
   ///        Interrupted if Ctrl-C / SIGTERM arrives during the build.
   explicit VisibilityScene(const TriangleMesh& mesh);
+  /// On a scene already built for the mesh (shared, e.g. with the tracer). \throw InputError if null.
+  explicit VisibilityScene(std::shared_ptr<const RayScene> scene);
   ~VisibilityScene();
   VisibilityScene(const VisibilityScene&) = delete;
   VisibilityScene& operator=(const VisibilityScene&) = delete;
