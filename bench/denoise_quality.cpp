@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "core/memory_policy.h"
 #include "mesh/mesh.h"
 #include "pathgen/camera_path.h"
 #include "scenes/scene.h"
@@ -281,6 +282,7 @@ void write_rgba(const fs::path& file, int width, int height, const std::vector<f
 }  // namespace
 
 int main(int argc, char** argv) {
+  meshtour::keep_freed_frame_buffers();  // as the program does (core/memory_policy.h)
   std::string only;
   std::map<std::string, fs::path> compare_exr;
   fs::path dump;

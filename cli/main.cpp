@@ -8,6 +8,7 @@
 #include "tour/batch_job.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/memory_policy.h"
 #include "options/option_registry.h"
 
 namespace {
@@ -59,6 +60,7 @@ std::string misplaced_flag_hints(const CLI::App& app, int argc, char** argv) {
 int main(int argc, char** argv) {
   // From the first moment: Ctrl-C or SIGTERM at any point ends every command with 130.
   meshtour::install_interrupt_handlers();
+  meshtour::keep_freed_frame_buffers();
   CLI::App app{"meshtour: renders a tour video of a 3D triangle mesh, along a camera path computed from its geometry."};
   app.set_version_flag("--version", std::string("meshtour ") + MESHTOUR_VERSION);
   app.footer(kFooter);
