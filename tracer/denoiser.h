@@ -18,6 +18,7 @@
 #include <array>
 #include <vector>
 
+#include "core/huge_page_allocator.h"
 #include "tracer/instruction_set.h"
 
 namespace meshtour {
@@ -63,7 +64,8 @@ struct DenoiseSettings {
 /// The denoiser's scratch memory (about 80 MB for 1280x720), kept between frames by the caller:
 /// mapping and page-faulting it afresh for every frame cost more than the filter itself.
 struct DenoiseWorkspace {
-  std::vector<float> guides, ping, pong, luma_ping, luma_pong;
+  using Buffer = std::vector<float, HugePageAllocator<float>>;  // first touched a 2 MiB page at a time
+  Buffer guides, ping, pong, luma_ping, luma_pong;
 };
 
 /// The denoised frame (RGBA, premultiplied like `rgba`, width * height * 4) from the filtered

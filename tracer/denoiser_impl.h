@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/huge_page_allocator.h"
 #include "tracer/instruction_set.h"
 
 namespace meshtour::denoise_detail {
@@ -18,7 +19,7 @@ constexpr int kRowAlign = 16;  // rows are padded to the widest vector, so every
 struct Planes {
   int width, height, stride, rows, count;
   float* data;
-  Planes(int w, int h, int n, std::vector<float>& memory)
+  Planes(int w, int h, int n, std::vector<float, HugePageAllocator<float>>& memory)
       : width(w), height(h), stride(((w + kRowAlign - 1) / kRowAlign) * kRowAlign + 2 * kPad), rows(h + 2 * kPad), count(n) {
     const std::size_t size = static_cast<std::size_t>(stride) * rows * n;
     if (memory.size() < size) memory.resize(size);
