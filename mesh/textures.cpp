@@ -30,6 +30,14 @@ std::string file_bytes(const std::filesystem::path& file) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// Calls `check` with the image's bytes: the embedded ones, or the file's, read whole.
+template <typename Check>
+std::string with_bytes(const std::string& file, const std::vector<unsigned char>* bytes, Check check) {
+  if (bytes) return check(bytes->data(), bytes->size());
+  const std::string read = file_bytes(file);
+  return check(reinterpret_cast<const std::uint8_t*>(read.data()), read.size());
+}
+
 bool is_ktx_or_basis(const std::string& file, const std::uint8_t* head, std::size_t size) {
   static const std::uint8_t ktx[] = {0xAB, 'K', 'T', 'X', ' '};
   const std::string ext = lower_extension(std::filesystem::path(file));
@@ -40,12 +48,13 @@ std::uint32_t big_endian(const std::uint8_t* p) {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
 }
 
-// Checks a PNG's structure before OpenImageIO decodes it: libpng reports a damaged file by
-// printing "libpng error" lines on stderr, so the file must be known whole first. Walks the
-// chunks (lengths, CRCs, IHDR first, IEND last), inflates the IDAT stream in constant memory and
-// checks that it holds exactly the rows the header announces, each with a valid filter byte.
-// Returns what is wrong, or "" for a whole file.
-std::string png_fault(const std::uint8_t* data, std::size_t size) {
+// Checks a PNG's structure before OpenImageIO opens it: libpng reports a damaged file (even a
+// text chunk cut short, while the header is read) by printing "libpng error" lines on stderr, so
+// the file must be known whole first. Walks the chunks (lengths, CRCs, IHDR first, IEND last);
+// with `image_data`, also inflates the IDAT stream in constant memory and checks that it holds
+// exactly the rows the header announces, each with a valid filter byte. Returns what is wrong,
+// or "" for a whole file.
+std::string png_fault(const std::uint8_t* data, std::size_t size, bool image_data) {
   static const std::uint8_t signature[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   if (size < 8 || std::memcmp(data, signature, 8) != 0) return "it is not a PNG file";
   std::size_t at = 8;
@@ -101,7 +110,7 @@ std::string png_fault(const std::uint8_t* data, std::size_t size) {
         const std::uint64_t h = height > static_cast<std::uint32_t>(g[1]) ? (height - g[1] + g[3] - 1) / g[3] : 0;
         if (w > 0 && h > 0) rows.emplace_back(1 + (w * bits_per_pixel + 7) / 8, h);
       }
-    } else if (name == "IDAT" && !stream_done) {
+    } else if (name == "IDAT" && image_data && !stream_done) {
       z.next_in = const_cast<std::uint8_t*>(body);
       z.avail_in = length;
       while (z.avail_in > 0 && !stream_done) {
@@ -118,10 +127,45 @@ std::string png_fault(const std::uint8_t* data, std::size_t size) {
     }
     at += 12 + length;
   }
+  if (!image_data) return "";
   if (!stream_done) return "it is truncated (its image data stops early)";
   while (pass < rows.size() && row == rows[pass].second) ++pass, row = 0;
   if (pass != rows.size()) return "it is truncated (its image data holds fewer rows than its header announces)";
   return "";
+}
+
+// Checks an OpenEXR file's headers before OpenEXR reads them: each attribute's size must lie
+// inside the file (OpenEXR 3.1 allocates what a string attribute's size announces, up to 2 GiB,
+// before it finds the file too short). Returns what is wrong, or "" when the headers fit.
+std::string exr_header_fault(const std::uint8_t* data, std::size_t size) {
+  if (size < 8) return "it is truncated (it ends inside its header)";
+  const bool multipart = (data[5] & 0x10) != 0;  // version flags, bit 12
+  std::size_t at = 8;
+  const auto text = [&]() -> std::ptrdiff_t {  // length of the NUL-terminated string at `at`, -1 if none
+    const auto* end = static_cast<const std::uint8_t*>(std::memchr(data + at, 0, size - at));
+    return end ? end - (data + at) : -1;
+  };
+  for (int header = 0; header < 1 << 16; ++header) {
+    for (;;) {
+      if (at >= size) return "it is truncated (it ends inside its header)";
+      const std::ptrdiff_t name = text();
+      if (name < 0) return "it is truncated (it ends inside its header)";
+      at += static_cast<std::size_t>(name) + 1;
+      if (name == 0) break;  // the end of this header
+      const std::ptrdiff_t type = at < size ? text() : -1;
+      if (type < 0) return "it is truncated (it ends inside its header)";
+      at += static_cast<std::size_t>(type) + 1;
+      if (size - at < 4) return "it is truncated (it ends inside its header)";
+      const std::uint32_t length = std::uint32_t{data[at]} | std::uint32_t{data[at + 1]} << 8 | std::uint32_t{data[at + 2]} << 16 |
+                                   std::uint32_t{data[at + 3]} << 24;
+      at += 4;
+      if (length > size - at) return "a header attribute claims " + std::to_string(length) + " bytes, more than the file holds";
+      at += length;
+    }
+    if (!multipart) return "";
+    if (at < size && data[at] == 0) return "";  // an empty header ends the list of parts
+  }
+  return "it has too many parts";
 }
 
 // A JPEG ends with the EOI marker (some writers add a few padding bytes); libjpeg decodes a
@@ -137,6 +181,8 @@ bool jpeg_ends(const std::uint8_t* data, std::size_t size) {
 // the video. OpenImageIO reports the decoders' errors through geterror(), not on stderr.
 std::string decode_fault(OIIO::ImageInput& in) {
   const OIIO::ImageSpec& spec = in.spec();
+  if (spec.tile_width > 0 && static_cast<double>(spec.width + spec.tile_width) * spec.tile_height * spec.nchannels > 256.0 * 1024 * 1024)
+    return "its tiles (" + std::to_string(spec.tile_width) + " x " + std::to_string(spec.tile_height) + " pixels) are too large to decode";
   const int band = spec.tile_height > 0 ? spec.tile_height : std::max(1, static_cast<int>((4 << 20) / (std::max(1, spec.width) * spec.nchannels)));
   std::vector<std::uint8_t> pixels(static_cast<std::size_t>(spec.width + std::max(0, spec.tile_width)) * band * spec.nchannels);
   for (int y = spec.y; y < spec.y + spec.height; y += band) {
@@ -166,6 +212,12 @@ std::unique_ptr<OIIO::ImageInput> open_checked(const std::string& file, const st
   }();
   if (is_ktx_or_basis(file, reinterpret_cast<const std::uint8_t*>(head.data()), head.size()))
     throw IoError(what + " is a KTX2 / Basis Universal texture, which meshtour does not decode; convert it to PNG or JPEG");
+  if (head.rfind("\x89PNG", 0) == 0)
+    if (const std::string fault = with_bytes(file, bytes, [](const std::uint8_t* data, std::size_t size) { return png_fault(data, size, false); });
+        !fault.empty())
+      throw IoError(what + " is damaged: " + fault);
+  if (head.rfind("\x76\x2f\x31\x01", 0) == 0)
+    if (const std::string fault = with_bytes(file, bytes, exr_header_fault); !fault.empty()) throw IoError(what + " is damaged: " + fault);
   std::unique_ptr<OIIO::ImageInput> in;
   if (bytes) {
     memory = std::make_unique<OIIO::Filesystem::IOMemReader>(bytes->data(), bytes->size());
@@ -222,13 +274,11 @@ void verify_texture(const MeshMaterial& material) {
   const auto in = open_checked(file, what, material.texture_bytes.get(), memory, file_size);
   const std::string format = in->format_name();
   std::string fault;
-  if (format == "png" || format == "jpeg") {
-    const std::string read = material.texture_bytes ? std::string() : file_bytes(material.texture_file);
-    const auto* data = material.texture_bytes ? material.texture_bytes->data() : reinterpret_cast<const std::uint8_t*>(read.data());
-    const std::size_t size = material.texture_bytes ? material.texture_bytes->size() : read.size();
-    if (format == "png") fault = png_fault(data, size);
-    else if (!jpeg_ends(data, size)) fault = "it is truncated (it does not end with the JPEG end-of-image marker)";
-  }
+  if (format == "png" || format == "jpeg")
+    fault = with_bytes(file, material.texture_bytes.get(), [&](const std::uint8_t* data, std::size_t size) -> std::string {
+      if (format == "png") return png_fault(data, size, true);
+      return jpeg_ends(data, size) ? "" : "it is truncated (it does not end with the JPEG end-of-image marker)";
+    });
   if (fault.empty()) fault = decode_fault(*in);
   in->close();
   if (!fault.empty()) throw IoError(what + " is damaged: " + fault);

@@ -196,6 +196,15 @@ std::string png_bomb() {
          png_chunk("IEND", "");
 }
 
+// `exr` with its first header attribute's size set to 2 GiB - 256 bytes (OpenEXR 3.1 allocates
+// that much before it finds the file too short).
+std::string huge_exr_attribute(std::string exr) {
+  const std::size_t name_end = exr.find('\0', 8), type_end = exr.find('\0', name_end + 1);
+  const std::uint32_t size = 0x7fffff00u;
+  std::memcpy(exr.data() + type_end + 1, &size, 4);  // little-endian, as the file
+  return exr;
+}
+
 // A 64 x 64 noise image (so that it does not compress to a few bytes) with `channels`, in the
 // format the extension names; its first `keep` bytes only when keep > 0.
 std::string image_bytes(const fs::path& scratch, const std::string& extension, int channels, std::size_t keep = 0) {
@@ -437,12 +446,17 @@ TEST_F(BadInputCorpus, HostileTextures) {
        {"bomb.png", "100000 x 100000", "65 bytes", "decompression bomb", "--missing-textures grey"}},
       {"PNG cut in half", "tour", cube_with_texture(d / "png", "cut.png", png.substr(0, png.size() / 2)), extra, 3,
        {"cut.png", "truncated", "--missing-textures grey"}},
+      // (cut inside the text chunks before the image data: libpng fails while the header is read)
+      {"PNG cut in its header chunks", "tour", cube_with_texture(d / "png-head", "head.png", png.substr(0, 60)), extra, 3,
+       {"head.png", "truncated"}},
       {"PNG without its IEND chunk", "tour", cube_with_texture(d / "iend", "noend.png", png.substr(0, png.size() - 12)), extra, 3,
        {"noend.png", "truncated"}},
       {"JPEG cut in half", "tour", cube_with_texture(d / "jpeg", "cut.jpg", jpeg.substr(0, jpeg.size() / 2)), extra, 3,
        {"cut.jpg", "truncated", "end-of-image"}},
       {"EXR cut in half", "tour", cube_with_texture(d / "exr", "cut.exr", exr.substr(0, exr.size() / 2)), extra, 3,
        {"cut.exr", "cannot be decoded"}},
+      {"EXR header attribute claiming 2 GiB", "tour", cube_with_texture(d / "exr-attribute", "attribute.exr", huge_exr_attribute(exr)), extra, 3,
+       {"attribute.exr", "header attribute claims 2147483392 bytes"}},
       {"KTX2 texture", "tour", cube_with_texture(d / "ktx2", "atlas.ktx2", std::string("\xabKTX 20\xbb\r\n\x1a\n", 12) + std::string(68, '\0')),
        extra, 3, {"atlas.ktx2", "KTX2 / Basis Universal", "PNG or JPEG"}},
       {"KTX2 bytes behind a .png name", "tour",
