@@ -116,6 +116,9 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
   if (const auto it = texture.extensions.find("EXT_texture_webp"); it != texture.extensions.end() && it->second.IsObject() &&
                                                                    it->second.Has("source") && it->second.Get("source").IsNumber())
     source = it->second.Get("source").GetNumberAsInt();
+  if (source < 0 && texture.extensions.count("KHR_texture_basisu"))
+    throw InputError(where + " has only a KTX2 / Basis Universal image (KHR_texture_basisu, texture " + std::to_string(base.index) +
+                     "), which meshtour does not decode; export the model with PNG or JPEG textures");
   if (source < 0 || source >= static_cast<int>(model.images.size()))
     throw InputError(where + " has a texture whose image does not exist (texture " + std::to_string(base.index) + ")");
   if (texture.sampler >= static_cast<int>(model.samplers.size()))

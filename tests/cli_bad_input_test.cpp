@@ -161,6 +161,62 @@ fs::path big_texture_cube(const fs::path& dir) {
   return obj;
 }
 
+// ---- hostile textures ---------------------------------------------------------------------
+
+// The textured cube with its material's map_Kd replaced by `texture` (file name) holding `bytes`.
+fs::path cube_with_texture(const fs::path& dir, const std::string& texture, const std::string& bytes) {
+  fs::create_directories(dir);
+  const fs::path obj = meshtour::test::write_textured_cube(dir);
+  std::ofstream(dir / "cube.mtl") << "newmtl checker\nKd 0.8 0.5 0.2\nmap_Kd " << texture << "\n";
+  write(dir / texture, bytes);
+  return obj;
+}
+
+std::uint32_t png_crc(const std::string& bytes) {
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (const char ch : bytes) {
+    c ^= static_cast<unsigned char>(ch);
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xFFFFFFFFu;
+}
+
+std::string png_chunk(const std::string& type, const std::string& body) {
+  const auto be = [](std::uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8), static_cast<char>(v)};
+  };
+  return be(static_cast<std::uint32_t>(body.size())) + type + body + be(png_crc(type + body));
+}
+
+// A 65-byte PNG whose header claims 100,000 x 100,000 RGB pixels (30 GB decoded); its image data
+// is an empty zlib stream.
+std::string png_bomb() {
+  const std::string ihdr("\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00", 13);
+  return std::string("\x89PNG\r\n\x1a\n", 8) + png_chunk("IHDR", ihdr) + png_chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) +
+         png_chunk("IEND", "");
+}
+
+// `exr` with its first header attribute's size set to 2 GiB - 256 bytes (OpenEXR 3.1 allocates
+// that much before it finds the file too short).
+std::string huge_exr_attribute(std::string exr) {
+  const std::size_t name_end = exr.find('\0', 8), type_end = exr.find('\0', name_end + 1);
+  const std::uint32_t size = 0x7fffff00u;
+  std::memcpy(exr.data() + type_end + 1, &size, 4);  // little-endian, as the file
+  return exr;
+}
+
+// A 64 x 64 noise image (so that it does not compress to a few bytes) with `channels`, in the
+// format the extension names; its first `keep` bytes only when keep > 0.
+std::string image_bytes(const fs::path& scratch, const std::string& extension, int channels, std::size_t keep = 0) {
+  OIIO::ImageBuf image(OIIO::ImageSpec(64, 64, channels, extension == ".exr" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8));
+  OIIO::ImageBufAlgo::noise(image, "uniform", 0.0f, 1.0f, false, 7);
+  const fs::path file = scratch / ("image" + extension);
+  if (!image.write(file.string())) throw std::runtime_error("cannot write " + file.string() + ": " + image.geterror());
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return keep > 0 ? bytes.substr(0, std::min(keep, bytes.size())) : bytes;
+}
+
 // ---- the corpus -----------------------------------------------------------------------------
 
 struct Case {
@@ -187,6 +243,7 @@ protected:
     const auto r = run_meshtour(args);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(r.exit_code, c.exit_code) << r.output;
+    for (const char* raw : {"libpng", "libjpeg", "Premature end"}) EXPECT_EQ(r.output.find(raw), std::string::npos) << r.output;
     for (const auto& w : c.words) EXPECT_NE(r.output.find(w), std::string::npos) << "'" << w << "' not in: " << r.output;
     if (c.names_file) {
       EXPECT_NE(r.output.find(c.input.filename().string()), std::string::npos) << r.output;
@@ -372,6 +429,56 @@ TEST_F(BadInputCorpus, OddButValidMeshes) {
        0, {"stage load", "stage path", "stage bvh", "stage render", "stage encode", "peak"}, false},
   };
   for (const auto& c : cases) run(c);
+}
+
+// Hostile and broken textures (docs/FORMATS.md, "Hostile textures"): each is refused at load time
+// with one line naming the texture and the way out, quickly and in little memory (the bomb made
+// a 2-frame tour run 173 s and peak at 2 GB before), and never with the image libraries' own
+// error text on stderr.
+TEST_F(BadInputCorpus, HostileTextures) {
+  const fs::path d = dir_;
+  fs::create_directories(d / "scratch");
+  const std::string png = image_bytes(d / "scratch", ".png", 3), jpeg = image_bytes(d / "scratch", ".jpg", 3),
+                    exr = image_bytes(d / "scratch", ".exr", 3);
+  const std::string extra = std::string(kSmall) + " --path turntable";
+  const std::vector<Case> cases = {
+      {"PNG bomb: 100000 x 100000 in 65 bytes", "tour", cube_with_texture(d / "bomb", "bomb.png", png_bomb()), extra, 3,
+       {"bomb.png", "100000 x 100000", "65 bytes", "decompression bomb", "--missing-textures grey"}},
+      {"PNG cut in half", "tour", cube_with_texture(d / "png", "cut.png", png.substr(0, png.size() / 2)), extra, 3,
+       {"cut.png", "truncated", "--missing-textures grey"}},
+      // (cut inside the text chunks before the image data: libpng fails while the header is read)
+      {"PNG cut in its header chunks", "tour", cube_with_texture(d / "png-head", "head.png", png.substr(0, 60)), extra, 3,
+       {"head.png", "truncated"}},
+      {"PNG without its IEND chunk", "tour", cube_with_texture(d / "iend", "noend.png", png.substr(0, png.size() - 12)), extra, 3,
+       {"noend.png", "truncated"}},
+      {"JPEG cut in half", "tour", cube_with_texture(d / "jpeg", "cut.jpg", jpeg.substr(0, jpeg.size() / 2)), extra, 3,
+       {"cut.jpg", "truncated", "end-of-image"}},
+      {"EXR cut in half", "tour", cube_with_texture(d / "exr", "cut.exr", exr.substr(0, exr.size() / 2)), extra, 3,
+       {"cut.exr", "cannot be decoded"}},
+      {"EXR header attribute claiming 2 GiB", "tour", cube_with_texture(d / "exr-attribute", "attribute.exr", huge_exr_attribute(exr)), extra, 3,
+       {"attribute.exr", "header attribute claims 2147483392 bytes"}},
+      {"KTX2 texture", "tour", cube_with_texture(d / "ktx2", "atlas.ktx2", std::string("\xabKTX 20\xbb\r\n\x1a\n", 12) + std::string(68, '\0')),
+       extra, 3, {"atlas.ktx2", "KTX2 / Basis Universal", "PNG or JPEG"}},
+      {"KTX2 bytes behind a .png name", "tour",
+       cube_with_texture(d / "ktx2-named-png", "atlas.png", std::string("\xabKTX 20\xbb\r\n\x1a\n", 12) + std::string(68, '\0')), extra, 3,
+       {"atlas.png", "KTX2 / Basis Universal"}},
+      {"EXR with 5 channels", "tour", cube_with_texture(d / "five", "five.exr", image_bytes(d / "scratch", ".exr", 5)), extra, 3,
+       {"five.exr", "5 channels", "save it as RGB"}},
+  };
+  for (const auto& c : cases) run(c);
+
+  // The documented fallback: with --missing-textures grey the bomb's faces take the material's
+  // colour, with one warning line, and the tour is made.
+  const fs::path out = d / "grey";
+  fs::create_directories(out);
+  const auto r = run_meshtour("tour " + q(d / "bomb" / "cube.obj") + " --width 64 --height 48 --frames 2 --spp 1 --path turntable --threads 1 "
+                              "--missing-textures grey -o " + q(out / "v.mp4"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "v.mp4")) << r.output;
+  std::size_t warnings = 0;
+  for (std::size_t at = r.output.find("rendered untextured"); at != std::string::npos; at = r.output.find("rendered untextured", at + 1)) ++warnings;
+  EXPECT_EQ(warnings, 1u) << r.output;
+  EXPECT_EQ(r.output.find("libpng"), std::string::npos) << r.output;
 }
 
 TEST_F(BadInputCorpus, PathFiles) {

@@ -149,6 +149,10 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
       OIIO::ustring color_space;
       s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("oiio:ColorSpace"), OIIO::TypeString, &color_space);
       const bool float_data = format == OIIO::TypeDesc::HALF || format == OIIO::TypeDesc::FLOAT || format == OIIO::TypeDesc::DOUBLE;
+      // A grey map (1 channel, or grey and alpha) is looked up as its first channel, made grey RGB.
+      int channels = 3;
+      s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("channels"), OIIO::TypeInt, &channels);
+      surface.texture_grey = channels <= 2;
       surface.texture_srgb = !float_data && !OIIO::Strutil::iequals(color_space.string(), "linear");
     }
     s.surfaces.push_back(surface);

@@ -107,6 +107,7 @@ struct Renderer::Impl {
     Eigen::Vector3f factor{1.0f, 1.0f, 1.0f};
     bool replaces_base_color = false;   // untextured with a colour of its own (not the look's)
     bool texture_times_vertex_colors = false;
+    bool texture_grey = false;  // a 1- or 2-channel (grey, grey + alpha) texture: its first channel is grey
     bool texture_srgb = false;  // the texture's values are sRGB-encoded: decoded to linear after the lookup
     OIIO::TextureOpt::Wrap wrap_s = OIIO::TextureOpt::WrapPeriodic, wrap_t = OIIO::TextureOpt::WrapPeriodic;
   };

@@ -540,8 +540,9 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
         opt.twrap = surface.wrap_t;
         float rgb[3] = {0, 0, 0};
         // OBJ's v runs upwards; OpenImageIO's t runs down the image.
-        if (r.textures->texture(surface.texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv, 3,
-                                rgb)) {
+        if (r.textures->texture(surface.texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv,
+                                surface.texture_grey ? 1 : 3, rgb)) {
+          if (surface.texture_grey) rgb[1] = rgb[2] = rgb[0];
           const Eigen::Vector3f texel = surface.texture_srgb ? srgb_to_linear(Eigen::Vector3f(rgb[0], rgb[1], rgb[2]))
                                                              : Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
           c = surface.texture_times_vertex_colors && !r.colors.empty() ? Eigen::Vector3f(texel.cwiseProduct(c)) : texel;
