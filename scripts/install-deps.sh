@@ -25,6 +25,7 @@ packages=(
   libqhull-dev                              # mesh: convex hulls (reentrant libqhull_r) for fast framing
   libtinygltf-dev libdraco-dev              # mesh: glTF/GLB input, Draco-compressed primitives
   libmeshoptimizer-dev                      # mesh: glTF EXT_meshopt_compression (gltfpack's output)
+  zlib1g-dev                                # mesh: the PNG textures' structure checked before libpng reads them
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # video encoder
   libavfilter-dev                           # video encoder: the GIF palette (palettegen, paletteuse), captions (drawtext, xfade)
   libfreetype-dev libfontconfig-dev         # captions: measuring the text, finding the font
