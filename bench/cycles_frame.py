@@ -3,7 +3,11 @@
 # Blender's Cycles on the CPU, render time only (the scene's set-up and the file's loading are not
 # timed), with Cycles' default light paths and no denoiser.
 #
-#   blender -b --factory-startup --python bench/cycles_frame.py -- MESH.ply OUT.exr [SPP] [THREADS] [WIDTH] [HEIGHT]
+#   blender -b --factory-startup --python bench/cycles_frame.py -- MESH.ply OUT.exr [SPP] [THREADS] [WIDTH] [HEIGHT] [GROUND]
+#
+# GROUND: catcher (default: a shadow catcher, as meshtour's ground catches the model's shadows) or
+# none (the model on the world alone: less work for Cycles than meshtour's frame, the conservative
+# comparison).
 #
 # Prints "cycles: S seconds" (the render alone). OUT.exr is the linear beauty, for the error against
 # a converged reference (the same command at 4096 spp).
@@ -29,6 +33,9 @@ spp = int(argv[2]) if len(argv) > 2 else 16
 threads = int(argv[3]) if len(argv) > 3 else 2
 width = int(argv[4]) if len(argv) > 4 else 1280
 height = int(argv[5]) if len(argv) > 5 else 720
+ground_mode = argv[6] if len(argv) > 6 else "catcher"
+if ground_mode not in ("catcher", "none"):
+    sys.exit("GROUND must be catcher or none")
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.import_mesh.ply(filepath=mesh_path)
@@ -106,13 +113,13 @@ model.data.materials.append(material)
 for polygon in model.data.polygons:
     polygon.use_smooth = True
 
-bpy.ops.mesh.primitive_plane_add(size=200.0 * diagonal, location=(centre.x, centre.y, lo.z - 5e-4 * diagonal))
-ground = bpy.context.active_object
-ground.is_shadow_catcher = True
+if ground_mode == "catcher":
+    bpy.ops.mesh.primitive_plane_add(size=200.0 * diagonal, location=(centre.x, centre.y, lo.z - 5e-4 * diagonal))
+    bpy.context.active_object.is_shadow_catcher = True
 
 scene.render.filepath = out_path
 start = time.perf_counter()
 bpy.ops.render.render(write_still=False)
 seconds = time.perf_counter() - start
 bpy.data.images["Render Result"].save_render(out_path)
-print(f"cycles: {seconds:.3f} seconds ({width}x{height}, {spp} spp, {threads} threads)")
+print(f"cycles: {seconds:.3f} seconds ({width}x{height}, {spp} spp, {threads} threads, ground: {ground_mode})")
