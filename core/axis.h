@@ -38,4 +38,11 @@ struct Axis {
   bool operator==(const Axis&) const = default;
 };
 
+/// The conventional front of a model standing on `up`, the direction a viewer looks at it from:
+/// +Z for Y-up (OpenGL, most scanners) and X-up, -Y for Z-up (Blender and CAD). The turntable
+/// starts there and the feature orbit breaks its ties towards it.
+inline Eigen::Vector3d front_direction(const Axis& up) {
+  return up.index == 2 ? Eigen::Vector3d(-Eigen::Vector3d::UnitY()) : Eigen::Vector3d(Eigen::Vector3d::UnitZ());
+}
+
 }  // namespace meshtour

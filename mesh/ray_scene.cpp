@@ -9,7 +9,8 @@
 #include "core/interrupt.h"
 
 namespace meshtour {
-namespace {
+// Named, not anonymous: RayScene::Impl (external linkage) holds these types as members.
+namespace ray_scene_detail {
 
 struct DeviceDeleter {
   void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
@@ -33,7 +34,8 @@ void record_error(void* user, RTCError code, const char* text) {
   if (sink->message.empty()) sink->message = std::string(text ? text : "unknown error") + " (Embree error " + std::to_string(code) + ")";
 }
 
-}  // namespace
+}  // namespace ray_scene_detail
+using namespace ray_scene_detail;
 
 struct RayScene::Impl {
   ErrorSink errors;  // before the device, which reports into it until released

@@ -12,13 +12,12 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/angles.h"
 #include "core/error.h"
 #include "pathgen/path_file.h"
 
 namespace meshtour {
 namespace {
-
-constexpr double kDegree = std::numbers::pi / 180.0;
 
 void write_bytes(const std::filesystem::path& file, const std::string& bytes) {
   write_file_atomically(file, [&](const std::filesystem::path& temporary) {
@@ -37,7 +36,7 @@ void append_float(std::string& bytes, double value) {
 }
 
 double horizontal_fov_deg(double vertical_fov_deg, double aspect) {
-  return 2.0 * std::atan(std::tan(0.5 * vertical_fov_deg * kDegree) * aspect) / kDegree;
+  return 2.0 * std::atan(std::tan(0.5 * vertical_fov_deg * kRadiansPerDegree) * aspect) / kRadiansPerDegree;
 }
 
 }  // namespace
@@ -118,7 +117,7 @@ void write_camera_gltf(const TourCameras& cameras, const std::filesystem::path& 
   doc["cameras"] = ordered_json::array({{{"name", "tour lens"},
                                          {"type", "perspective"},
                                          {"perspective",
-                                          {{"yfov", cameras.vertical_fov_deg * kDegree},
+                                          {{"yfov", cameras.vertical_fov_deg * kRadiansPerDegree},
                                            {"aspectRatio", cameras.aspect},
                                            {"znear", znear},
                                            {"zfar", zfar}}}}});

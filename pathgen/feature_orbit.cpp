@@ -11,6 +11,7 @@
 #include <numbers>
 #include <numeric>
 
+#include "core/angles.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "mesh/convex_hull.h"
@@ -19,15 +20,6 @@
 
 namespace meshtour {
 namespace {
-
-constexpr double kDegree = std::numbers::pi / 180.0;
-
-// The conventional front of a model (as the turntable's): +Z for Y-up and X-up, -Y for Z-up.
-Eigen::Vector3d front_direction(const Axis& up) {
-  return up.index == 2 ? Eigen::Vector3d(-Eigen::Vector3d::UnitY()) : Eigen::Vector3d(Eigen::Vector3d::UnitZ());
-}
-
-
 
 // Sets g.distance to a smooth envelope of the distance each direction of the orbit needs to keep
 // every vertex in frame: least-squares two-harmonic fit, raised until it is nowhere too close.
@@ -132,7 +124,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   for (const Eigen::Vector3d& p : points) radius = std::max(radius, (p - g.center).norm());
   if (!(radius > 0.0)) throw InputError("feature orbit: all vertices coincide; nothing to look at");
   // The bounding sphere just fills the lens: every view of the orbit frames the whole model.
-  const double sphere_distance = radius / std::sin(0.5 * options.vertical_fov_deg * kDegree);
+  const double sphere_distance = radius / std::sin(0.5 * options.vertical_fov_deg * kRadiansPerDegree);
   g.distance = {sphere_distance, 0.0, 0.0, 0.0, 0.0};
 
   Lens lens;
@@ -153,7 +145,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     throw_if_interrupted();
     const int j = k / m, e = k % m;
     const double azimuth = 2.0 * std::numbers::pi * j / n;
-    const double elevation = (options.lowest_deg + e * options.elevation_grid_deg) * kDegree;
+    const double elevation = (options.lowest_deg + e * options.elevation_grid_deg) * kRadiansPerDegree;
     const Eigen::Vector3d dir = std::cos(elevation) * (std::cos(azimuth) * g.front + std::sin(azimuth) * g.side) + std::sin(elevation) * g.up;
     // With the dolly each view is as close as framing the model allows, as the tour will be.
     double distance = sphere_distance;
@@ -169,7 +161,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   std::vector<std::uint8_t> has_exact(grid.size(), 0);
 
   auto grid_index = [&](const ElevationCurve& curve, int j) {
-    const double e = curve(static_cast<double>(j) / n) / kDegree;
+    const double e = curve(static_cast<double>(j) / n) / kRadiansPerDegree;
     const int row = std::clamp(static_cast<int>(std::lround((e - options.lowest_deg) / options.elevation_grid_deg)), 0, m - 1);
     return static_cast<std::size_t>(j) * m + row;
   };
@@ -181,7 +173,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   auto feasible = [&](const ElevationCurve& curve) {
     const double lo = curve.base - std::abs(curve.swing) - std::abs(curve.ripple);
     const double hi = curve.base + std::abs(curve.swing) + std::abs(curve.ripple);
-    if (lo < options.lowest_deg * kDegree - 1e-9 || hi > options.highest_deg * kDegree + 1e-9) return false;
+    if (lo < options.lowest_deg * kRadiansPerDegree - 1e-9 || hi > options.highest_deg * kRadiansPerDegree + 1e-9) return false;
     FeatureOrbitGeometry trial = g;
     trial.elevation = curve;
     const auto [speed, acceleration] = loop_angular_extremes([&](double a) { return trial.direction(a); }, g.up);
@@ -300,7 +292,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     for (const Leader& l : leaders)
       if (l.behind <= least_behind + options.tie_tolerance) top = std::max(top, l.objective);
     auto plainness = [](const ElevationCurve& c) {
-      return std::make_pair(std::round(1e6 * (std::abs(c.swing) + std::abs(c.ripple))), std::abs(c.base - 15.0 * kDegree));
+      return std::make_pair(std::round(1e6 * (std::abs(c.swing) + std::abs(c.ripple))), std::abs(c.base - 15.0 * kRadiansPerDegree));
     };
     const ElevationCurve* pick = nullptr;
     for (const Leader& l : leaders)
@@ -316,13 +308,13 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   for (double base = options.base_min_deg; base <= options.base_max_deg + 1e-9; base += options.base_step_deg)
     for (double swing = 0.0; swing <= options.swing_max_deg + 1e-9; swing += options.swing_step_deg)
       for (int p = 0; p < (swing > 0.0 ? options.phases : 1); ++p)
-        consider(ElevationCurve{base * kDegree, swing * kDegree, static_cast<double>(p) / options.phases, 0.0, 0.0});
+        consider(ElevationCurve{base * kRadiansPerDegree, swing * kRadiansPerDegree, static_cast<double>(p) / options.phases, 0.0, 0.0});
   if (scored.empty()) throw InputError("feature orbit: no elevation curve meets the smoothness limits; raise them");
   const ElevationCurve swing_only = settle();
   for (double ripple = options.ripple_step_deg; ripple <= options.ripple_max_deg + 1e-9; ripple += options.ripple_step_deg)
     for (int p = 0; p < options.phases; ++p) {
       ElevationCurve curve = swing_only;
-      curve.ripple = ripple * kDegree;
+      curve.ripple = ripple * kRadiansPerDegree;
       curve.ripple_phase = 0.5 * p / options.phases;  // the ripple repeats every half loop
       consider(curve);
     }

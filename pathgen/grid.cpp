@@ -8,14 +8,13 @@
 #include <numbers>
 #include <string>
 
+#include "core/angles.h"
 #include "core/error.h"
 #include "core/triangle_geometry.h"
 #include "pathgen/grid.h"
 
 namespace meshtour {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Distance of row i from the middle row (m−1)/2, doubled so that it stays an integer.
 int middle_distance(int i, int rows) { return std::abs(2 * i - (rows - 1)); }
@@ -36,11 +35,11 @@ std::pair<int, int> grid_cell(const Cylinder& cylinder, const Eigen::Vector3d& p
   double v = 0.0;
   if (radial.norm() >= 1e-12) {
     v = std::atan2(radial.dot(cylinder.e_y), radial.dot(cylinder.e_x));
-    if (v < 0.0) v += kTwoPi;
-    if (v >= kTwoPi) v = 0.0;  // −1e-17 + 2π rounds to 2π, which is angle 0
+    if (v < 0.0) v += kFullTurn;
+    if (v >= kFullTurn) v = 0.0;  // −1e-17 + 2π rounds to 2π, which is angle 0
   }
   const int i = std::min(static_cast<int>(std::floor(u * rows)), rows - 1);
-  const int j = std::clamp(static_cast<int>(std::floor(v * columns / kTwoPi)), 0, columns - 1);
+  const int j = std::clamp(static_cast<int>(std::floor(v * columns / kFullTurn)), 0, columns - 1);
   return {i, j};
 }
 
@@ -119,7 +118,7 @@ ControlPoints choose_control_points(const CellGrid& grid, EmptyColumnMode empty_
     }
     cp.rows[j] = best;
     cp.heights[j] = (best + 0.5) / m;
-    cp.angles[j] = (j + 0.5) * kTwoPi / n;
+    cp.angles[j] = (j + 0.5) * kFullTurn / n;
   }
   if (empty_columns == EmptyColumnMode::interpolate &&
       std::count(column_empty.begin(), column_empty.end(), false) > 0) {

@@ -8,12 +8,11 @@
 #include <numbers>
 #include <string>
 
+#include "core/angles.h"
 #include "core/error.h"
 
 namespace meshtour {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 void require_finite_in(double value, double lo, double hi, const std::string& what) {
   if (!(value >= lo && value <= hi))
@@ -60,8 +59,8 @@ double PaperPathGeometry::position_height(double t) const {
 
 double PaperPathGeometry::angle(double t) const {
   // Reduce t first so that the angle keeps full precision for any t.
-  double v = std::numbers::pi / curve.size() + kTwoPi * (t - std::floor(t));
-  if (v >= kTwoPi) v -= kTwoPi;
+  double v = std::numbers::pi / curve.size() + kFullTurn * (t - std::floor(t));
+  if (v >= kFullTurn) v -= kFullTurn;
   return v;
 }
 

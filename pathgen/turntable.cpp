@@ -9,19 +9,6 @@
 #include "core/interrupt.h"
 
 namespace meshtour {
-namespace {
-
-// The conventional "front" of a model for each up axis: +Z for Y-up (OpenGL, most scanners),
-// -Y for Z-up (Blender and CAD), +Z for X-up.
-Eigen::Vector3d front_direction(const Axis& up) {
-  switch (up.index) {
-    case 2: return -Eigen::Vector3d::UnitY();
-    default: return Eigen::Vector3d::UnitZ();
-  }
-}
-
-}  // namespace
-
 TurntablePath::TurntablePath(std::span<const Eigen::Vector3d> points, const TurntableOptions& options)
     : options_(options) {
   if (points.empty()) throw InputError("turntable: the model has no vertices");

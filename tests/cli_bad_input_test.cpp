@@ -26,7 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 using meshtour::test::run_meshtour;
 
-std::string q(const fs::path& p) { return meshtour::test::shell_quoted(p); }
 
 fs::path write(const fs::path& file, const std::string& bytes) {
   std::ofstream(file, std::ios::binary) << bytes;
@@ -235,10 +234,10 @@ protected:
     SCOPED_TRACE(c.name);
     const fs::path out = dir_ / ("out-" + std::to_string(index_++));
     fs::create_directories(out);
-    std::string args = c.command + " " + q(c.input) + " " + c.extra;
+    std::string args = c.command + " " + meshtour::test::shell_quoted(c.input) + " " + c.extra;
     const std::string threads = c.extra.find("--threads") == std::string::npos ? " --threads 1" : "";
-    if (c.command == "path") args += " -o " + q(out / "p.path.json") + threads;
-    else args += " -o " + q(out / "v.mp4") + " --frames-dir " + q(out / "frames") + threads;
+    if (c.command == "path") args += " -o " + meshtour::test::shell_quoted(out / "p.path.json") + threads;
+    else args += " -o " + meshtour::test::shell_quoted(out / "v.mp4") + " --frames-dir " + meshtour::test::shell_quoted(out / "frames") + threads;
     const auto start = std::chrono::steady_clock::now();
     const auto r = run_meshtour(args);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -471,8 +470,8 @@ TEST_F(BadInputCorpus, HostileTextures) {
   // colour, with one warning line, and the tour is made.
   const fs::path out = d / "grey";
   fs::create_directories(out);
-  const auto r = run_meshtour("tour " + q(d / "bomb" / "cube.obj") + " --width 64 --height 48 --frames 2 --spp 1 --path turntable --threads 1 "
-                              "--missing-textures grey -o " + q(out / "v.mp4"));
+  const auto r = run_meshtour("tour " + meshtour::test::shell_quoted(d / "bomb" / "cube.obj") + " --width 64 --height 48 --frames 2 --spp 1 --path turntable --threads 1 "
+                              "--missing-textures grey -o " + meshtour::test::shell_quoted(out / "v.mp4"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(out / "v.mp4")) << r.output;
   std::size_t warnings = 0;
@@ -485,7 +484,7 @@ TEST_F(BadInputCorpus, PathFiles) {
   const fs::path d = dir_;
   const fs::path mesh = write(d / "sphere.obj", sphere_obj());
   const fs::path good = d / "good.path.json";
-  const auto made = run_meshtour("path " + q(mesh) + " -q -o " + q(good));
+  const auto made = run_meshtour("path " + meshtour::test::shell_quoted(mesh) + " -q -o " + meshtour::test::shell_quoted(good));
   ASSERT_EQ(made.exit_code, 0) << made.output;
   std::ifstream in(good);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -500,7 +499,7 @@ TEST_F(BadInputCorpus, PathFiles) {
   auto path_case = [&](const std::string& name, const std::string& file, const std::string& content, int code,
                        std::vector<std::string> words) {
     const fs::path f = write(d / file, content);
-    return Case{name, "tour", mesh, std::string(kSmall) + " --path-file " + q(f), code, std::move(words), false};
+    return Case{name, "tour", mesh, std::string(kSmall) + " --path-file " + meshtour::test::shell_quoted(f), code, std::move(words), false};
   };
   const std::vector<Case> cases = {
       path_case("path file from a newer version", "newer.path.json", edited("\"format_version\": 1", "\"format_version\": 2"), 2,

@@ -69,10 +69,6 @@ fs::path make_frames_dir(const fs::path& dir, bool manifest = true) {
   return dir;
 }
 
-std::vector<char> read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 std::vector<std::string> entries(const fs::path& dir) {
   std::vector<std::string> names;
@@ -80,20 +76,13 @@ std::vector<std::string> entries(const fs::path& dir) {
   return names;
 }
 
-// Quoted for the shell. (Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "'" + std::string.)
-std::string q(const fs::path& p) {
-  std::string quoted = "'";
-  quoted += p.string();
-  quoted += "'";
-  return quoted;
-}
 
 TEST(CliEncode, EncodesTheManifestsRangeAtItsRate) {
   const fs::path root = scratch_dir();
   const fs::path frames = make_frames_dir(root / "frames");
   const fs::path out = root / "out";
   fs::create_directory(out);
-  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.mp4"));
+  const auto r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(out / "tour.mp4"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // Progress on stderr (JSON lines, since it is not a terminal): frames done of total, then a summary.
   EXPECT_NE(r.output.find(R"("event":"encoded frame","done":10,"total":10)"), std::string::npos) << r.output;
@@ -112,7 +101,7 @@ TEST(CliEncode, LosslessArchiveHoldsTheFramesExactly) {
   const fs::path root = scratch_dir();
   const fs::path frames = make_frames_dir(root / "frames");
   // The codec follows from the extension; --frames picks a stepped sub-range.
-  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(root / "a.mkv") + " --frames 1-9:2 -q");
+  const auto r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "a.mkv") + " --frames 1-9:2 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(r.output.empty()) << "-q printed: " << r.output;
   const auto probe = probe_video(root / "a.mkv", {0, 4});
@@ -128,7 +117,7 @@ TEST(CliEncode, MissingFramesAreAllNamedAndNothingIsWritten) {
   for (int k : {3, 4, 7}) fs::remove(frame_file(frames, k, "png"));
   const fs::path out = root / "out";
   fs::create_directory(out);
-  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.mp4"));
+  const auto r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(out / "tour.mp4"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("3 of 10 missing (3-4,7"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("frame_000003.png"), std::string::npos) << r.output;
@@ -137,7 +126,7 @@ TEST(CliEncode, MissingFramesAreAllNamedAndNothingIsWritten) {
   EXPECT_TRUE(fs::is_empty(out));
 
   // A range without the missing frames encodes.
-  const auto ok = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.mp4") + " --frames 0-2,5-6,8-9 -q");
+  const auto ok = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(out / "tour.mp4") + " --frames 0-2,5-6,8-9 -q");
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_EQ(probe_video(out / "tour.mp4").decoded_frames, 7);
 }
@@ -149,7 +138,7 @@ TEST(CliEncode, CorruptAndWronglySizedFramesAreNamed) {
   write_png(frame_file(frames, 8, "png"), make_frame(8, 32, 24), 32, 24);
   const fs::path out = root / "out";
   fs::create_directory(out);
-  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(out / "tour.webm"));
+  const auto r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(out / "tour.webm"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("1 unreadable (5; frame_000005.png"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("1 not 64x48 (8; frame_000008.png is 32x24)"), std::string::npos) << r.output;
@@ -159,13 +148,13 @@ TEST(CliEncode, CorruptAndWronglySizedFramesAreNamed) {
 TEST(CliEncode, ExtensionMustMatchTheCodec) {
   const fs::path root = scratch_dir();
   const fs::path frames = make_frames_dir(root / "frames");
-  auto r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.mp4") + " --codec ffv1");
+  auto r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "tour.mp4") + " --codec ffv1");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("name the file *.mkv"), std::string::npos) << r.output;
-  r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.avi"));
+  r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "tour.avi"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find(".webm (vp9)"), std::string::npos) << r.output;
-  r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.gif") + " --crf 20");
+  r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "tour.gif") + " --crf 20");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("crf does not apply to gif"), std::string::npos) << r.output;
   EXPECT_EQ(entries(root), std::vector<std::string>{"frames"});
@@ -174,16 +163,16 @@ TEST(CliEncode, ExtensionMustMatchTheCodec) {
 TEST(CliEncode, WithoutManifestTheRangeMustBeGiven) {
   const fs::path root = scratch_dir();
   const fs::path frames = make_frames_dir(root / "frames", /*manifest=*/false);
-  auto r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.mp4"));
+  auto r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "tour.mp4"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("give it with --frames"), std::string::npos) << r.output;
-  r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.mp4") + " --frames 0-9 -q");
+  r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "tour.mp4") + " --frames 0-9 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto probe = probe_video(root / "tour.mp4");
   EXPECT_EQ(probe.decoded_frames, kFrames);
   EXPECT_NEAR(probe.fps, 30, 1e-9);  // the default rate without a manifest
   // A range past the frames on disk names them as missing.
-  r = run_meshtour("encode " + q(frames) + " -o " + q(root / "tour.mp4") + " --frames 0-11");
+  r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "tour.mp4") + " --frames 0-11");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("2 of 12 missing (10-11"), std::string::npos) << r.output;
 }
@@ -219,8 +208,8 @@ TEST(CliEncode, ExrFramesLookLikeThePngFrames) {
   info.image_formats = {"png", "exr"};
   write_frame_dir_info(frames, info);
 
-  ASSERT_EQ(run_meshtour("encode " + q(frames) + " -o " + q(root / "png.mkv") + " -q").exit_code, 0);
-  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(root / "exr.mkv") + " --input-format exr -q");
+  ASSERT_EQ(run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "png.mkv") + " -q").exit_code, 0);
+  const auto r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "exr.mkv") + " --input-format exr -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto png = probe_video(root / "png.mkv", {0, 2});
   const auto exr = probe_video(root / "exr.mkv", {0, 2});
@@ -236,7 +225,7 @@ TEST(CliEncode, ExrFramesLookLikeThePngFrames) {
     EXPECT_LT(differing, png.rgb_frames[f].size() / 10) << "frame " << f;
   }
   // Overriding the header's exposure changes the picture, so the header was read.
-  ASSERT_EQ(run_meshtour("encode " + q(frames) + " -o " + q(root / "dark.mkv") + " --input-format exr --exposure 0 -q").exit_code, 0);
+  ASSERT_EQ(run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(root / "dark.mkv") + " --input-format exr --exposure 0 -q").exit_code, 0);
   EXPECT_FALSE(probe_video(root / "dark.mkv", {0}).rgb_frames[0] == exr.rgb_frames[0]);
 }
 
@@ -247,11 +236,11 @@ TEST(CliEncode, ExrFramesLookLikeThePngFrames) {
 TEST(CliEncode, SameBytesAsTheTourThatRenderedTheFrames) {
   const fs::path root = scratch_dir();
   const auto tour = run_meshtour("tour -q --frames 10 --width 160 --height 120 --spp 1 --path turntable --frames-dir " +
-                                 q(root / "frames") + " -o " + q(root / "tour.mp4"));
+                                 test::shell_quoted(root / "frames") + " -o " + test::shell_quoted(root / "tour.mp4"));
   ASSERT_EQ(tour.exit_code, 0) << tour.output;
-  const auto r = run_meshtour("encode " + q(root / "frames") + " --frames 0-9 -o " + q(root / "encode.mp4") + " -q");
+  const auto r = run_meshtour("encode " + test::shell_quoted(root / "frames") + " --frames 0-9 -o " + test::shell_quoted(root / "encode.mp4") + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto a = read_bytes(root / "tour.mp4"), b = read_bytes(root / "encode.mp4");
+  const auto a = test::file_bytes(root / "tour.mp4"), b = test::file_bytes(root / "encode.mp4");
   ASSERT_FALSE(a.empty());
   EXPECT_TRUE(a == b) << "tour and encode of the same frames differ (" << a.size() << " vs " << b.size() << " bytes)";
 }
@@ -266,8 +255,8 @@ TEST(CliEncode, SigtermRemovesThePartialVideo) {
   const fs::path out = root / "out";
   fs::create_directory(out);
   // Starts the encode in the background, waits for its temporary file, sends SIGTERM.
-  const auto r = run_meshtour("encode " + q(frames) + " --frames 0-" + std::to_string(kMany - 1) + " -o " +
-                              q(out / "tour.webm") + " -q & pid=$!; for i in $(seq 400); do ls " + q(out) +
+  const auto r = run_meshtour("encode " + test::shell_quoted(frames) + " --frames 0-" + std::to_string(kMany - 1) + " -o " +
+                              test::shell_quoted(out / "tour.webm") + " -q & pid=$!; for i in $(seq 400); do ls " + test::shell_quoted(out) +
                               "/.tour.webm.partial-* >/dev/null 2>&1 && break; sleep 0.02; done; kill -TERM $pid; wait $pid; "
                               "echo exit=$?");
   EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;

@@ -16,7 +16,6 @@ namespace {
 namespace fs = std::filesystem;
 using meshtour::test::run_meshtour;
 
-std::string q(const fs::path& p) { return meshtour::test::shell_quoted(p); }
 
 fs::path small_mesh(const fs::path& dir) {
   const fs::path file = dir / "bumpy.ply";
@@ -31,7 +30,7 @@ std::string read_file(const fs::path& file) {
 
 // Runs the Khronos validator (tests/gltf/validate.js); returns its exit code and report.
 meshtour::test::CommandResult validate_gltf(const fs::path& file) {
-  const std::string cmd = "cd '" + meshtour::test::source_dir().string() + "' && node tests/gltf/validate.js " + q(file) + " 2>&1";
+  const std::string cmd = "cd '" + meshtour::test::source_dir().string() + "' && node tests/gltf/validate.js " + meshtour::test::shell_quoted(file) + " 2>&1";
   meshtour::test::CommandResult result;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return result;
@@ -45,7 +44,7 @@ meshtour::test::CommandResult validate_gltf(const fs::path& file) {
 TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
   const fs::path dir = meshtour::test::scratch_dir();
   const fs::path mesh = small_mesh(dir);
-  const auto r = run_meshtour("evaluate " + q(mesh) + " --compare --frames 24 --samples 32768 --json " + q(dir / "e.json"));
+  const auto r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --compare --frames 24 --samples 32768 --json " + meshtour::test::shell_quoted(dir / "e.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* mode : {"turntable ", "paper ", "feature-orbit "}) EXPECT_NE(r.output.find(mode), std::string::npos) << r.output;
   std::ifstream in(dir / "e.json");
@@ -81,7 +80,7 @@ TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
   for (std::size_t k = 1; k < scores.size(); ++k)
     EXPECT_GE(scores[0].get<double>(), scores[k].get<double>() - 1e-3) << "frame " << k;
   // The path modes see the same mesh: a fixed evaluation gives the same numbers again.
-  const auto again = run_meshtour("evaluate " + q(mesh) + " --path turntable --frames 24 --samples 32768 -q --json " + q(dir / "t.json"));
+  const auto again = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --path turntable --frames 24 --samples 32768 -q --json " + meshtour::test::shell_quoted(dir / "t.json"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
   std::ifstream in2(dir / "t.json");
   const nlohmann::json single = nlohmann::json::parse(in2);
@@ -91,20 +90,20 @@ TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
 TEST(CliEvaluate, PathFileGivesTheSameNumbersAsThePaperMode) {
   const fs::path dir = meshtour::test::scratch_dir();
   const fs::path mesh = small_mesh(dir);
-  auto r = run_meshtour("path " + q(mesh) + " -q -o " + q(dir / "p.json"));
+  auto r = run_meshtour("path " + meshtour::test::shell_quoted(mesh) + " -q -o " + meshtour::test::shell_quoted(dir / "p.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("evaluate " + q(mesh) + " --path-file " + q(dir / "p.json") + " --frames 12 --samples 16384 -q --json " + q(dir / "f.json"));
+  r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --path-file " + meshtour::test::shell_quoted(dir / "p.json") + " --frames 12 --samples 16384 -q --json " + meshtour::test::shell_quoted(dir / "f.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("evaluate " + q(mesh) + " --path paper --frames 12 --samples 16384 -q --json " + q(dir / "m.json"));
+  r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --path paper --frames 12 --samples 16384 -q --json " + meshtour::test::shell_quoted(dir / "m.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream f(dir / "f.json"), m(dir / "m.json");
   const nlohmann::json from_file = nlohmann::json::parse(f), from_mode = nlohmann::json::parse(m);
   EXPECT_EQ(from_file["modes"]["path-file"], from_mode["modes"]["paper"]);
   // --compare judges the built-in modes only.
-  r = run_meshtour("evaluate " + q(mesh) + " --compare --path-file " + q(dir / "p.json"));
+  r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --compare --path-file " + meshtour::test::shell_quoted(dir / "p.json"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   // Two definitions under one name: a one-line error naming the options, no JSON.
-  r = run_meshtour("evaluate " + q(mesh) + " --strict-angle 45 --json " + q(dir / "same.json"));  // --stricter-angle is 45
+  r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --strict-angle 45 --json " + meshtour::test::shell_quoted(dir / "same.json"));  // --stricter-angle is 45
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("both 45 degrees"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "same.json"));
@@ -119,7 +118,7 @@ TEST(CliEvaluate, TheFeatureOrbitKeepsUpUnderEveryDefinitionOnTheRocker) {
   const fs::path dir = meshtour::test::scratch_dir();
   // The default angles (those the search uses), and others it never sees.
   for (const std::string angles : {"", " --seen-angle 80 --strict-angle 50 --stricter-angle 40 --strictest-angle 20"}) {
-    const auto r = run_meshtour("evaluate " + q(mesh) + " --compare --json " + q(dir / "e.json") + angles);
+    const auto r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --compare --json " + meshtour::test::shell_quoted(dir / "e.json") + angles);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     std::ifstream in(dir / "e.json");
     const nlohmann::json modes = nlohmann::json::parse(in).at("modes");
@@ -136,11 +135,11 @@ TEST(CliEvaluate, TheFeatureOrbitKeepsUpUnderEveryDefinitionOnTheRocker) {
 TEST(CliEvaluate, GltfFromPathAndTourIsValidAndIdentical) {
   const fs::path dir = meshtour::test::scratch_dir();
   const fs::path mesh = small_mesh(dir);
-  auto r = run_meshtour("path " + q(mesh) + " --path feature-orbit --frames 8 -q --gltf " + q(dir / "path.gltf") +
-                        " --camera-frames " + q(dir / "frames.csv"));
+  auto r = run_meshtour("path " + meshtour::test::shell_quoted(mesh) + " --path feature-orbit --frames 8 -q --gltf " + meshtour::test::shell_quoted(dir / "path.gltf") +
+                        " --camera-frames " + meshtour::test::shell_quoted(dir / "frames.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("tour " + q(mesh) + " --path feature-orbit --frames 8 --width 64 --height 36 --spp 1 -q -o " +
-                   q(dir / "t.mp4") + " --gltf " + q(dir / "tour.gltf"));
+  r = run_meshtour("tour " + meshtour::test::shell_quoted(mesh) + " --path feature-orbit --frames 8 --width 64 --height 36 --spp 1 -q -o " +
+                   meshtour::test::shell_quoted(dir / "t.mp4") + " --gltf " + meshtour::test::shell_quoted(dir / "tour.gltf"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // The same cameras whichever command exports them (the tour's 64x36 has the default 16:9 aspect).
   EXPECT_EQ(read_file(dir / "path.bin"), read_file(dir / "tour.bin"));
@@ -172,14 +171,14 @@ TEST(CliEvaluate, GltfFromPathAndTourIsValidAndIdentical) {
 TEST(CliEvaluate, PathTakesTheTurntablesCameraOptionsAsTourDoes) {
   const fs::path dir = meshtour::test::scratch_dir();
   const fs::path mesh = small_mesh(dir);
-  const std::string camera = q(mesh) + " --path turntable --elevation 35 --fov 25 --frames 6 --fps 24";
+  const std::string camera = meshtour::test::shell_quoted(mesh) + " --path turntable --elevation 35 --fov 25 --frames 6 --fps 24";
   std::string path_command = "path ", tour_command = "tour ";
   path_command += camera;
-  path_command += " --width 640 --height 480 -q --gltf " + q(dir / "path.gltf");
-  path_command += " --camera-frames " + q(dir / "frames.json");
+  path_command += " --width 640 --height 480 -q --gltf " + meshtour::test::shell_quoted(dir / "path.gltf");
+  path_command += " --camera-frames " + meshtour::test::shell_quoted(dir / "frames.json");
   tour_command += camera;
-  tour_command += " --width 64 --height 48 --spp 1 -q -o " + q(dir / "t.mp4");
-  tour_command += " --gltf " + q(dir / "tour.gltf");
+  tour_command += " --width 64 --height 48 --spp 1 -q -o " + meshtour::test::shell_quoted(dir / "t.mp4");
+  tour_command += " --gltf " + meshtour::test::shell_quoted(dir / "tour.gltf");
   auto r = run_meshtour(path_command);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = run_meshtour(tour_command);
@@ -195,10 +194,10 @@ TEST(CliEvaluate, PathTakesTheTurntablesCameraOptionsAsTourDoes) {
     EXPECT_NEAR(f["vertical_fov_deg"].get<double>(), 25.0, 1e-9);
   }
   // The elevation changes what evaluate measures of the turntable.
-  r = run_meshtour("evaluate " + q(mesh) + " --path turntable --frames 12 --samples 16384 -q --json " + q(dir / "e18.json"));
+  r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --path turntable --frames 12 --samples 16384 -q --json " + meshtour::test::shell_quoted(dir / "e18.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("evaluate " + q(mesh) + " --path turntable --elevation 70 --frames 12 --samples 16384 -q --json " +
-                   q(dir / "e70.json"));
+  r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --path turntable --elevation 70 --frames 12 --samples 16384 -q --json " +
+                   meshtour::test::shell_quoted(dir / "e70.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream a(dir / "e18.json"), b(dir / "e70.json");
   EXPECT_NE(nlohmann::json::parse(a)["modes"]["turntable"]["surface_coverage"],
@@ -208,7 +207,7 @@ TEST(CliEvaluate, PathTakesTheTurntablesCameraOptionsAsTourDoes) {
 TEST(CliEvaluate, OverviewShowsTheModelAndThePath) {
   const fs::path dir = meshtour::test::scratch_dir();
   const fs::path mesh = small_mesh(dir);
-  const auto r = run_meshtour("path " + q(mesh) + " --path turntable -q --overview " + q(dir / "o.png") + " --overview-size 160x120");
+  const auto r = run_meshtour("path " + meshtour::test::shell_quoted(mesh) + " --path turntable -q --overview " + meshtour::test::shell_quoted(dir / "o.png") + " --overview-size 160x120");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto in = OIIO::ImageInput::open((dir / "o.png").string());
   ASSERT_TRUE(in);
@@ -223,7 +222,7 @@ TEST(CliEvaluate, OverviewShowsTheModelAndThePath) {
     magenta += pixels[p] > 150 && pixels[p + 2] > 150 && pixels[p + 1] < 100;
   EXPECT_GT(magenta, 50);
   // Options of the paper path only: refused for another mode, with a message.
-  const auto refused = run_meshtour("path " + q(mesh) + " --path turntable --plot " + q(dir / "p.png"));
+  const auto refused = run_meshtour("path " + meshtour::test::shell_quoted(mesh) + " --path turntable --plot " + meshtour::test::shell_quoted(dir / "p.png"));
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
   EXPECT_FALSE(fs::exists(dir / "p.png"));
 }

@@ -27,14 +27,7 @@ namespace {
 
 using test::run_meshtour;
 
-std::string q(const std::filesystem::path& p) { return std::string("'").append(p.string()).append("'"); }
 
-std::string read_bytes(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // Every regular file of `dir` by name (hidden ones included).
 std::map<std::string, std::filesystem::path> files_of(const std::filesystem::path& dir) {
@@ -77,7 +70,7 @@ void expect_same_frames(const std::filesystem::path& a, const std::filesystem::p
     if (path.extension() == ".exr")
       EXPECT_TRUE(exr_content(path) == exr_content(fb.at(name))) << name << " differs";
     else
-      EXPECT_TRUE(read_bytes(path) == read_bytes(fb.at(name))) << name << " differs";
+      EXPECT_TRUE(test::file_bytes(path) == test::file_bytes(fb.at(name))) << name << " differs";
   }
 }
 
@@ -92,7 +85,7 @@ bool readable_png(const std::filesystem::path& file, int width, int height) {
 test::VideoProbe encode_and_decode(const std::filesystem::path& frames, const std::filesystem::path& video, int count) {
   std::vector<int> all(count);
   for (int k = 0; k < count; ++k) all[k] = k;
-  const auto r = run_meshtour("encode " + q(frames) + " -o " + q(video) + " --codec h264 --crf 18");
+  const auto r = run_meshtour("encode " + test::shell_quoted(frames) + " -o " + test::shell_quoted(video) + " --codec h264 --crf 18");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   return test::probe_video(video, all);
 }
@@ -120,16 +113,16 @@ const std::string kTour = "--frame-count 12 --width 96 --height 72 --spp 2";
 TEST(RenderCommand, ThreeUnevenChunksInSeparateProcessesGiveTheBytesOfOneRun) {
   const auto dir = test::scratch_dir();
   // One run of every frame, and the same tour in three uneven chunks, each its own process.
-  auto r = run_meshtour("render --out-dir " + q(dir / "one") + " " + kTour + " --format png+exr --progress none");
+  auto r = run_meshtour("render --out-dir " + test::shell_quoted(dir / "one") + " " + kTour + " --format png+exr --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* chunk : {"0-1", "2-8", "9-11"}) {
-    r = run_meshtour("render --out-dir " + q(dir / "chunks") + " " + kTour + " --format png+exr --progress none --frames " + chunk);
+    r = run_meshtour("render --out-dir " + test::shell_quoted(dir / "chunks") + " " + kTour + " --format png+exr --progress none --frames " + chunk);
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   expect_same_frames(dir / "one", dir / "chunks", 25);  // 12 PNG + 12 EXR + manifest
   // `tour` is the same pipeline: its frames are the same bytes too.
-  r = run_meshtour("tour -o " + q(dir / "tour.mp4") + " --frames 12 --width 96 --height 72 --spp 2 --frames-dir " +
-                   q(dir / "tour") + " --format png+exr --quiet");
+  r = run_meshtour("tour -o " + test::shell_quoted(dir / "tour.mp4") + " --frames 12 --width 96 --height 72 --spp 2 --frames-dir " +
+                   test::shell_quoted(dir / "tour") + " --format png+exr --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   expect_same_frames(dir / "one", dir / "tour", 25);
 
@@ -164,13 +157,13 @@ TEST(RenderCommand, KilledRenderResumesToTheSameFramesAndNeverShowsAPartialFrame
 
   // Re-running completes the set; the result is the bytes of a clean run. (A temporary file of
   // the killed process may stay behind under its hidden name; it is not a frame.)
-  auto r = run_meshtour("render --out-dir " + q(dir / "killed") + " " + tour + " --progress none");
+  auto r = run_meshtour("render --out-dir " + test::shell_quoted(dir / "killed") + " " + tour + " --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("render --out-dir " + q(dir / "clean") + " " + tour + " --progress none");
+  r = run_meshtour("render --out-dir " + test::shell_quoted(dir / "clean") + " " + tour + " --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_EQ(frame_names(dir / "killed", ".png").size(), 24u);
   for (const auto& n : frame_names(dir / "clean", ".png"))
-    EXPECT_TRUE(read_bytes(dir / "killed" / n) == read_bytes(dir / "clean" / n)) << n;
+    EXPECT_TRUE(test::file_bytes(dir / "killed" / n) == test::file_bytes(dir / "clean" / n)) << n;
 }
 
 TEST(RenderCommand, SigtermStopsAfterTheCurrentFrameWithoutTemporaries) {
@@ -184,8 +177,8 @@ TEST(RenderCommand, SigtermStopsAfterTheCurrentFrameWithoutTemporaries) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status)) << "the render did not exit by itself after SIGTERM";
-  EXPECT_EQ(WEXITSTATUS(status), 130) << read_bytes(dir / "log.txt");
-  EXPECT_NE(read_bytes(dir / "log.txt").find("interrupted"), std::string::npos);
+  EXPECT_EQ(WEXITSTATUS(status), 130) << test::file_bytes(dir / "log.txt");
+  EXPECT_NE(test::file_bytes(dir / "log.txt").find("interrupted"), std::string::npos);
   const auto files = files_of(dir / "f");
   for (const auto& [name, path] : files) EXPECT_NE(name[0], '.') << "temporary file left: " << name;
   const auto png = frame_names(dir / "f", ".png"), exr = frame_names(dir / "f", ".exr");
@@ -195,13 +188,13 @@ TEST(RenderCommand, SigtermStopsAfterTheCurrentFrameWithoutTemporaries) {
 
 TEST(RenderCommand, ResumeSkipsExistingFramesAndRendersOnlyMissingOnes) {
   const auto dir = test::scratch_dir();
-  auto r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --progress none");
+  auto r = run_meshtour("render --out-dir " + test::shell_quoted(dir) + " " + kTour + " --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   struct stat before[12];
   for (int k = 0; k < 12; ++k) ASSERT_EQ(::stat((dir / frame_names(dir, ".png")[k]).c_str(), &before[k]), 0);
 
   // Nothing to do: no frame is touched.
-  r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --progress json");
+  r = run_meshtour("render --out-dir " + test::shell_quoted(dir) + " " + kTour + " --progress json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("0 to render, 12 already there"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("{\"event\":\"summary\",\"what\":\"frame\",\"done\":0,\"total\":0,\"skipped\":12,"), std::string::npos) << r.output;
@@ -209,7 +202,7 @@ TEST(RenderCommand, ResumeSkipsExistingFramesAndRendersOnlyMissingOnes) {
   // Two frames lost: exactly those are rendered again (one JSON line each), the rest untouched.
   std::filesystem::remove(dir / "frame_000003.png");
   std::filesystem::remove(dir / "frame_000007.png");
-  r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --progress json");
+  r = run_meshtour("render --out-dir " + test::shell_quoted(dir) + " " + kTour + " --progress json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::vector<int> rendered;
   std::istringstream lines(r.output);
@@ -241,13 +234,13 @@ TEST(RenderCommand, ResumeSkipsExistingFramesAndRendersOnlyMissingOnes) {
 
 TEST(RenderCommand, RefusesToMixAnotherTourIntoTheSameDirectory) {
   const auto dir = test::scratch_dir();
-  auto r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --frames 0 --progress none");
+  auto r = run_meshtour("render --out-dir " + test::shell_quoted(dir) + " " + kTour + " --frames 0 --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("render --out-dir " + q(dir) + " --frame-count 12 --width 64 --height 72 --spp 2 --frames 1 --progress none");
+  r = run_meshtour("render --out-dir " + test::shell_quoted(dir) + " --frame-count 12 --width 64 --height 72 --spp 2 --frames 1 --progress none");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("holds another tour"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "frame_000001.png"));
-  r = run_meshtour("render --out-dir " + q(dir) + " " + kTour + " --frames 5-x");
+  r = run_meshtour("render --out-dir " + test::shell_quoted(dir) + " " + kTour + " --frames 5-x");
   EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 
@@ -270,7 +263,7 @@ TEST(BatchCommand, ThreeGoodMeshesAndABrokenOneGiveThreeVideosOneFailureAndExitC
                                           "broken.ply,y,broken.mp4,plain,turntable\n"
                                           "ring.obj,z,ring-video.mp4,plain,turntable\n"
                                           "tube.obj,y,,,turntable\n";
-  const std::string cmd = "batch " + q(dir / "catalogue.csv") + " --out-dir " + q(dir / "videos") +
+  const std::string cmd = "batch " + test::shell_quoted(dir / "catalogue.csv") + " --out-dir " + test::shell_quoted(dir / "videos") +
                           " --frames 6 --width 64 --height 48 --spp 1 --progress none";
   auto r = run_meshtour(cmd);
   EXPECT_EQ(r.exit_code, 5) << r.output;
@@ -285,7 +278,7 @@ TEST(BatchCommand, ThreeGoodMeshesAndABrokenOneGiveThreeVideosOneFailureAndExitC
   EXPECT_FALSE(std::filesystem::exists(dir / "videos" / "broken.mp4"));
   for (const auto& [name, path] : files_of(dir / "videos")) EXPECT_NE(name[0], '.') << "temporary left: " << name;
 
-  auto summary = nlohmann::json::parse(read_bytes(dir / "videos" / "batch-summary.json"));
+  auto summary = nlohmann::json::parse(test::file_bytes(dir / "videos" / "batch-summary.json"));
   EXPECT_EQ(summary["rendered"], 3);
   EXPECT_EQ(summary["failed"], 1);
   ASSERT_EQ(summary["items"].size(), 4u);
@@ -302,7 +295,7 @@ TEST(BatchCommand, ThreeGoodMeshesAndABrokenOneGiveThreeVideosOneFailureAndExitC
   ASSERT_EQ(::stat((dir / "videos" / "ball.mp4").c_str(), &after), 0);
   EXPECT_EQ(after.st_ino, before.st_ino);
   EXPECT_EQ(after.st_mtim.tv_nsec, before.st_mtim.tv_nsec);
-  summary = nlohmann::json::parse(read_bytes(dir / "videos" / "batch-summary.json"));
+  summary = nlohmann::json::parse(test::file_bytes(dir / "videos" / "batch-summary.json"));
   EXPECT_EQ(summary["skipped"], 3);
   EXPECT_EQ(summary["rendered"], 0);
 }
@@ -313,14 +306,14 @@ TEST(BatchCommand, JsonManifestAndBadValuesFailOnlyTheirItem) {
   std::ofstream(dir / "m.json") << R"({"items": [{"mesh": "ball.obj", "output": "a.mp4", "path": "turntable", "frames": 3},
                                                 {"mesh": "ball.obj", "output": "b.mp4", "up": "w"},
                                                 {"mesh": "ball.obj", "output": "a.mp4"}]})";
-  const auto r = run_meshtour("batch " + q(dir / "m.json") + " --out-dir " + q(dir / "v") + " --width 32 --height 24 --spp 1 --progress none");
+  const auto r = run_meshtour("batch " + test::shell_quoted(dir / "m.json") + " --out-dir " + test::shell_quoted(dir / "v") + " --width 32 --height 24 --spp 1 --progress none");
   EXPECT_EQ(r.exit_code, 5) << r.output;
   EXPECT_EQ(test::probe_video(dir / "v" / "a.mp4").decoded_frames, 3);
   EXPECT_NE(r.output.find("up 'w' is not one of"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("already used by item 0"), std::string::npos) << r.output;
   // Not a manifest at all: exit 2 with the reason.
   std::ofstream(dir / "bad.csv") << "model,up\nball.obj,y\n";
-  const auto bad = run_meshtour("batch " + q(dir / "bad.csv") + " --out-dir " + q(dir / "v"));
+  const auto bad = run_meshtour("batch " + test::shell_quoted(dir / "bad.csv") + " --out-dir " + test::shell_quoted(dir / "v"));
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("unknown column 'model'"), std::string::npos) << bad.output;
 }
@@ -329,35 +322,35 @@ TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
   const auto dir = test::scratch_dir();
   const auto out = dir / "farm";
   // The paper path is computed once into a path file; the other modes are recomputed by each task.
-  auto r = run_meshtour("farm slurm --out-dir " + q(out) + " --path paper --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5 --cpus-per-task 1 --partition debug --time 10");
+  auto r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(out) + " --path paper --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5 --cpus-per-task 1 --partition debug --time 10");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string render = read_bytes(out / "render.sbatch");
+  const std::string render = test::file_bytes(out / "render.sbatch");
   EXPECT_NE(render.find("#SBATCH --array=0-2\n"), std::string::npos) << render;  // 12 frames, chunks of 5
   EXPECT_NE(render.find("#SBATCH --partition=debug\n"), std::string::npos) << render;
   EXPECT_NE(render.find("#SBATCH --time=10\n"), std::string::npos) << render;
   EXPECT_NE(render.find("'" + test::meshtour_executable().string() + "' 'render'"), std::string::npos) << render;
   EXPECT_NE(render.find("'--path-file' '" + (out / "path.json").string() + "'"), std::string::npos) << render;
   EXPECT_TRUE(std::filesystem::exists(out / "path.json"));
-  const std::string encode = read_bytes(out / "encode.sbatch");
+  const std::string encode = test::file_bytes(out / "encode.sbatch");
   EXPECT_NE(encode.find("'encode' '" + (out / "frames").string() + "' '-o' '" + (out / "meshtour-default.mp4").string() + "' '--codec' 'h264'"),
             std::string::npos) << encode;
-  EXPECT_NE(read_bytes(out / "submit.sh").find("--dependency=afterok:$render"), std::string::npos);
+  EXPECT_NE(test::file_bytes(out / "submit.sh").find("--dependency=afterok:$render"), std::string::npos);
 
   // Run the last array task's script as Slurm would: it renders frames 10-11 only (the chunk
   // 10-14 clamped), with the thread count of SLURM_CPUS_PER_TASK.
-  r = run_meshtour("--version && SLURM_ARRAY_TASK_ID=2 SLURM_CPUS_PER_TASK=1 bash " + q(out / "render.sbatch"));
+  r = run_meshtour("--version && SLURM_ARRAY_TASK_ID=2 SLURM_CPUS_PER_TASK=1 bash " + test::shell_quoted(out / "render.sbatch"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("rendering with 1 threads"), std::string::npos) << r.output;
   EXPECT_EQ(frame_names(out / "frames", ".png"), (std::vector<std::string>{"frame_000010.png", "frame_000011.png"}));
   // And they are the frames a single `render` of the whole tour makes (same path, same fov).
-  r = run_meshtour("render --out-dir " + q(dir / "one") + " --path paper --frame-count 12 --width 64 --height 48 --spp 1 --progress none");
+  r = run_meshtour("render --out-dir " + test::shell_quoted(dir / "one") + " --path paper --frame-count 12 --width 64 --height 48 --spp 1 --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_TRUE(read_bytes(out / "frames" / "frame_000011.png") == read_bytes(dir / "one" / "frame_000011.png"));
+  EXPECT_TRUE(test::file_bytes(out / "frames" / "frame_000011.png") == test::file_bytes(dir / "one" / "frame_000011.png"));
 
   // The default mode (feature orbit) has no path file: every task computes the same orbit.
-  r = run_meshtour("farm slurm --out-dir " + q(dir / "orbit") + " --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5");
+  r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / "orbit") + " --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(read_bytes(dir / "orbit" / "render.sbatch").find("--path-file"), std::string::npos);
+  EXPECT_EQ(test::file_bytes(dir / "orbit" / "render.sbatch").find("--path-file"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir / "orbit" / "path.json"));
 }
 
@@ -367,24 +360,24 @@ TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
 TEST(FarmSlurm, TasksRenderTheTourOfNonDefaultPathAndLookOptions) {
   const auto dir = test::scratch_dir();
   write_obj(test_meshes::bumpy_sphere(3), dir / "bumpy.obj");  // small, with features the path search sees
-  const std::string tour = q(dir / "bumpy.obj") + " --frames 4 --width 64 --height 48 --spp 1";
+  const std::string tour = test::shell_quoted(dir / "bumpy.obj") + " --frames 4 --width 64 --height 48 --spp 1";
   const std::string custom = " --smoothing none --tolerance 0.004 --seed-order index --preset plain --exposure 0.5";
-  auto r = run_meshtour("farm slurm --out-dir " + q(dir / "farm") + " " + tour + custom + " --chunk-size 2");
+  auto r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / "farm") + " " + tour + custom + " --chunk-size 2");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* task : {"0", "1"}) {
     r = run_meshtour("--version && SLURM_ARRAY_TASK_ID=" + std::string(task) + " SLURM_CPUS_PER_TASK=1 bash " +
-                     q(dir / "farm" / "render.sbatch"));
+                     test::shell_quoted(dir / "farm" / "render.sbatch"));
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
-  r = run_meshtour("tour -o " + q(dir / "t.mp4") + " " + tour + custom + " --frames-dir " + q(dir / "tour") + " --progress none");
+  r = run_meshtour("tour -o " + test::shell_quoted(dir / "t.mp4") + " " + tour + custom + " --frames-dir " + test::shell_quoted(dir / "tour") + " --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("tour -o " + q(dir / "d.mp4") + " " + tour + " --preset plain --exposure 0.5 --frames-dir " + q(dir / "default") +
+  r = run_meshtour("tour -o " + test::shell_quoted(dir / "d.mp4") + " " + tour + " --preset plain --exposure 0.5 --frames-dir " + test::shell_quoted(dir / "default") +
                    " --progress none");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   bool differs_from_default = false;
   for (const char* frame : {"frame_000000.png", "frame_000001.png", "frame_000002.png", "frame_000003.png"}) {
-    EXPECT_TRUE(read_bytes(dir / "farm" / "frames" / frame) == read_bytes(dir / "tour" / frame)) << frame;
-    differs_from_default = differs_from_default || read_bytes(dir / "tour" / frame) != read_bytes(dir / "default" / frame);
+    EXPECT_TRUE(test::file_bytes(dir / "farm" / "frames" / frame) == test::file_bytes(dir / "tour" / frame)) << frame;
+    differs_from_default = differs_from_default || test::file_bytes(dir / "tour" / frame) != test::file_bytes(dir / "default" / frame);
   }
   EXPECT_TRUE(differs_from_default) << "the path options changed no frame; the test cannot tell forwarded options from dropped ones";
 }
@@ -392,9 +385,9 @@ TEST(FarmSlurm, TasksRenderTheTourOfNonDefaultPathAndLookOptions) {
 TEST(FarmSlurm, ManifestGivesOneArrayTaskPerItem) {
   const auto dir = test::scratch_dir();
   std::ofstream(dir / "m.csv") << "mesh,output\na.obj,a.mp4\nb.obj,b.mp4\nc.obj,c.mp4\n";
-  const auto r = run_meshtour("farm slurm --manifest " + q(dir / "m.csv") + " --out-dir " + q(dir / "farm") + " --frames 6");
+  const auto r = run_meshtour("farm slurm --manifest " + test::shell_quoted(dir / "m.csv") + " --out-dir " + test::shell_quoted(dir / "farm") + " --frames 6");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string script = read_bytes(dir / "farm" / "batch.sbatch");
+  const std::string script = test::file_bytes(dir / "farm" / "batch.sbatch");
   EXPECT_NE(script.find("#SBATCH --array=0-2\n"), std::string::npos) << script;
   EXPECT_NE(script.find("'batch' '" + (dir / "m.csv").string() + "'"), std::string::npos) << script;
   EXPECT_NE(script.find("--item \"$SLURM_ARRAY_TASK_ID\""), std::string::npos) << script;
@@ -412,18 +405,18 @@ TEST(BatchCommand, WebWritesBothVideosThePosterAndAContactSheet) {
                                   "broken.ply,Broken,turntable,\n"
                                   "ball.obj,Second ball,turntable,second.png\n";
   // (the third item would reuse ball.mp4: it fails with that reason, and the page shows it)
-  const auto r = run_meshtour("batch " + q(dir / "m.csv") + " --out-dir " + q(dir / "web") +
+  const auto r = run_meshtour("batch " + test::shell_quoted(dir / "m.csv") + " --out-dir " + test::shell_quoted(dir / "web") +
                               " --web --frames 6 --width 160 --height 96 --spp 1 -q");
   EXPECT_EQ(r.exit_code, 5) << r.output;
   for (const char* f : {"ball.mp4", "ball.webm", "ball.poster.png", "ball.gltf", "index.html", "batch-summary.json"})
     EXPECT_TRUE(std::filesystem::exists(dir / "web" / f)) << f;
   EXPECT_EQ(test::probe_video(dir / "web" / "ball.webm").codec, "vp9");
-  const auto summary = nlohmann::json::parse(read_bytes(dir / "web" / "batch-summary.json"));
+  const auto summary = nlohmann::json::parse(test::file_bytes(dir / "web" / "batch-summary.json"));
   EXPECT_EQ(summary["items"][0]["poster"], "ball.poster.png");
   EXPECT_EQ(summary["items"][0]["webm"], "ball.webm");
   EXPECT_EQ(summary["items"][0]["faces"], 320);
   EXPECT_EQ(summary["items"][0]["caption"], "Ball — Kugel <1>");
-  const std::string page = read_bytes(dir / "web" / "index.html");
+  const std::string page = test::file_bytes(dir / "web" / "index.html");
   EXPECT_NE(page.find("Ball — Kugel &lt;1&gt;"), std::string::npos) << "caption missing or not escaped";
   EXPECT_NE(page.find("<source src=\"ball.webm\" type=\"video/webm\"><source src=\"ball.mp4\" type=\"video/mp4\">"),
             std::string::npos);
@@ -437,21 +430,21 @@ TEST(BatchCommand, WebWritesBothVideosThePosterAndAContactSheet) {
 TEST(FarmSlurm, ManifestWithWebAddsTheContactSheetJob) {
   const auto dir = test::scratch_dir();
   std::ofstream(dir / "m.csv") << "mesh,caption\na.obj,A\nb.obj,B\n";
-  const auto r = run_meshtour("farm slurm --manifest " + q(dir / "m.csv") + " --out-dir " + q(dir / "farm") + " --web");
+  const auto r = run_meshtour("farm slurm --manifest " + test::shell_quoted(dir / "m.csv") + " --out-dir " + test::shell_quoted(dir / "farm") + " --web");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(read_bytes(dir / "farm" / "batch.sbatch").find("'--web'"), std::string::npos);
-  const std::string page = read_bytes(dir / "farm" / "page.sbatch");
+  EXPECT_NE(test::file_bytes(dir / "farm" / "batch.sbatch").find("'--web'"), std::string::npos);
+  const std::string page = test::file_bytes(dir / "farm" / "page.sbatch");
   EXPECT_NE(page.find("'--web' '--page-only'"), std::string::npos) << page;
-  EXPECT_NE(read_bytes(dir / "farm" / "submit.sh").find("--dependency=afterany:"), std::string::npos);
+  EXPECT_NE(test::file_bytes(dir / "farm" / "submit.sh").find("--dependency=afterany:"), std::string::npos);
 }
 
 // The render tasks write clean frames; the encode job captions them and writes the poster (its
 // file named absolutely, as the job runs elsewhere).
 TEST(FarmSlurm, CaptionAndPosterGoToTheEncodeJobOnly) {
   const auto dir = test::scratch_dir();
-  const auto r = run_meshtour("farm slurm --out-dir " + q(dir / "farm") + " --frames 6 --width 160 --height 90 --caption 'Ä — 1' --poster p.png");
+  const auto r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / "farm") + " --frames 6 --width 160 --height 90 --caption 'Ä — 1' --poster p.png");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string render = read_bytes(dir / "farm" / "render.sbatch"), encode = read_bytes(dir / "farm" / "encode.sbatch");
+  const std::string render = test::file_bytes(dir / "farm" / "render.sbatch"), encode = test::file_bytes(dir / "farm" / "encode.sbatch");
   EXPECT_EQ(render.find("--caption"), std::string::npos) << render;
   EXPECT_EQ(render.find("--poster"), std::string::npos) << render;
   EXPECT_NE(encode.find("'--caption' 'Ä — 1'"), std::string::npos) << encode;

@@ -15,7 +15,6 @@ namespace {
 
 using test::run_meshtour;
 
-std::string q(const std::filesystem::path& p) { return test::shell_quoted(p); }
 
 std::size_t count_files(const std::filesystem::path& dir) {
   std::size_t n = 0;
@@ -40,8 +39,8 @@ TEST(TourCommand, DefaultSceneVideoHasEveryFrameAndMatchesThePngs) {
   const auto dir = test::scratch_dir();
   const auto video = dir / "default.mp4";
   const auto frames = dir / "frames";
-  const auto r = run_meshtour("tour -o " + q(video) + " --frames 12 --fps 24 --width 160 --height 120 --spp 4 --frames-dir " +
-                              q(frames) + " --format png+exr --quiet");
+  const auto r = run_meshtour("tour -o " + test::shell_quoted(video) + " --frames 12 --fps 24 --width 160 --height 120 --spp 4 --frames-dir " +
+                              test::shell_quoted(frames) + " --format png+exr --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(count_files(frames), 25u);  // 12 PNG + 12 EXR + the manifest (meshtour-frames.json)
   const auto probe = test::probe_video(video, {0, 7});
@@ -65,7 +64,7 @@ TEST(TourCommand, DefaultSceneVideoHasEveryFrameAndMatchesThePngs) {
 
 TEST(TourCommand, SecondsAndFpsGiveTheFrameCount) {
   const auto dir = test::scratch_dir();
-  const auto r = run_meshtour("tour -o " + q(dir / "t.mp4") + " --seconds 0.5 --fps 10 --width 64 --height 48 --spp 1 -q");
+  const auto r = run_meshtour("tour -o " + test::shell_quoted(dir / "t.mp4") + " --seconds 0.5 --fps 10 --width 64 --height 48 --spp 1 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(test::probe_video(dir / "t.mp4").decoded_frames, 5);
 }
@@ -75,8 +74,8 @@ TEST(TourCommand, BunnyTourShowsTheWholeModel) {
   const auto dir = test::scratch_dir();
   const auto video = dir / "bunny.mp4";
   // The plain preset has no ground plane, so the EXR alpha channel is exactly the model's coverage.
-  const auto r = run_meshtour("tour " + q(bunny) + " -o " + q(video) + " --frames 48 --width 192 --height 108 --spp 1 --up y" +
-                              " --preset plain --frames-dir " + q(dir / "frames") + " --format exr -q");
+  const auto r = run_meshtour("tour " + test::shell_quoted(bunny) + " -o " + test::shell_quoted(video) + " --frames 48 --width 192 --height 108 --spp 1 --up y" +
+                              " --preset plain --frames-dir " + test::shell_quoted(dir / "frames") + " --format exr -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto probe = test::probe_video(video);
   EXPECT_EQ(probe.stream_frames, 48);
@@ -106,14 +105,14 @@ TEST(TourCommand, PathFileAndTurntableModes) {
   MESHTOUR_SHARED_MESH(bunny, "bunny.ply");
   const auto dir = test::scratch_dir();
   // A path computed once and rendered elsewhere gives the same frames as the path computed in place.
-  ASSERT_EQ(run_meshtour("path " + q(bunny) + " --up y -o " + q(dir / "bunny.path.json")).exit_code, 0);
+  ASSERT_EQ(run_meshtour("path " + test::shell_quoted(bunny) + " --up y -o " + test::shell_quoted(dir / "bunny.path.json")).exit_code, 0);
   const std::string common = " --frames 6 --width 96 --height 54 --spp 1 --preset plain --frames-dir ";
-  auto r = run_meshtour("tour " + q(bunny) + " -o " + q(dir / "a.mp4") + " --path-file " + q(dir / "bunny.path.json") + common +
-                        q(dir / "from_file") + " -q");
+  auto r = run_meshtour("tour " + test::shell_quoted(bunny) + " -o " + test::shell_quoted(dir / "a.mp4") + " --path-file " + test::shell_quoted(dir / "bunny.path.json") + common +
+                        test::shell_quoted(dir / "from_file") + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("tour " + q(bunny) + " -o " + q(dir / "b.mp4") + " --path paper --up y" + common + q(dir / "in_place") + " -q");
+  r = run_meshtour("tour " + test::shell_quoted(bunny) + " -o " + test::shell_quoted(dir / "b.mp4") + " --path paper --up y" + common + test::shell_quoted(dir / "in_place") + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = run_meshtour("tour " + q(bunny) + " -o " + q(dir / "c.mp4") + " --path turntable" + common + q(dir / "turntable") + " -q");
+  r = run_meshtour("tour " + test::shell_quoted(bunny) + " -o " + test::shell_quoted(dir / "c.mp4") + " --path turntable" + common + test::shell_quoted(dir / "turntable") + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (int k = 0; k < 6; ++k) {
     char name[32];
@@ -141,11 +140,11 @@ TEST(TourCommand, BadInputGivesOneClearLineAndNoVideo) {
   std::ofstream(dir / "empty.obj") << "# nothing here\n";
   std::ofstream(dir / "points.obj") << "v 0 0 0\nv 1 0 0\n";
   const std::vector<BadInput> cases = {
-      {"missing file", q(dir / "nope.ply"), 3, "no such file"},
-      {"corrupt PLY", q(dir / "garbage.ply"), 2, "corrupt PLY"},
-      {"unreadable mesh", q(dir / "garbage.off"), 2, "garbage.off"},
-      {"empty mesh", q(dir / "empty.obj"), 2, "no faces"},
-      {"points only", q(dir / "points.obj"), 2, "no faces"},
+      {"missing file", test::shell_quoted(dir / "nope.ply"), 3, "no such file"},
+      {"corrupt PLY", test::shell_quoted(dir / "garbage.ply"), 2, "corrupt PLY"},
+      {"unreadable mesh", test::shell_quoted(dir / "garbage.off"), 2, "garbage.off"},
+      {"empty mesh", test::shell_quoted(dir / "empty.obj"), 2, "no faces"},
+      {"points only", test::shell_quoted(dir / "points.obj"), 2, "no faces"},
       {"unwritable output", "-o /proc/forbidden/x.mp4", 3, "x.mp4"},
       {"odd size", "--width 161 --height 121", 2, "even"},
       {"bad axis", "--up w", 2, "--up"},
@@ -153,7 +152,7 @@ TEST(TourCommand, BadInputGivesOneClearLineAndNoVideo) {
   for (const auto& c : cases) {
     const auto video = dir / (std::string(c.name) + ".mp4");
     std::string args = c.args;
-    if (args.find("-o ") == std::string::npos) args += " -o " + q(video);
+    if (args.find("-o ") == std::string::npos) args += " -o " + test::shell_quoted(video);
     if (args.find("--width") == std::string::npos) args += " --width 64 --height 48";
     const auto r = run_meshtour("tour " + args + " --frames 2 -q");
     EXPECT_EQ(r.exit_code, c.exit_code) << c.name << ": " << r.output;

@@ -20,7 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 using meshtour::test::run_meshtour;
 
-std::string q(const fs::path& p) { return meshtour::test::shell_quoted(p); }
 
 // What is wrong with how each file under `out_dir` was written, per the trace's lines (empty:
 // every file was written to a temporary name, fsynced, renamed into place, its folder fsynced).
@@ -154,9 +153,9 @@ protected:
   // Runs `args` under the shim; returns the trace's lines.
   std::vector<std::string> traced(const std::string& args, bool drop_fsync = false) {
     const fs::path trace = dir_ / ("trace-" + std::to_string(runs_++) + ".txt");
-    const auto r = run_meshtour("--version >/dev/null && MESHTOUR_WRITE_TRACE=" + q(trace) +
-                                (drop_fsync ? " MESHTOUR_WRITE_TRACE_DROP_FSYNC=1" : "") + " LD_PRELOAD=" + q(MESHTOUR_WRITE_TRACE_SHIM) +
-                                " " + q(meshtour::test::meshtour_executable()) + " " + args);
+    const auto r = run_meshtour("--version >/dev/null && MESHTOUR_WRITE_TRACE=" + meshtour::test::shell_quoted(trace) +
+                                (drop_fsync ? " MESHTOUR_WRITE_TRACE_DROP_FSYNC=1" : "") + " LD_PRELOAD=" + meshtour::test::shell_quoted(MESHTOUR_WRITE_TRACE_SHIM) +
+                                " " + meshtour::test::shell_quoted(meshtour::test::meshtour_executable()) + " " + args);
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return read_lines(trace);
   }
@@ -164,9 +163,9 @@ protected:
   // The tour's outputs: frames, frames manifest, video, poster, camera exports.
   std::string tour_args(const fs::path& out) const {
     fs::create_directories(out);
-    return "tour " + q(dir_ / "cube.obj") + " --width 64 --height 36 --frames 2 --spp 1 --path turntable --threads 1 -q --frames-dir " +
-           q(out / "frames") + " -o " + q(out / "v.mp4") + " --poster " + q(out / "poster.png") + " --camera-frames " +
-           q(out / "camera.json") + " --gltf " + q(out / "camera.gltf");
+    return "tour " + meshtour::test::shell_quoted(dir_ / "cube.obj") + " --width 64 --height 36 --frames 2 --spp 1 --path turntable --threads 1 -q --frames-dir " +
+           meshtour::test::shell_quoted(out / "frames") + " -o " + meshtour::test::shell_quoted(out / "v.mp4") + " --poster " + meshtour::test::shell_quoted(out / "poster.png") + " --camera-frames " +
+           meshtour::test::shell_quoted(out / "camera.json") + " --gltf " + meshtour::test::shell_quoted(out / "camera.gltf");
   }
 
   fs::path dir_;
@@ -177,8 +176,8 @@ TEST_F(WriteOrder, EveryOutputKindIsWrittenAtomically) {
   const fs::path tour = dir_ / "tour", path = dir_ / "path", batch = dir_ / "batch";
   const auto tour_trace = traced(tour_args(tour));
   fs::create_directories(path);
-  const auto path_trace = traced("path " + q(dir_ / "cube.obj") + " --path paper --frames 2 --threads 1 -q -o " + q(path / "p.path.json"));
-  const auto batch_trace = traced("batch " + q(dir_ / "m.csv") + " --out-dir " + q(batch) +
+  const auto path_trace = traced("path " + meshtour::test::shell_quoted(dir_ / "cube.obj") + " --path paper --frames 2 --threads 1 -q -o " + meshtour::test::shell_quoted(path / "p.path.json"));
+  const auto batch_trace = traced("batch " + meshtour::test::shell_quoted(dir_ / "m.csv") + " --out-dir " + meshtour::test::shell_quoted(batch) +
                                   " --web --frames 2 --width 64 --height 36 --spp 1 -q --progress none");
   // Every output kind is there, so that the check below covers it.
   for (const fs::path& f : {tour / "frames" / "frame_000000.png", tour / "frames" / "meshtour-frames.json", tour / "v.mp4",

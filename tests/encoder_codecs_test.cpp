@@ -64,10 +64,6 @@ double psnr(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>&
   return mse == 0 ? 99.0 : 10 * std::log10(255.0 * 255.0 / mse);
 }
 
-std::vector<char> read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 VideoOptions options_for(VideoCodec codec) {
   VideoOptions o;
@@ -141,8 +137,8 @@ TEST_P(EncoderCodecs, RoundTripsFramesAndSize) {
 TEST_P(EncoderCodecs, SameFramesGiveSameBytes) {
   const Expected& expected = GetParam();
   const fs::path dir = scratch_dir();
-  const auto a = read_bytes(encode(dir, "a", options_for(expected.codec)));
-  const auto b = read_bytes(encode(dir, "b", options_for(expected.codec)));
+  const auto a = test::file_bytes(encode(dir, "a", options_for(expected.codec)));
+  const auto b = test::file_bytes(encode(dir, "b", options_for(expected.codec)));
   ASSERT_FALSE(a.empty());
   EXPECT_TRUE(a == b) << expected.decoder_name << ": two encodes of the same frames differ (" << a.size()
                       << " vs " << b.size() << " bytes)";
@@ -248,7 +244,7 @@ TEST(EncoderCodecThreads, SlowlyFedFramesGiveSameBytes) {
     VideoOptions o = options_for(codec);
     o.width = 320;
     o.height = 240;
-    const auto fast = read_bytes(encode(dir, "fast", o, 16));
+    const auto fast = test::file_bytes(encode(dir, "fast", o, 16));
     const fs::path slow = dir / ("slow" + std::string(video_codec_info(codec).extension));
     {
       VideoEncoder encoder(slow, o);
@@ -258,7 +254,7 @@ TEST(EncoderCodecThreads, SlowlyFedFramesGiveSameBytes) {
       }
       encoder.finish();
     }
-    EXPECT_TRUE(fast == read_bytes(slow)) << video_codec_info(codec).name << ": bytes depend on how fast frames arrive";
+    EXPECT_TRUE(fast == test::file_bytes(slow)) << video_codec_info(codec).name << ": bytes depend on how fast frames arrive";
   }
 }
 

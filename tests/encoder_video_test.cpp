@@ -124,10 +124,6 @@ std::vector<std::string> directory_entries(const fs::path& dir) {
   return names;
 }
 
-std::vector<char> read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 TEST(EncoderVideo, WritesExpectedStream) {
   const fs::path file = scratch_dir() / "tour.mp4";
@@ -263,7 +259,7 @@ TEST(EncoderVideo, StoresBt709LimitedRange) {
 TEST(EncoderVideo, IndexPrecedesDataForStreaming) {
   const fs::path file = scratch_dir() / "tour.mp4";
   encode(file, small_options(), 4);
-  const std::vector<char> bytes = read_bytes(file);
+  const std::string bytes = test::file_bytes(file);
   // Walk the top-level MP4 boxes: 32-bit big-endian size, 4-character type.
   std::vector<std::string> boxes;
   for (std::size_t pos = 0; pos + 8 <= bytes.size();) {
@@ -288,8 +284,8 @@ TEST(EncoderVideo, SameFramesGiveSameBytes) {
   const fs::path dir = scratch_dir();
   encode(dir / "a.mp4", small_options(), kFrames);
   encode(dir / "b.mp4", small_options(), kFrames);
-  const auto a = read_bytes(dir / "a.mp4");
-  const auto b = read_bytes(dir / "b.mp4");
+  const auto a = test::file_bytes(dir / "a.mp4");
+  const auto b = test::file_bytes(dir / "b.mp4");
   ASSERT_FALSE(a.empty());
   EXPECT_TRUE(a == b) << "two encodes of the same frames differ (" << a.size() << " vs " << b.size()
                       << " bytes)";

@@ -16,7 +16,7 @@ namespace meshtour {
 namespace {
 
 // Fraction of pixels allowed to fail (see tests/golden.h): 0.5 %: a few silhouette pixels may differ across CPUs.
-void golden(const Image& image, const std::string& name) { test::compare_with_golden(image, name, 0.005); }
+void default_scene_golden(const Image& image, const std::string& name) { test::compare_with_golden(image, name, 0.005); }
 
 
 class DefaultScene : public ::testing::Test {
@@ -51,8 +51,8 @@ protected:
   static inline Renderer* renderer_ = nullptr;
 };
 
-TEST_F(DefaultScene, TurntableFrontView) { golden(frame(0), "default_scene_turntable_f000"); }
-TEST_F(DefaultScene, TurntableQuarterTurn) { golden(frame(30), "default_scene_turntable_f030"); }
+TEST_F(DefaultScene, TurntableFrontView) { default_scene_golden(frame(0), "default_scene_turntable_f000"); }
+TEST_F(DefaultScene, TurntableQuarterTurn) { default_scene_golden(frame(30), "default_scene_turntable_f030"); }
 
 }  // namespace
 }  // namespace meshtour

@@ -23,7 +23,7 @@ namespace {
 
 // Fraction of pixels allowed to fail (see tests/golden.h): 1 %, twice the default scene's, because at 4 spp
 // every flipped secondary ray shows.
-void golden(const Image& image, const std::string& name) { test::compare_with_golden(image, name, 0.01); }
+void studio_golden(const Image& image, const std::string& name) { test::compare_with_golden(image, name, 0.01); }
 
 
 TriangleMesh sphere(bool colored) { return test_meshes::uv_sphere(1.0, 64, 32, colored); }
@@ -47,11 +47,11 @@ TEST(GoldenStudio, Bunny) {
   const double elevation = 18.0 * std::numbers::pi / 180.0;
   const Camera camera{b.center() + distance * Eigen::Vector3d(0, std::sin(elevation), std::cos(elevation)), b.center(),
                       {0, 1, 0}, 35.0};
-  golden(Renderer(bunny, small_options("studio")).render(camera), "studio_bunny");
+  studio_golden(Renderer(bunny, small_options("studio")).render(camera), "studio_bunny");
 }
 
 TEST(GoldenStudio, VertexColours) {
-  golden(Renderer(sphere(true), small_options("studio")).render(kSphereCamera), "studio_vertex_colours");
+  studio_golden(Renderer(sphere(true), small_options("studio")).render(kSphereCamera), "studio_vertex_colours");
 }
 
 TEST(GoldenStudio, TransparentBackground) {
@@ -59,11 +59,11 @@ TEST(GoldenStudio, TransparentBackground) {
   o.shading.background = BackgroundKind::transparent;
   const Image img = Renderer(sphere(false), o).render(kSphereCamera);
   ASSERT_TRUE(img.transparent);
-  golden(img, "studio_transparent");  // RGBA PNG: alpha is compared too
+  studio_golden(img, "studio_transparent");  // RGBA PNG: alpha is compared too
 }
 
 TEST(GoldenStudio, PlainPreset) {
-  golden(Renderer(sphere(true), small_options("plain")).render(kSphereCamera), "plain_vertex_colours");
+  studio_golden(Renderer(sphere(true), small_options("plain")).render(kSphereCamera), "plain_vertex_colours");
 }
 
 using test::write_textured_cube;
@@ -75,7 +75,7 @@ TEST(GoldenStudio, TexturedObj) {
   ASSERT_EQ(cube.materials.size(), 1u);
   EXPECT_EQ(cube.materials[0].texture_file.filename(), "checker.png");
   EXPECT_EQ(cube.corner_uvs.size(), 3 * cube.triangles.size());
-  golden(Renderer(cube, small_options("studio")).render(Camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0}),
+  studio_golden(Renderer(cube, small_options("studio")).render(Camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0}),
                       "studio_textured_obj");
 }
 
@@ -168,7 +168,7 @@ TEST(GoldenStudio, ExrWithExtraLayers) {
     for (int c = 0; c < 3; ++c) normals.rgba[i * 4 + c] = img.normal[i * 3 + c] * 0.5f + 0.5f;
     normals.rgba[i * 4 + 3] = 1.0f;
   }
-  golden(normals, "exr_layer_normals");
+  studio_golden(normals, "exr_layer_normals");
 }
 
 TEST(SceneLook, PresetAndOverridesFromTheFile) {

@@ -85,7 +85,7 @@ TEST(Visibility, OutsideTheFrameIsNotSeen) {
   EXPECT_GT(wide.samples.size(), tall.samples.size() + 100);
 }
 
-CoverageOptions fast_options() {
+CoverageOptions fast_coverage_options() {
   CoverageOptions o;
   o.samples = 1u << 15;
   return o;
@@ -93,7 +93,7 @@ CoverageOptions fast_options() {
 
 TEST(Coverage, GivenFeaturesAreCountedAndTheStricterAngleSeesLess) {
   const TriangleMesh mesh = test_meshes::icosphere(4);
-  CoverageOptions options = fast_options();
+  CoverageOptions options = fast_coverage_options();
   options.face_features.resize(mesh.triangles.size());
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) options.face_features[f] = mesh.positions[mesh.triangles[f][0]].z() > 0.5;
   const CoverageModel model(mesh, options);
@@ -112,7 +112,7 @@ TEST(Coverage, GivenFeaturesAreCountedAndTheStricterAngleSeesLess) {
 
 TEST(Coverage, FeatureRegionsAreConnectedParts) {
   const TriangleMesh mesh = test_meshes::icosphere(4);
-  CoverageOptions options = fast_options();
+  CoverageOptions options = fast_coverage_options();
   options.face_features.resize(mesh.triangles.size());
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
     options.face_features[f] = std::abs(mesh.positions[mesh.triangles[f][0]].y()) > 0.8;  // two polar caps
@@ -145,7 +145,7 @@ std::vector<std::uint8_t> features_above(const TriangleMesh& mesh, double height
 TEST(Coverage, SameShapeFinerTessellationSameFiguresUnderEveryAngle) {
   const TriangleMesh coarse = test_meshes::bumpy_sphere(3);
   const TriangleMesh fine = test_meshes::split_at_midpoints(test_meshes::split_at_midpoints(coarse));
-  CoverageOptions oa = fast_options(), ob = fast_options();
+  CoverageOptions oa = fast_coverage_options(), ob = fast_coverage_options();
   oa.face_features = features_above(coarse, 0.3);
   ob.face_features = features_above(fine, 0.3);
   const CoverageModel a(coarse, oa), b(fine, ob);
@@ -162,7 +162,7 @@ TEST(Coverage, SameShapeFinerTessellationSameFiguresUnderEveryAngle) {
 // are not mixed.
 TEST(Coverage, AStrideEstimatesTheSharesOnASubsetOfTheSamples) {
   const TriangleMesh mesh = test_meshes::bumpy_sphere(3);
-  CoverageOptions options = fast_options();
+  CoverageOptions options = fast_coverage_options();
   options.face_features = features_above(mesh, 0.3);
   const CoverageModel model(mesh, options);
   for (const Eigen::Vector3d& eye : {Eigen::Vector3d(0, 0, 4), Eigen::Vector3d(3, 2, 1), Eigen::Vector3d(-1, -3, 2)}) {
@@ -187,11 +187,11 @@ TEST(Coverage, ResultsDoNotDependOnTheThreadCount) {
   std::vector<std::uint8_t> one_features;
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    const CoverageModel model(mesh, fast_options());
+    const CoverageModel model(mesh, fast_coverage_options());
     one_bits = model.coverage(view_from({1, 2, 3})).seen[0];
     one_features = model.features(FeatureMeasure::saliency);
   }
-  const CoverageModel model(mesh, fast_options());
+  const CoverageModel model(mesh, fast_coverage_options());
   EXPECT_EQ(model.coverage(view_from({1, 2, 3})).seen[0], one_bits);
   EXPECT_EQ(model.features(FeatureMeasure::saliency), one_features);
 }
@@ -275,7 +275,7 @@ TEST(VertexClustering, SameBitsForAnyThreadCount) {
 TEST(Coverage, SameShapeFinerTessellationSameComputedFeatures) {
   const TriangleMesh coarse = test_meshes::bumpy_sphere(4);
   const TriangleMesh fine = test_meshes::split_at_midpoints(test_meshes::split_at_midpoints(coarse));
-  CoverageOptions options = fast_options();
+  CoverageOptions options = fast_coverage_options();
   options.proxy_cells = 2000;  // cells of about twice the coarse edges
   const CoverageModel a(coarse, options), b(fine, options);
   // Achieved: 0.93 (patch density) and 0.89 (saliency), shares within 0.002.

@@ -25,7 +25,7 @@ std::vector<std::uint8_t> polar_features(const TriangleMesh& mesh, double sign, 
   return features;
 }
 
-FeatureOrbitOptions fast_options(std::vector<std::uint8_t> features = {}) {
+FeatureOrbitOptions fast_orbit_options(std::vector<std::uint8_t> features = {}) {
   FeatureOrbitOptions o;
   o.coverage.surface_weight = 0.0;  // the polar caps are 1 % of the area: judge by them alone
   o.coverage.samples = 1u << 15;
@@ -38,7 +38,7 @@ FeatureOrbitOptions fast_options(std::vector<std::uint8_t> features = {}) {
 TEST(FeatureOrbit, RisesToShowFeaturesOnTheTop) {
   const TriangleMesh mesh = test_meshes::icosphere(4);
   // Within 12° of the pole: a level camera sees them at 78° or more, never "well" (75°).
-  const FeatureOrbitOptions options = fast_options(polar_features(mesh, 1.0, 12.0));
+  const FeatureOrbitOptions options = fast_orbit_options(polar_features(mesh, 1.0, 12.0));
   const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
   EXPECT_GT(r.geometry.elevation.base / kDegree, 10.0);
   EXPECT_GT(r.feature_share_seen, 0.95);
@@ -48,7 +48,7 @@ TEST(FeatureOrbit, RisesToShowFeaturesOnTheTop) {
 
 TEST(FeatureOrbit, DipsToShowFeaturesUnderneath) {
   const TriangleMesh mesh = test_meshes::icosphere(4);
-  const FeatureOrbitResult r = compute_feature_orbit(mesh, fast_options(polar_features(mesh, -1.0, 12.0)));
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, fast_orbit_options(polar_features(mesh, -1.0, 12.0)));
   double lowest = 1e9;
   for (int k = 0; k < 360; ++k) lowest = std::min(lowest, r.geometry.elevation(k / 360.0));
   EXPECT_LT(lowest / kDegree, -10.0);
@@ -60,7 +60,7 @@ TEST(FeatureOrbit, LoopsSeamlesslyLooksAtTheCentreAndKeepsItsLimits) {
   for (auto& p : mesh.positions) p = Eigen::Vector3d(3.0 * p.x(), p.y(), p.z()) + Eigen::Vector3d(1, 2, 3);  // slender, off-centre
   std::vector<std::uint8_t> features(mesh.triangles.size());
   for (std::size_t f = 0; f < features.size(); ++f) features[f] = mesh.positions[mesh.triangles[f][0]].z() > 3.4;
-  FeatureOrbitOptions options = fast_options(features);
+  FeatureOrbitOptions options = fast_orbit_options(features);
   options.coverage.surface_weight = 0.3;
   const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
   const FeatureOrbitPath path = r.camera_path();
@@ -91,7 +91,7 @@ TEST(FeatureOrbit, TheLoopStartsAtItsBestView) {
   TriangleMesh mesh = test_meshes::bumpy_sphere(3);
   std::vector<std::uint8_t> features(mesh.triangles.size());
   for (std::size_t f = 0; f < features.size(); ++f) features[f] = mesh.positions[mesh.triangles[f][0]].x() > 0.5;
-  FeatureOrbitOptions options = fast_options(features);
+  FeatureOrbitOptions options = fast_orbit_options(features);
   options.coverage.surface_weight = 0.3;
   options.frames = 24;
   const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
@@ -110,7 +110,7 @@ TEST(FeatureOrbit, ItsLongLensSeesTheSurfaceMoreSquarelyThanAWideOne) {
   const TriangleMesh mesh = test_meshes::bumpy_sphere(3, 0.0, 11);
   std::vector<std::uint8_t> features(mesh.triangles.size());
   for (std::size_t f = 0; f < features.size(); ++f) features[f] = mesh.positions[mesh.triangles[f][0]].z() > 0.2;
-  FeatureOrbitOptions long_lens = fast_options(features);
+  FeatureOrbitOptions long_lens = fast_orbit_options(features);
   long_lens.coverage.surface_weight = 0.3;
   FeatureOrbitOptions wide = long_lens;
   ASSERT_EQ(long_lens.vertical_fov_deg, 10.0);
@@ -137,7 +137,7 @@ TEST(FeatureOrbit, SameShapeFinerTessellationSameOrbit) {
     }
     return f;
   };
-  FeatureOrbitOptions oa = fast_options(features(coarse)), ob = fast_options(features(fine));
+  FeatureOrbitOptions oa = fast_orbit_options(features(coarse)), ob = fast_orbit_options(features(fine));
   oa.coverage.surface_weight = ob.coverage.surface_weight = 0.3;
   oa.frames = ob.frames = 12;
   const FeatureOrbitResult a = compute_feature_orbit(coarse, oa), b = compute_feature_orbit(fine, ob);
@@ -157,7 +157,7 @@ TEST(FeatureOrbit, SameShapeFinerTessellationSameOrbitFromComputedFeatures) {
   // shape has the same features (up to where its samples fall) and the same orbit.
   const TriangleMesh coarse = test_meshes::bumpy_sphere(4, 0.0, 11);
   const TriangleMesh fine = test_meshes::split_at_midpoints(test_meshes::split_at_midpoints(coarse));
-  FeatureOrbitOptions options = fast_options();
+  FeatureOrbitOptions options = fast_orbit_options();
   options.coverage.surface_weight = 0.3;
   options.coverage.proxy_cells = 2000;  // cells of about twice the coarse edges
   options.frames = 12;

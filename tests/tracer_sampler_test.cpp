@@ -14,7 +14,7 @@
 namespace meshtour {
 namespace {
 
-constexpr int kSpp = 16, kLog2Spp = 4;
+constexpr int kPoints = 16, kLog2Points = 4;
 constexpr std::uint32_t kPairs = 4;
 
 using Point = std::pair<double, double>;
@@ -24,12 +24,12 @@ std::vector<Point> pixel_samples(int x, int y, std::uint32_t pair, std::uint64_t
   const std::uint64_t key64 = rng::pixel_key(frame, sampler::block_of(x, y));
   const std::uint32_t key = static_cast<std::uint32_t>(key64 ^ (key64 >> 32));
   alignas(64) std::uint32_t keys[16], indices[16];
-  for (int i = 0; i < 16; ++i) keys[i] = key, indices[i] = sampler::first_index(x, y, kLog2Spp) | static_cast<std::uint32_t>(i);
+  for (int i = 0; i < 16; ++i) keys[i] = key, indices[i] = sampler::first_index(x, y, kLog2Points) | static_cast<std::uint32_t>(i);
   const simd::U16 reversed = sampler::reverse_bits(simd::load_uint(indices));
   simd::F16 u, v;
   sampler::pair(reversed, sampler::pair_seeds(simd::load_uint(keys), pair), u, v);
   std::vector<Point> points;
-  for (int i = 0; i < kSpp; ++i) points.emplace_back(u[i], v[i]);
+  for (int i = 0; i < kPoints; ++i) points.emplace_back(u[i], v[i]);
   return points;
 }
 
@@ -50,7 +50,7 @@ bool is_net(const std::vector<Point>& points, int m) {
 TEST(Sampler, EachPixelsSamplesAreANetInEveryPair) {
   for (int y = 0; y < 12; ++y)
     for (int x = 250; x < 262; ++x)  // across a block edge (256)
-      for (std::uint32_t pair = 0; pair < kPairs; ++pair) ASSERT_TRUE(is_net(pixel_samples(x, y, pair), kLog2Spp)) << x << "," << y << " pair " << pair;
+      for (std::uint32_t pair = 0; pair < kPairs; ++pair) ASSERT_TRUE(is_net(pixel_samples(x, y, pair), kLog2Points)) << x << "," << y << " pair " << pair;
 }
 
 TEST(Sampler, AlignedGroupsOfPixelsTogetherAreANet) {
@@ -75,13 +75,13 @@ TEST(Sampler, AlignedGroupsOfPixelsTogetherAreANet) {
 TEST(Sampler, PairsAndFramesDrawDifferentNumbers) {
   const auto a = pixel_samples(3, 5, 0), b = pixel_samples(3, 5, 1), c = pixel_samples(3, 5, 0, 8);
   int same_ab = 0, same_ac = 0;
-  for (int i = 0; i < kSpp; ++i) same_ab += a[i] == b[i], same_ac += a[i] == c[i];
+  for (int i = 0; i < kPoints; ++i) same_ab += a[i] == b[i], same_ac += a[i] == c[i];
   EXPECT_EQ(same_ab, 0);
   EXPECT_EQ(same_ac, 0);
   // Neighbouring pixels do not repeat each other's pattern either.
   const auto d = pixel_samples(4, 5, 0);
   int same_ad = 0;
-  for (int i = 0; i < kSpp; ++i) same_ad += a[i] == d[i];
+  for (int i = 0; i < kPoints; ++i) same_ad += a[i] == d[i];
   EXPECT_EQ(same_ad, 0);
 }
 

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <numbers>
 
+#include "core/angles.h"
 #include "pathgen/path_file.h"
 #include "tour/bitmap_text.h"
 #include "tracer/image_writer.h"
@@ -16,7 +17,6 @@ namespace meshtour {
 namespace {
 
 using Rgb = std::array<std::uint8_t, 3>;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr int kTextScale = 2;  // every label: 12 px per character, 14 px capitals
 
 // Small raster with just what the plot needs: filled rectangles, discs and thick polylines.
@@ -107,14 +107,14 @@ PlotImage render_path_plot(const PaperPathResult& r) {
   Canvas canvas(layout.width, layout.height, color::background);
   const int m = r.grid.rows, n = r.grid.columns;
   // Domain → pixels: angle left to right, height bottom to top.
-  const auto px = [&](double angle) { return map.x0 + angle / kTwoPi * kPlotWidth; };
+  const auto px = [&](double angle) { return map.x0 + angle / kFullTurn * kPlotWidth; };
   const auto py = [&](double u) { return map.y0 + (1.0 - u) * kPlotHeight; };
 
   const double w_max = r.metrics.weight_max > 0.0 ? r.metrics.weight_max : 1.0;
   for (int i = 0; i < m; ++i)
     for (int j = 0; j < n; ++j) {
       const Rgb c = r.grid.empty(i, j) ? color::empty_cell : weight_color(r.grid.at(i, j) / w_max);
-      const int x0 = static_cast<int>(std::lround(px(kTwoPi * j / n))), x1 = static_cast<int>(std::lround(px(kTwoPi * (j + 1) / n)));
+      const int x0 = static_cast<int>(std::lround(px(kFullTurn * j / n))), x1 = static_cast<int>(std::lround(px(kFullTurn * (j + 1) / n)));
       const int y0 = static_cast<int>(std::lround(py(static_cast<double>(i + 1) / m))), y1 = static_cast<int>(std::lround(py(static_cast<double>(i) / m)));
       // One-pixel gaps between cells draw the grid lines.
       canvas.rect(x0 + 1, y0 + 1, x1, y1, c);
@@ -146,7 +146,7 @@ PlotImage render_path_plot(const PaperPathResult& r) {
   const double sx = px(g.angle(g.start_parameter));
   canvas.line(sx, map.y0 - 16, sx, map.y0 - 3, 3.0, color::start);
   canvas.line(sx, map.y1 + 3, sx, map.y1 + 12, 3.0, color::start);
-  const double cx0 = px(kTwoPi * r.start.column / n), cx1 = px(kTwoPi * (r.start.column + 1) / n);
+  const double cx0 = px(kFullTurn * r.start.column / n), cx1 = px(kFullTurn * (r.start.column + 1) / n);
   const double cy0 = py(static_cast<double>(r.start.row + 1) / m), cy1 = py(static_cast<double>(r.start.row) / m);
   canvas.line(cx0, cy0, cx1, cy0, 2.0, color::start);
   canvas.line(cx1, cy0, cx1, cy1, 2.0, color::start);
@@ -156,7 +156,7 @@ PlotImage render_path_plot(const PaperPathResult& r) {
   // Axes: a frame, ticks every 45° and every quarter of the height, labelled.
   canvas.frame(map, color::text);
   for (int degrees = 0; degrees <= 360; degrees += 45) {
-    const int x = static_cast<int>(std::lround(px(degrees * kTwoPi / 360.0)));
+    const int x = static_cast<int>(std::lround(px(degrees * kFullTurn / 360.0)));
     canvas.rect(x - 1, map.y1, x + 1, map.y1 + 8, color::text);
     const std::string label = std::to_string(degrees) + "°";
     canvas.text(x - text_width(label, kTextScale) / 2, map.y1 + 16, label, color::text);
