@@ -114,6 +114,7 @@ TEST(CliEvaluate, PathFileGivesTheSameNumbersAsThePaperMode) {
 // 5.0 points behind the paper's path at 45 degrees and 7.8 at 30: its features include the inner
 // faces of the arm's holes, seen squarely only from a level camera.
 TEST(CliEvaluate, TheFeatureOrbitKeepsUpUnderEveryDefinitionOnTheRocker) {
+  MESHTOUR_SKIP_UNDER_SANITIZERS("a score of eight coverage definitions; the search runs under the sanitizers in lighter tests");
   MESHTOUR_SHARED_MESH(mesh, "rocker.ply");
   const fs::path dir = meshtour::test::scratch_dir();
   // The default angles (those the search uses), and others it never sees.

@@ -111,6 +111,7 @@ bool wait_for_frames(const std::filesystem::path& dir, std::size_t count, pid_t 
 const std::string kTour = "--frame-count 12 --width 96 --height 72 --spp 2";
 
 TEST(RenderCommand, ThreeUnevenChunksInSeparateProcessesGiveTheBytesOfOneRun) {
+  MESHTOUR_SKIP_UNDER_SANITIZERS("bytes equal across processes; chunked renders run under the sanitizers in lighter tests");
   const auto dir = test::scratch_dir();
   // One run of every frame, and the same tour in three uneven chunks, each its own process.
   auto r = run_meshtour("render --out-dir " + test::shell_quoted(dir / "one") + " " + kTour + " --format png+exr --progress none");
@@ -137,6 +138,7 @@ TEST(RenderCommand, ThreeUnevenChunksInSeparateProcessesGiveTheBytesOfOneRun) {
 }
 
 TEST(RenderCommand, KilledRenderResumesToTheSameFramesAndNeverShowsAPartialFrame) {
+  MESHTOUR_SKIP_UNDER_SANITIZERS("kill and resume, bytes equal to a clean run; resume runs under the sanitizers in ResumeSkipsExistingFrames...");
   const auto dir = test::scratch_dir();
   const std::string tour = "--frame-count 24 --width 160 --height 120 --spp 8";
   const std::vector<std::string> args = {"render", "--out-dir", (dir / "killed").string(), "--frame-count", "24", "--width", "160",
@@ -358,6 +360,7 @@ TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
 // path-search and look options, the tasks render the frames `tour` renders with the same options
 // (and those differ from the default options' frames, so the comparison can tell).
 TEST(FarmSlurm, TasksRenderTheTourOfNonDefaultPathAndLookOptions) {
+  MESHTOUR_SKIP_UNDER_SANITIZERS("bytes equal to tour for non-default options; the farm scripts run under the sanitizers in lighter tests");
   const auto dir = test::scratch_dir();
   write_obj(test_meshes::bumpy_sphere(3), dir / "bumpy.obj");  // small, with features the path search sees
   const std::string tour = test::shell_quoted(dir / "bumpy.obj") + " --frames 4 --width 64 --height 48 --spp 1";

@@ -52,6 +52,16 @@ private:
 }  // namespace meshtour::test
 
 /// Sets `var` to ../shared/meshes/<name>, or skips the test (fails it under MESHTOUR_REQUIRE_SHARED=1).
+// Skips the test in the sanitizer build (MESHTOUR_SANITIZED_BUILD): for tests that repeat, process
+// after process, renders and searches that lighter tests already run under the sanitizers, and
+// that check properties (bytes equal across runs, a score, a deadline) the Release pass checks.
+// They were a third of the sanitizer pass's time, which CI pays on every run.
+#ifdef MESHTOUR_SANITIZED_BUILD
+#define MESHTOUR_SKIP_UNDER_SANITIZERS(why) GTEST_SKIP() << "skipped under the sanitizers: " << (why)
+#else
+#define MESHTOUR_SKIP_UNDER_SANITIZERS(why) static_cast<void>(why)
+#endif
+
 #define MESHTOUR_SHARED_MESH(var, name)                                                          \
   const std::filesystem::path var = ::meshtour::test::shared_meshes_dir() / (name);              \
   if (!std::filesystem::exists(var)) {                                                           \
