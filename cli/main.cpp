@@ -58,7 +58,6 @@ std::string misplaced_flag_hints(const CLI::App& app, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  meshtour::reexec_with_transparent_huge_pages(argv);
   // From the first moment: Ctrl-C or SIGTERM at any point ends every command with 130.
   meshtour::install_interrupt_handlers();
   meshtour::keep_freed_frame_buffers();
