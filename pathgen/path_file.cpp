@@ -186,8 +186,12 @@ std::string search_options_text(const PaperPathOptions& options) {
 std::string search_options_text(const SurfaceOptions& options) { return surface_options_json(options).dump(); }
 
 std::string setting_text(double value) {
-  // The shortest %g form that reads back as the same double: "18", "30", "1.7777777777777777".
+  // The shortest text that reads back as the same double: "18", "30", "1.7777777777777777".
   char text[64];
+  if (value == std::trunc(value) && std::abs(value) < 1e15) {
+    std::snprintf(text, sizeof text, "%.0f", value);
+    return text;
+  }
   for (int digits = 1; digits <= 17; ++digits) {
     std::snprintf(text, sizeof text, "%.*g", digits, value);
     if (std::strtod(text, nullptr) == value) break;

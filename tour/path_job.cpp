@@ -115,7 +115,6 @@ void run_path(PathJob& a) {
   std::optional<PaperPathResult> result;
   if (paper) {
     log.start("path");
-    if (!a.quiet) std::fprintf(stderr, "meshtour: path search: paper of %s (%zu faces)\n", a.mesh.c_str(), mesh.face_count());
     result = with_file_name(a.mesh, [&] { return compute_paper_path(mesh, a.options); });
     log.stop();
     for (const auto& [stage, seconds] : result->stage_seconds) log.report_time("path/" + stage, seconds);
