@@ -169,8 +169,8 @@ std::vector<Option> make_registry() {
        .help = "Also write the poster still (PNG): the tour's best-scored frame, bit-identical to that frame when the\n"
                "sizes agree (batch: default <video name>.poster.png beside the video; encode: from the frames directory)",
        .long_help = "The best frame is the one the path search scores highest (`best_view_frame` of the frames manifest); "
-                    "paths without view scores (turntable, paper, path files) use frame 0. In a batch manifest the column "
-                    "is a plain file name inside --out-dir.",
+                    "a feature orbit's path file carries its scores; paths without (turntable, paper) use frame 0. "
+                    "In a batch manifest the column is a plain file name inside --out-dir.",
        .manifest_column = true, .commands = tour | farm | encode, .farm = encode_job});
   add({.id = "poster-size", .flag = "--poster-size", .kind = Kind::size, .lo = 16, .hi = 16384,
        .help = "Poster size WIDTHxHEIGHT (default: the frames' size); the best frame is cropped to its aspect and resampled",
