@@ -69,7 +69,8 @@ void add_farm_command(CLI::App& app) {
   FarmJob& job = args->job;
   CLI::App* cmd = farm->add_subcommand("slurm", "Write (and with --submit, submit) Slurm jobs: a job array of frame chunks and a dependent encode.");
   cmd->description(
-      "Computes the camera path once (DIR/path.json), writes DIR/render.sbatch (a job array: task i runs\n"
+      "Computes the camera path once, for every path mode (DIR/path.json: the job's one path search; the\n"
+      "tasks read it and never search), writes DIR/render.sbatch (a job array: task i runs\n"
       "'meshtour render --frames A-B --path-file ...' for its chunk of frames into DIR/frames),\n"
       "DIR/encode.sbatch ('meshtour encode', to run after the whole array succeeded) and DIR/submit.sh.\n"
       "With --submit, submits them (sbatch --parsable) and prints render_job=ID and encode_job=ID.\n"

@@ -65,7 +65,9 @@ void add_path_command(CLI::App& app) {
       "into a grid, each column's most interesting cell becomes a control point, and a closed "
       "B-spline through them gives the height of the camera as it circles the model. Lengths "
       "in options are in units of the bounding-box diagonal; I-n refers to the interpretations "
-      "in docs/METHOD.md §15.");
+      "in docs/METHOD.md §15. With --path feature-orbit or turntable, -o writes that mode's path "
+      "file instead (as 'tour' would compute it with the same size, --fov, --frames and --up), "
+      "for 'tour --path-file' and the farm.");
   add_mesh_argument(*cmd, job.mesh);
   const auto overview_size = [&job](const std::string& text) {
     (void)options::parse_pixel_size(text, job.overview_width, job.overview_height);  // checked by the row

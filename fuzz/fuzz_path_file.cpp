@@ -1,6 +1,7 @@
-// Fuzz target: the path-file reader (read_paper_path_file) on a file holding the input, then the
-// camera path it rebuilt, sampled as the renderer samples it. Malformed files must end in
-// meshtour::InputError; an accepted file must give finite camera poses.
+// Fuzz target: the path-file reader (load_path_file: every mode, formats 1 and 2) on a file holding
+// the input, the comparison of its made_for with a render's settings, then the camera path it
+// rebuilt, sampled as the renderer samples it. Malformed files must end in meshtour::InputError;
+// an accepted file must give finite camera poses.
 #include <unistd.h>
 
 #include <cmath>
@@ -21,7 +22,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
   try {
-    const auto path = meshtour::read_path_file(file);
+    const meshtour::PathFile read = meshtour::load_path_file(file);
+    const auto& path = read.path;
+    try {
+      meshtour::check_path_settings(read, {{"up", "y"}, {"aspect", "1.7777777777777777"}, {"fov", "auto"}, {"frames", "4"}}, file);
+    } catch (const meshtour::InputError&) {
+    }
     for (int k = 0; k < 4; ++k) {
       const meshtour::CameraPose pose = meshtour::frame_pose(*path, k, 4);
       if (!pose.eye.allFinite() || !pose.target.allFinite() || !pose.up.allFinite()) __builtin_trap();

@@ -77,11 +77,13 @@ std::vector<Option> make_registry() {
                "(circular orbit around the up axis)",
        .scene_key = "camera.path", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks,
        .meanings = {{.commands = path,
-                     .help = "Path mode: paper (this method; the path file, --plot and --debug-dir describe it), turntable or "
-                             "feature-orbit (see 'meshtour evaluate --help'); the other modes need a coordinate --up axis",
+                     .help = "Path mode: paper (this method; --plot and --debug-dir describe it), turntable or "
+                             "feature-orbit (see 'meshtour evaluate --help'; -o writes their path file too); the other modes "
+                             "need a coordinate --up axis",
                      .default_text = "paper"}}});
   add({.id = "path-file", .flag = "--path-file", .kind = Kind::existing_file,
-       .help = "Use the camera path in this file, written by 'meshtour path -o' (overrides --path)",
+       .help = "Use the camera path in this file, written by 'meshtour path -o' for any mode (overrides --path; no path\n"
+               "search). Refused if the file was made for other settings (aspect, --fov, --frames, --up, search options)",
        .long_help = "Not forwarded as given by `farm slurm`: the farm passes its tasks the file's absolute path.",
        .scene_key = "camera.path_file", .commands = kRendering | evaluate});
   add({.id = "fov", .flag = "--fov", .kind = Kind::number_or_choice, .lo = 5, .hi = 120, .choices = {"auto"},
@@ -167,8 +169,8 @@ std::vector<Option> make_registry() {
        .help = "Also write the poster still (PNG): the tour's best-scored frame, bit-identical to that frame when the\n"
                "sizes agree (batch: default <video name>.poster.png beside the video; encode: from the frames directory)",
        .long_help = "The best frame is the one the path search scores highest (`best_view_frame` of the frames manifest); "
-                    "paths without view scores (turntable, paper, path files) use frame 0. In a batch manifest the column "
-                    "is a plain file name inside --out-dir.",
+                    "a feature orbit's path file carries its scores; paths without (turntable, paper) use frame 0. "
+                    "In a batch manifest the column is a plain file name inside --out-dir.",
        .manifest_column = true, .commands = tour | farm | encode, .farm = encode_job});
   add({.id = "poster-size", .flag = "--poster-size", .kind = Kind::size, .lo = 16, .hi = 16384,
        .help = "Poster size WIDTHxHEIGHT (default: the frames' size); the best frame is cropped to its aspect and resampled",
@@ -203,8 +205,9 @@ std::vector<Option> make_registry() {
        .commands = tour | farm | path | encode, .required = encode,
        .meanings = {{.commands = farm, .help = "Video file name inside --out-dir (default <input name> + the codec's extension)"},
                     {.commands = path,
-                     .help = "Path file to write (JSON, normalized units plus the transform back to model units). Default: "
-                             "<mesh name>.path.json in the current folder"},
+                     .help = "Path file to write (JSON; docs/FORMATS.md), for any --path mode, with the settings it was made "
+                             "for (what --path-file needs to render it). Default for the paper path: <mesh name>.path.json "
+                             "in the current folder; the other modes write one only when -o is given"},
                     {.commands = encode, .help = "Video file to write; its extension must match the codec"}}});
   add({.id = "frames-dir", .flag = "--frames-dir", .kind = Kind::text, .type_name = "DIR",
        .help = "Also write every frame as an image into this directory (frame_000000.png, ...)", .commands = tour});

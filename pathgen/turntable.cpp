@@ -38,6 +38,16 @@ TurntablePath::TurntablePath(std::span<const Eigen::Vector3d> points, const Turn
   }
 }
 
+TurntablePath::TurntablePath(const TurntableGeometry& g)
+    : center_(g.center), up_(g.up), front_(g.front), side_(g.side), radius_(g.radius) {
+  options_.elevation_deg = g.elevation_deg;
+  options_.revolutions = g.revolutions;
+}
+
+TurntableGeometry TurntablePath::geometry() const {
+  return TurntableGeometry{center_, up_, front_, side_, radius_, options_.elevation_deg, options_.revolutions};
+}
+
 double TurntablePath::fit_radius(std::span<const Eigen::Vector3d> points, double size) const {
   double radius = 0.0;
   const double start = 1e-6 * size;

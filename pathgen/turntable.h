@@ -15,6 +15,16 @@ struct TurntableOptions {
   Lens lens;
 };
 
+/// What a turntable orbit is once fitted to a model: enough to rebuild it without the model
+/// (the path file of pathgen/path_file.h).
+struct TurntableGeometry {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY(), front = Eigen::Vector3d::UnitZ(), side = Eigen::Vector3d::UnitX();
+  double radius = 1.0;
+  double elevation_deg = 15.0;
+  double revolutions = 1.0;
+};
+
 /// Circular orbit around the vertical line through the centre of the bounding box, counter-
 /// clockwise seen from +up, starting in front of the model (+Z for a Y-up model, -Y for Z-up,
 /// +Z for X-up). The orbit's height is adjusted so the model looks vertically centred, and its
@@ -28,10 +38,13 @@ public:
   /// hull vertex attains.
   /// \throw InputError if there are no points or they all coincide.
   TurntablePath(std::span<const Eigen::Vector3d> points, const TurntableOptions& options);
+  /// The orbit of a fitted geometry (the same poses, bit for bit, as the path it was taken from).
+  explicit TurntablePath(const TurntableGeometry& geometry);
   CameraPose pose(double t) const override;
 
   double radius() const { return radius_; }
   const Eigen::Vector3d& center() const { return center_; }
+  TurntableGeometry geometry() const;
 
 private:
   Eigen::Vector3d direction(double angle) const;  // unit vector from centre to eye

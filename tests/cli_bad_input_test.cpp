@@ -502,8 +502,14 @@ TEST_F(BadInputCorpus, PathFiles) {
     return Case{name, "tour", mesh, std::string(kSmall) + " --path-file " + meshtour::test::shell_quoted(f), code, std::move(words), false};
   };
   const std::vector<Case> cases = {
-      path_case("path file from a newer version", "newer.path.json", edited("\"format_version\": 1", "\"format_version\": 2"), 2,
-                {"newer.path.json", "format_version", "must be 1"}),
+      path_case("path file from a newer version", "newer.path.json", edited("\"format_version\": 2", "\"format_version\": 3"), 2,
+                {"newer.path.json", "format_version", "must be 1 or 2"}),
+      path_case("path file of an unknown mode", "mode.path.json", edited("\"mode\": \"paper\"", "\"mode\": \"spiral\""), 2,
+                {"mode.path.json", "'mode'", "paper, feature-orbit or turntable"}),
+      path_case("path file made for another up axis", "up.path.json", edited("\"up\": \"+y\"", "\"up\": \"+z\""), 2,
+                {"up.path.json", "made for up +z", "this render has up +y"}),
+      path_case("path file made for another mesh", "faces.path.json", edited("\"faces\": \"", "\"faces\": \"1"), 2,
+                {"faces.path.json", "made for faces 1"}),
       path_case("path file with a negative radius", "radius.path.json", edited("\"radius\": ", "\"radius\": -"), 2,
                 {"radius.path.json", "cylinder.radius", "positive"}),
       path_case("path file with a missing key", "nokey.path.json", edited("\"start_parameter\"", "\"start_parametre\""), 2,

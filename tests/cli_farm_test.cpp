@@ -323,7 +323,7 @@ TEST(BatchCommand, JsonManifestAndBadValuesFailOnlyTheirItem) {
 TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
   const auto dir = test::scratch_dir();
   const auto out = dir / "farm";
-  // The paper path is computed once into a path file; the other modes are recomputed by each task.
+  // The path is computed once into a path file (for every mode: the default one below).
   auto r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(out) + " --path paper --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5 --cpus-per-task 1 --partition debug --time 10");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string render = test::file_bytes(out / "render.sbatch");
@@ -349,11 +349,68 @@ TEST(FarmSlurm, WritesScriptsWhoseArrayTaskRendersItsChunk) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(test::file_bytes(out / "frames" / "frame_000011.png") == test::file_bytes(dir / "one" / "frame_000011.png"));
 
-  // The default mode (feature orbit) has no path file: every task computes the same orbit.
-  r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / "orbit") + " --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5");
+  // The default mode (feature orbit) too, and the turntable: the tasks read the file.
+  for (const std::string mode : {"feature-orbit", "turntable"}) {
+    r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / mode) + " --path " + mode + " --frames 12 --width 64 --height 48 --spp 1 --chunk-size 5");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(test::file_bytes(dir / mode / "render.sbatch").find("'--path-file' '" + (dir / mode / "path.json").string() + "'"), std::string::npos);
+    EXPECT_EQ(nlohmann::json::parse(test::file_bytes(dir / mode / "path.json"))["mode"], mode);
+  }
+}
+
+int count_of(const std::string& text, const std::string& word) {
+  int n = 0;
+  for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + word.size())) ++n;
+  return n;
+}
+
+// The instruction sets this CPU runs the tile kernel in (MESHTOUR_TILE_KERNEL names them).
+std::vector<std::string> kernels_of_this_cpu() {
+  std::vector<std::string> kernels = {"baseline"};
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("x86-64-v3")) kernels.push_back("x86-64-v3");
+  if (__builtin_cpu_supports("x86-64-v4")) kernels.push_back("x86-64-v4");
+#endif
+  return kernels;
+}
+
+// A farm job of the default path (the feature orbit): the path search runs once, at submission
+// (counted in the output of every process), the array tasks, each forced onto another
+// instruction set, render frames of that one path, and the encode job's video is the bytes of
+// `tour`'s.
+TEST(FarmSlurm, DefaultPathIsSearchedOnceAndTasksOnEveryKernelGiveTheToursVideo) {
+  const auto dir = test::scratch_dir();
+  write_obj(test_meshes::bumpy_sphere(3), dir / "bumpy.obj");
+  const std::string tour = test::shell_quoted(dir / "bumpy.obj") + " --frames 6 --width 64 --height 36 --spp 1 --crf 18";
+  auto r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / "farm") + " " + tour + " --chunk-size 2");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(test::file_bytes(dir / "orbit" / "render.sbatch").find("--path-file"), std::string::npos);
-  EXPECT_FALSE(std::filesystem::exists(dir / "orbit" / "path.json"));
+  int searches = count_of(r.output, "path search:");
+  EXPECT_EQ(searches, 1) << "submission: " << r.output;
+  EXPECT_EQ(nlohmann::json::parse(test::file_bytes(dir / "farm" / "path.json"))["mode"], "feature-orbit");
+  const std::vector<std::string> kernels = kernels_of_this_cpu();
+  for (int task = 0; task < 3; ++task) {
+    const std::string& kernel = kernels[static_cast<std::size_t>(task) % kernels.size()];
+    r = run_meshtour("--version && MESHTOUR_TILE_KERNEL=" + kernel + " SLURM_ARRAY_TASK_ID=" + std::to_string(task) +
+                     " SLURM_CPUS_PER_TASK=1 bash " + test::shell_quoted(dir / "farm" / "render.sbatch"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    searches += count_of(r.output, "path search:");
+    EXPECT_EQ(count_of(r.output, "\"event\":\"frame\""), 2) << "task " << task << " (" << kernel << "): " << r.output;
+  }
+  EXPECT_EQ(searches, 1) << "a render task searched the path again";
+  r = run_meshtour("--version && bash " + test::shell_quoted(dir / "farm" / "encode.sbatch"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+
+  r = run_meshtour("tour " + tour + " -o " + test::shell_quoted(dir / "tour.mp4") + " --frames-dir " + test::shell_quoted(dir / "tour") + " --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(count_of(r.output, "path search:"), 1) << r.output;  // the count is seen where a search runs
+  for (int k = 0; k < 6; ++k) {
+    const std::string frame = "frame_00000" + std::to_string(k) + ".png";
+    EXPECT_TRUE(test::file_bytes(dir / "farm" / "frames" / frame) == test::file_bytes(dir / "tour" / frame)) << frame;
+  }
+  const std::string farm_video = test::file_bytes(dir / "farm" / "bumpy.mp4"), tour_video = test::file_bytes(dir / "tour.mp4");
+  EXPECT_FALSE(farm_video.empty());
+  EXPECT_TRUE(farm_video == tour_video) << "the farm's video (" << farm_video.size() << " bytes) is not tour's (" << tour_video.size() << " bytes)";
 }
 
 // Every option that changes the path or the pixels reaches the array tasks: with non-default

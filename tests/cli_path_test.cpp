@@ -33,7 +33,8 @@ int count_lines(const std::string& text) {
 }
 
 void expect_sane_path_file(const nlohmann::json& j, int faces) {
-  EXPECT_EQ(j["format_version"], 1);
+  EXPECT_EQ(j["format_version"], 2);
+  EXPECT_EQ(j["mode"], "paper");
   EXPECT_EQ(j["faces"].get<int>(), faces);
   EXPECT_GT(j["vertices"].get<int>(), faces / 3);
   const int T = j["patches"]["count"];
@@ -216,6 +217,75 @@ TEST(CliPath, UpAutoFindsThePlinth) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("--up auto: +z (rests on its -z side"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("up +z)"), std::string::npos) << result.output;
+}
+
+// Occurrences of `word` in `text`.
+int count_of(const std::string& text, const std::string& word) {
+  int n = 0;
+  for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + word.size())) ++n;
+  return n;
+}
+
+// Every path mode writes a path file (`path -o`), from which `tour --path-file` renders, without
+// a search, the very frames and video `tour --path MODE` renders; a tour whose settings differ
+// from those the path was made for is refused with the setting named.
+TEST(CliPath, EveryModeWritesAPathFileThatRendersTheModesOwnFrames) {
+  const fs::path dir = meshtour::test::scratch_dir();
+  meshtour::save_mesh(meshtour::test_meshes::bumpy_sphere(3), dir / "bumpy.obj");
+  const std::string mesh = meshtour::test::shell_quoted(dir / "bumpy.obj");
+  const std::string settings = " --up y --frames 4 --width 64 --height 36";
+  for (const std::string mode : {"feature-orbit", "turntable", "paper"}) {
+    const fs::path file = dir / (mode + ".path.json");
+    auto r = run_meshtour("path " + mesh + " --path " + mode + settings + " -o " + meshtour::test::shell_quoted(file));
+    ASSERT_EQ(r.exit_code, 0) << mode << ": " << r.output;
+    const nlohmann::json j = read_json(file);
+    EXPECT_EQ(j["format_version"], 2) << mode;
+    EXPECT_EQ(j["mode"], mode);
+    EXPECT_EQ(j["made_for"]["up"], "+y") << mode;
+    if (mode != "paper") {
+      EXPECT_EQ(j["made_for"]["aspect"], "1.7777777777777777") << mode;
+    }
+    if (mode == "feature-orbit") {
+      EXPECT_EQ(j["frames"], 4);
+      EXPECT_EQ(j["frame_scores"].size(), 4u);
+    }
+    const std::string tour = "tour " + mesh + settings + " --spp 1 --preset plain --crf 18";
+    const fs::path a = dir / (mode + "-file"), b = dir / (mode + "-mode");
+    r = run_meshtour(tour + " --path-file " + meshtour::test::shell_quoted(file) + " --frames-dir " + meshtour::test::shell_quoted(a) +
+                     " -o " + meshtour::test::shell_quoted(a.string() + ".mp4") + " --progress none");
+    ASSERT_EQ(r.exit_code, 0) << mode << ": " << r.output;
+    EXPECT_EQ(count_of(r.output, "path search:"), 0) << mode << ": the tour searched although it was given the path: " << r.output;
+    r = run_meshtour(tour + " --path " + mode + " --frames-dir " + meshtour::test::shell_quoted(b) + " -o " +
+                     meshtour::test::shell_quoted(b.string() + ".mp4") + " --progress none");
+    ASSERT_EQ(r.exit_code, 0) << mode << ": " << r.output;
+    EXPECT_EQ(count_of(r.output, "path search:"), mode == "turntable" ? 0 : 1) << mode << ": " << r.output;
+    for (int k = 0; k < 4; ++k) {
+      const std::string frame = "frame_00000" + std::to_string(k) + ".png";
+      EXPECT_TRUE(meshtour::test::file_bytes(a / frame) == meshtour::test::file_bytes(b / frame)) << mode << " " << frame;
+    }
+    EXPECT_TRUE(meshtour::test::file_bytes(a.string() + ".mp4") == meshtour::test::file_bytes(b.string() + ".mp4")) << mode;
+  }
+  // Other settings than the path was made for: exit 2, one line naming the setting and both values
+  // (`render` calls the tour's length --frame-count).
+  const std::string orbit = " --path-file " + meshtour::test::shell_quoted(dir / "feature-orbit.path.json");
+  const std::pair<std::string, std::string> mismatches[] = {
+      {" --up y --frame-count 4 --width 64 --height 48", "aspect 1.7777777777777777, but this render has aspect 1.3333333333333333"},
+      {" --up y --frame-count 6 --width 64 --height 36", "frames 4, but this render has frames 6"},
+      {" --up z --frame-count 4 --width 64 --height 36", "up +y, but this render has up +z"},
+      {" --up y --frame-count 4 --width 64 --height 36 --fov 30", "fov auto, but this render has fov 30"},
+      {" --up y --frame-count 4 --width 64 --height 36 --tolerance 0.004", "path-search"}};
+  for (const auto& [other, words] : mismatches) {
+    const auto r = run_meshtour("render " + mesh + orbit + other + " --spp 1 --out-dir " + meshtour::test::shell_quoted(dir / "refused") + " -q");
+    EXPECT_EQ(r.exit_code, 2) << other << ": " << r.output;
+    EXPECT_EQ(count_lines(r.output), 1) << other << ": " << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << other << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "refused"));
+  // The turntable was fitted to its elevation.
+  const auto r = run_meshtour("render " + mesh + " --path-file " + meshtour::test::shell_quoted(dir / "turntable.path.json") +
+                              " --up y --frame-count 4 --width 64 --height 36 --elevation 40 --out-dir " + meshtour::test::shell_quoted(dir / "refused") + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("made for elevation 18, but this render has elevation 40"), std::string::npos) << r.output;
 }
 
 TEST(CliPath, MissingMeshIsOneLineErrorAndNoOutput) {

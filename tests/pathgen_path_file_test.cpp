@@ -1,6 +1,7 @@
 // The path file: write → read gives the same poses; bad files give errors naming file and key.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -86,7 +87,8 @@ TEST(PathgenPathFile, RoundTripGivesTheSamePoses) {
 TEST(PathgenPathFile, HoldsTheDocumentedKeys) {
   const PaperPathResult r = compute_paper_path(make_surface(), PaperPathOptions{});
   const auto j = nlohmann::json::parse(path_file_text(r));
-  EXPECT_EQ(j["format_version"], 1);
+  EXPECT_EQ(j["format_version"], kPathFormatVersion);
+  EXPECT_EQ(j["mode"], "paper");
   EXPECT_EQ(j["faces"], r.surface.triangles.size());
   EXPECT_EQ(j["vertices"], r.surface.positions.size());
   EXPECT_EQ(j["patches"]["count"], 97);
@@ -137,7 +139,9 @@ TEST(PathgenPathFile, BadFilesGiveErrorsNamingFileAndKey) {
   const auto file = dir / "bad.json";
   expect_input_error(file, "{ not json", "JSON");
   auto v = j;
-  v["format_version"] = 2;
+  v["format_version"] = kPathFormatVersion + 1;
+  expect_input_error(file, v.dump(), "format_version");
+  v["format_version"] = 0;
   expect_input_error(file, v.dump(), "format_version");
   v = j;
   v.erase("format_version");
@@ -154,6 +158,154 @@ TEST(PathgenPathFile, BadFilesGiveErrorsNamingFileAndKey) {
   v = j;
   v["curve"]["degree"] = 5;
   expect_input_error(file, v.dump(), "curve.degree");
+}
+
+// Poses equal to the last bit: a render from the file must give the frames of the path it was
+// written from, not merely close ones.
+void expect_identical_poses(const CameraPath& a, const CameraPath& b) {
+  for (int k = 0; k < 97; ++k) {
+    const CameraPose p = frame_pose(a, k, 97), q = frame_pose(b, k, 97);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(p.eye[i], q.eye[i]) << "frame " << k;
+      EXPECT_EQ(p.target[i], q.target[i]) << "frame " << k;
+      EXPECT_EQ(p.up[i], q.up[i]) << "frame " << k;
+    }
+  }
+}
+
+FeatureOrbitGeometry odd_orbit() {
+  FeatureOrbitGeometry g;
+  g.center = Eigen::Vector3d(0.1, -2.0 / 3.0, 1e-7);
+  g.up = Eigen::Vector3d(0, 0, 1);
+  g.front = Eigen::Vector3d(0, -1, 0);
+  g.side = g.up.cross(g.front);
+  g.start = 0.3141592653589793;
+  g.distance = {2.5, 0.1 / 3.0, -0.2, 1.0 / 7.0, 0.01};
+  g.elevation = ElevationCurve{0.31, -0.2 / 3.0, 0.125, 0.0701, 0.9};
+  return g;
+}
+
+TEST(PathgenPathFile, FeatureOrbitAndTurntableRoundTripBitForBit) {
+  const auto dir = test::scratch_dir();
+  PathRecord record;
+  record.source = "model.obj";
+  record.made_for = {{"up", "z"}, {"aspect", setting_text(16.0 / 9.0)}, {"fov", "auto"}, {"frames", "5"}};
+  record.frames = 5;
+  record.frame_scores = {0.5, 1.0 / 3.0, 0.25, 0.125, 0.0625};
+  const FeatureOrbitPath orbit(odd_orbit());
+  std::ofstream(dir / "orbit.json") << path_file_text(orbit.geometry(), record);
+  const PathFile read = load_path_file(dir / "orbit.json");
+  EXPECT_EQ(read.mode, "feature-orbit");
+  EXPECT_EQ(read.format_version, kPathFormatVersion);
+  PathSettings sorted = record.made_for;  // read back by name, in the JSON object's key order
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(read.record.made_for, sorted);
+  EXPECT_EQ(read.record.frames, 5);
+  EXPECT_EQ(read.record.frame_scores, record.frame_scores);
+  EXPECT_EQ(read.record.source, "model.obj");
+  ASSERT_TRUE(dynamic_cast<const FeatureOrbitPath*>(read.path.get()));
+  expect_identical_poses(orbit, *read.path);
+
+  // A turntable fitted to a small irregular point set, rebuilt from its geometry alone.
+  const std::vector<Eigen::Vector3d> points = {{0, 0, 0}, {1, 0.2, 0}, {0.3, 1.7, 0.1}, {0.2, 0.4, 0.9}, {-0.5, 0.1, 0.3}};
+  TurntableOptions options;
+  options.up = Axis::parse("y");
+  options.elevation_deg = 23.0;
+  options.lens.vertical_fov_deg = 31.0;
+  const TurntablePath turntable(points, options);
+  PathRecord plain;
+  plain.made_for = {{"up", "y"}};
+  std::ofstream(dir / "turntable.json") << path_file_text(turntable.geometry(), plain);
+  const PathFile t = load_path_file(dir / "turntable.json");
+  EXPECT_EQ(t.mode, "turntable");
+  EXPECT_EQ(t.record.frames, 0);
+  expect_identical_poses(turntable, *t.path);
+  EXPECT_EQ(read_path_file(dir / "turntable.json")->pose(0.25).eye, turntable.pose(0.25).eye);
+  // The paper-only reader names what the file holds instead.
+  try {
+    read_paper_path_file(dir / "turntable.json");
+    FAIL() << "a turntable file read as the paper path";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("holds a turntable path"), std::string::npos) << e.what();
+  }
+}
+
+// Files of format 1 (before modes and made_for) are still read: the paper path, no settings.
+TEST(PathgenPathFile, FormatOneIsStillRead) {
+  const auto dir = test::scratch_dir();
+  const PaperPathResult r = compute_paper_path(make_surface(), PaperPathOptions{});
+  auto j = nlohmann::json::parse(path_file_text(r, "old"));
+  j["format_version"] = 1;
+  j.erase("mode");
+  j.erase("made_for");
+  std::ofstream(dir / "v1.json") << j.dump(2);
+  const PathFile f = load_path_file(dir / "v1.json");
+  EXPECT_EQ(f.format_version, 1);
+  EXPECT_EQ(f.mode, "paper");
+  EXPECT_TRUE(f.record.made_for.empty());
+  expect_identical_poses(r.camera_path(), *f.path);
+  check_path_settings(f, {{"up", "z"}, {"aspect", "1"}}, dir / "v1.json");  // nothing recorded, nothing refused
+}
+
+TEST(PathgenPathFile, SettingsThePathWasMadeForAreCompared) {
+  PathFile f;
+  f.mode = "feature-orbit";
+  f.record.made_for = {{"up", "y"}, {"aspect", setting_text(16.0 / 9.0)}, {"fov", "auto"}};
+  EXPECT_NO_THROW(check_path_settings(f, {{"up", "y"}, {"aspect", setting_text(1280.0 / 720.0)}, {"elevation", "18"}}, "p.json"));
+  try {
+    check_path_settings(f, {{"up", "y"}, {"aspect", setting_text(4.0 / 3.0)}}, "p.json");
+    FAIL() << "another aspect was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("p.json"), std::string::npos) << what;
+    EXPECT_NE(what.find("aspect 1.7777777777777777"), std::string::npos) << what;
+    EXPECT_NE(what.find("aspect 1.3333333333333333"), std::string::npos) << what;
+  }
+  EXPECT_THROW(check_path_settings(f, {{"fov", "35"}}, "p.json"), InputError);
+}
+
+TEST(PathgenPathFile, BadOrbitAndTurntableFilesGiveErrorsNamingTheKey) {
+  const auto dir = test::scratch_dir();
+  const auto file = dir / "bad.json";
+  const auto orbit = nlohmann::json::parse(path_file_text(odd_orbit(), PathRecord{}));
+  auto v = orbit;
+  v["mode"] = "spiral";
+  expect_input_error(file, v.dump(), "mode");
+  v = orbit;
+  v.erase("mode");
+  expect_input_error(file, v.dump(), "mode");
+  v = orbit;
+  v.erase("made_for");
+  expect_input_error(file, v.dump(), "made_for");
+  v = orbit;
+  v["made_for"]["up"] = 1;
+  expect_input_error(file, v.dump(), "made_for.up");
+  v = orbit;
+  v["orbit"]["up"] = {0, 0, 2};
+  expect_input_error(file, v.dump(), "orbit.up");
+  v = orbit;
+  v["orbit"]["distance"] = {1, 0.5, 0.5, 0, 0};  // reaches the centre
+  expect_input_error(file, v.dump(), "orbit.distance");
+  v = orbit;
+  v["orbit"]["distance"] = {1, 0};
+  expect_input_error(file, v.dump(), "orbit.distance");
+  v = orbit;
+  v["orbit"]["center"] = {1e300, 0, 0};
+  expect_input_error(file, v.dump(), "orbit.center");
+  v = orbit;
+  v["orbit"]["elevation"]["base"] = 2.0;
+  expect_input_error(file, v.dump(), "orbit.elevation.base");
+  v = orbit;
+  v["frames"] = 3;
+  v["frame_scores"] = {1, 2};
+  expect_input_error(file, v.dump(), "frame_scores");
+  TurntableGeometry g;
+  auto t = nlohmann::json::parse(path_file_text(g, PathRecord{}));
+  t["turntable"]["elevation_deg"] = 95;
+  expect_input_error(file, t.dump(), "turntable.elevation_deg");
+  t["turntable"]["elevation_deg"] = 10;
+  t["turntable"]["radius"] = 0;
+  expect_input_error(file, t.dump(), "turntable.radius");
 }
 
 TEST(PathgenPathFile, DebugOutputsAreWritten) {

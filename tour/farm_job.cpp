@@ -12,6 +12,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "jobs/frame_dir.h"
+#include "mesh/convex_hull.h"
 #include "pathgen/path_file.h"
 #include "core/interrupt.h"
 #include "tour/mesh_warnings.h"
@@ -137,23 +138,26 @@ void run_farm_slurm(const FarmJob& args) {
     if (!args.input.empty()) render.push_back(std::filesystem::absolute(args.input).string());
     render.insert(render.end(), {"--out-dir", frames_dir.string(), "--format", std::string(frame_formats_name(args.format))});
 
-    // The path, once: every chunk must render the very same path (and it is the expensive part
-    // of a process's start-up).
+    // The path, once, for every path mode: every chunk must render the very same path (a search
+    // repeated on each node could decide a near tie differently on another instruction set), and
+    // the search is the expensive part of a process's start-up. The tasks read it, never search.
     std::filesystem::path path_file;
     if (scene.path_file) {
       path_file = std::filesystem::absolute(*scene.path_file);
-    } else if (scene.path_mode == PathMode::paper) {
-      // Only the paper path has a path file; the turntable and the feature orbit are cheap and
-      // deterministic (thread-count invariant), so every task computes the same one itself.
+    } else {
       const TriangleMesh mesh = load_scene_model(scene);
       Scene decided = scene;  // --up auto: each task decides the same axis from the same mesh
       resolve_auto_up(decided, mesh, args.quiet);
-      const PaperPathResult path = compute_scene_paper_path(decided, mesh);
+      Lens lens;
+      lens.vertical_fov_deg = decided.vertical_fov_deg;
+      lens.aspect = static_cast<double>(decided.render.width) / decided.render.height;
+      const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
+      const SearchedPath path = search_path(decided, mesh, hull, lens, args.quiet);
       path_file = out / "path.json";
-      write_path_file(path, path_file, scene.source);
+      write_text_file_atomically(path_file, path.file_text, "path file");
       if (!args.quiet) std::fprintf(stderr, "camera path computed once: %s\n", path_file.string().c_str());
     }
-    if (!path_file.empty()) render.insert(render.end(), {"--path-file", path_file.string()});
+    render.insert(render.end(), {"--path-file", path_file.string()});
     // Every option that changes pixels or the path, so each task renders the tour `tour` would.
     render.insert(render.end(), args.render_args.begin(), args.render_args.end());
     render.insert(render.end(), {"--progress", "json"});

@@ -109,9 +109,9 @@ void run_path(PathJob& a) {
     if (!choice.warning.empty()) std::fprintf(stderr, "meshtour: warning: --up auto: %s\n", choice.warning.c_str());
   }
   const bool paper = a.mode == PathMode::paper;
-  if (!paper && (!a.output.empty() || !a.plot.empty() || !a.debug_dir.empty()))
-    throw InputError("-o, --plot and --debug-dir describe the paper path; with --path " + std::string(path_mode_name(a.mode)) +
-                     " use --gltf, --camera-frames or --overview");
+  if (!paper && (!a.plot.empty() || !a.debug_dir.empty()))
+    throw InputError("--plot and --debug-dir describe the paper path; with --path " + std::string(path_mode_name(a.mode)) +
+                     " use -o, --gltf, --camera-frames or --overview");
   std::optional<PaperPathResult> result;
   if (paper) {
     log.start("path");
@@ -127,10 +127,11 @@ void run_path(PathJob& a) {
   Scene scene = a.scene;
   scene.path_mode = a.mode;
   Eigen::Vector3d up_vector = result ? result->up : Eigen::Vector3d::UnitY();
+  const bool axis_up = !paper || a.options.up.kind == UpDirection::Kind::axis;
   if (!paper) {
     scene.up = a.up.axis;  // the other modes take a coordinate axis (checked where --up was read)
     up_vector = scene.up.vector();
-  } else if (a.options.up.kind == UpDirection::Kind::axis) {
+  } else if (axis_up) {
     scene.up = a.options.up.axis;
   }
   Lens lens;
@@ -139,15 +140,29 @@ void run_path(PathJob& a) {
   std::unique_ptr<CameraPath> camera_path;
   double fov = lens.vertical_fov_deg;
   const bool exports = !a.gltf.empty() || !a.camera_frames.empty() || !a.overview.empty();
-  if (exports) {
+  // The path file: the paper path's full record, or the other modes' path as `tour` computes it
+  // (written when -o is given), each with the settings it was made for.
+  std::string path_text;
+  if (exports || (!paper && !a.output.empty())) {
     // The paper path as computed here (its up direction may be a vector or pca), else the tour's.
     // Once per mesh: the framing fits read only the hull's vertices.
     const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
-    if (paper)
+    if (paper) {
       camera_path = std::make_unique<PaperCameraPath>(result->camera_path());
-    else
-      camera_path = make_path(scene, mesh, hull, lens, a.quiet);
-    fov = choose_fov(scene, *camera_path, mesh, hull, lens, true);
+    } else {
+      SearchedPath searched = search_path(scene, mesh, hull, lens, a.quiet);
+      camera_path = std::move(searched.path);
+      path_text = std::move(searched.file_text);
+    }
+    if (exports) fov = choose_fov(scene, *camera_path, mesh, hull, lens, true);
+  }
+  if (paper) {
+    PathRecord record;
+    record.source = a.mesh;
+    record.made_for = path_settings(scene, PathMode::paper, mesh, lens);
+    // A vector or pca up direction is no --up a render can give: only the search is recorded.
+    if (!axis_up) std::erase_if(record.made_for, [](const auto& setting) { return setting.first == "up"; });
+    path_text = path_file_text(*result, record);
   }
   // Everything that can fail for a reason other than the file system happens before the first
   // output is written: the plot and the overview are drawn in memory first.
@@ -192,8 +207,8 @@ void run_path(PathJob& a) {
         written.push_back(a.camera_frames);
       }
     }
-    if (paper) {
-      write_path_file(*result, output, a.mesh);
+    if (!path_text.empty()) {
+      write_text_file_atomically(output, path_text, "path file");
       written.push_back(output);
     }
   } catch (...) {

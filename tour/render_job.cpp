@@ -74,6 +74,11 @@ void run_render(const RenderJob& args) {
     return;
   }
 
+  // A chunk that searches the path repeats what every other chunk does, and a near tie decided
+  // differently on another machine would give another path: `farm slurm` searches once instead.
+  if (!args.quiet && !scene.path_file && scene.path_mode != PathMode::turntable && static_cast<int>(selected.size()) < scene.frames)
+    std::fprintf(stderr, "meshtour: note: this chunk searches the camera path itself; write it once with 'meshtour path --path %s -o "
+                 "FILE' (same settings) and give every chunk --path-file FILE\n", std::string(path_mode_name(scene.path_mode)).c_str());
   const ThreadLimit thread_limit(args.threads, args.quiet);
   if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", thread_limit.threads());
   StageLog log(args.resources.verbose);

@@ -69,16 +69,45 @@ std::unique_ptr<CameraPath> frame_for_lens(std::unique_ptr<CameraPath> path, con
 
 }  // namespace
 
-std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
-                                      const Lens& lens, bool quiet, std::vector<double>* view_scores,
-                                      std::shared_ptr<const RayScene> rays) {
-  if (view_scores) view_scores->clear();
-  if (scene.path_file) {
-    auto path = read_path_file(*scene.path_file);
-    if (!quiet) std::fprintf(stderr, "camera path: %s\n", scene.path_file->string().c_str());
-    return frame_for_lens(std::move(path), scene, hull, lens);
+PathSettings path_settings(const Scene& scene, PathMode mode, const TriangleMesh& mesh, const Lens& lens) {
+  PathSettings settings = {{"up", scene.up.name()}, {"faces", std::to_string(mesh.face_count())}};
+  const std::string fov = scene.auto_fov ? std::string("auto") : setting_text(lens.vertical_fov_deg);
+  switch (mode) {
+    case PathMode::paper:
+      settings.emplace_back("path-search", search_options_text(scene.path_search));
+      break;
+    case PathMode::feature_orbit:
+      // The orbit plans its distances for the frame's aspect and, when fixed, for the lens.
+      settings.emplace_back("path-search", search_options_text(scene.path_search.surface));
+      settings.emplace_back("aspect", setting_text(lens.aspect));
+      settings.emplace_back("fov", fov);
+      // The loop starts at the best of its frames: the frame count turns it.
+      settings.emplace_back("frames", std::to_string(scene.frames));
+      break;
+    case PathMode::turntable:
+      settings.emplace_back("elevation", setting_text(scene.elevation_deg));
+      settings.emplace_back("aspect", setting_text(lens.aspect));
+      settings.emplace_back("fov", setting_text(lens.vertical_fov_deg));
+      break;
   }
+  return settings;
+}
+
+SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull, const Lens& lens,
+                         bool quiet, std::shared_ptr<const RayScene> rays) {
+  SearchedPath out;
+  PathRecord record;
+  record.source = scene.source;
+  record.made_for = path_settings(scene, scene.path_mode, mesh, lens);
+  const std::string model = scene.mesh_file ? scene.mesh_file->string() : std::string("the built-in model");
+  // Each search announces itself once (a farm job counts them in its logs: one, at submission).
+  const auto announce = [&] {
+    if (!quiet)
+      std::fprintf(stderr, "meshtour: path search: %s of %s (%zu faces)\n", std::string(path_mode_name(scene.path_mode)).c_str(),
+                   model.c_str(), mesh.face_count());
+  };
   if (scene.path_mode == PathMode::feature_orbit) {
+    announce();
     FeatureOrbitOptions orbit;
     orbit.coverage.surface = scene.path_search.surface;
     orbit.coverage.ray_scene = std::move(rays);
@@ -87,9 +116,9 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     // A fixed --fov is the lens the distances are planned for; auto keeps the orbit's long lens
     // (FeatureOrbitOptions::vertical_fov_deg), and choose_fov() fits the tour's fov to it.
     if (!scene.auto_fov) orbit.vertical_fov_deg = scene.vertical_fov_deg;
-    if (view_scores) orbit.frames = scene.frames;
+    orbit.frames = scene.frames;
     const FeatureOrbitResult result = compute_feature_orbit(mesh, orbit);
-    if (view_scores) *view_scores = result.frame_scores;
+    out.view_scores = result.frame_scores;
     if (!quiet) {
       const ElevationCurve& e = result.geometry.elevation;
       constexpr double deg = 180.0 / 3.14159265358979323846;
@@ -99,16 +128,23 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
                    e.swing_phase, e.ripple * deg, e.ripple_phase, 360.0 * result.geometry.start,
                    100.0 * result.feature_share_seen, result.scores.objective);
     }
-    return frame_for_lens(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, hull, lens);
+    record.frames = scene.frames;
+    record.frame_scores = result.frame_scores;
+    out.file_text = path_file_text(result.geometry, record);
+    out.path = frame_for_lens(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, hull, lens);
+    return out;
   }
   if (scene.path_mode == PathMode::turntable) {
     TurntableOptions options;
     options.up = scene.up;
     options.elevation_deg = scene.elevation_deg;
     options.lens = lens;
-    return std::make_unique<TurntablePath>(hull, options);
+    auto turntable = std::make_unique<TurntablePath>(hull, options);
+    out.file_text = path_file_text(turntable->geometry(), record);
+    out.path = std::move(turntable);
+    return out;
   }
-  const std::string model = scene.mesh_file ? scene.mesh_file->string() : std::string("the built-in model");
+  announce();
   const PaperPathResult result = with_file_name(model, [&] { return compute_scene_paper_path(scene, mesh); });
   if (!quiet) warn_if_flat(mesh, result.up, model);
   if (!quiet) {
@@ -119,16 +155,42 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
                  100.0 * result.metrics.amplitude_gaze, result.metrics.extreme_points, seconds);
     for (const auto& note : result.surface.cleanup_notes) std::fprintf(stderr, "  clean-up: %s\n", note.c_str());
   }
-  if (scene.auto_fov) return std::make_unique<PaperCameraPath>(result.camera_path());
+  out.file_text = path_file_text(result, record);
+  if (scene.auto_fov) {
+    out.path = std::make_unique<PaperCameraPath>(result.camera_path());
+    return out;
+  }
   auto framed = std::make_unique<FramedPath>(std::make_unique<PaperCameraPath>(result.camera_path()), hull, lens);
   if (!quiet && framed->pullback() > 0.0)
     std::fprintf(stderr, "  camera moved back by %.4g model units to keep the whole model in frame\n", framed->pullback());
-  return framed;
+  out.path = std::move(framed);
+  return out;
+}
+
+std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
+                                      const Lens& lens, bool quiet, std::vector<double>* view_scores,
+                                      std::shared_ptr<const RayScene> rays) {
+  if (view_scores) view_scores->clear();
+  if (scene.path_file) {
+    // Never a search: the path as the file holds it, for the settings it was made for.
+    PathFile file = load_path_file(*scene.path_file);
+    const PathMode mode = parse_path_mode(file.mode);
+    check_path_settings(file, path_settings(scene, mode, mesh, lens), *scene.path_file);
+    if (!quiet) std::fprintf(stderr, "camera path (%s): %s\n", file.mode.c_str(), scene.path_file->string().c_str());
+    if (view_scores && file.record.frames == scene.frames) *view_scores = file.record.frame_scores;
+    // The turntable was fitted to its lens when it was made; the others are framed as when searched.
+    if (mode == PathMode::turntable) return std::move(file.path);
+    return frame_for_lens(std::move(file.path), scene, hull, lens);
+  }
+  SearchedPath searched = search_path(scene, mesh, hull, lens, quiet, std::move(rays));
+  if (view_scores) *view_scores = std::move(searched.view_scores);
+  return std::move(searched.path);
 }
 
 double choose_fov(const Scene& scene, const CameraPath& path, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull,
                   const Lens& lens, bool quiet) {
-  if (!scene.auto_fov || (scene.path_mode == PathMode::turntable && !scene.path_file)) return lens.vertical_fov_deg;
+  // The turntable is fitted to its lens (whether computed here or read from a path file).
+  if (!scene.auto_fov || dynamic_cast<const TurntablePath*>(&path)) return lens.vertical_fov_deg;
   // All frames of the tour, never just the ones this process renders: a farm chunk must use the
   // fov of the whole tour.
   std::vector<Camera> cameras;

@@ -22,6 +22,7 @@
 #include "tour/resources.h"
 #include "pathgen/camera_path.h"
 #include "pathgen/paper_path.h"
+#include "pathgen/path_file.h"
 #include "scenes/scene.h"
 #include "tracer/tracer.h"
 
@@ -38,7 +39,26 @@ std::vector<std::string> frame_extensions(FrameFormats formats);
 /// The toroidal-patch path of the scene's model (deterministic: the same for any thread count).
 PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh);
 
-/// The camera path of the scene. Geometry-driven paths are wrapped in FramedPath when the fov is
+/// The settings a path of `mode` depends on, as the scene, the mesh and the lens give them: what a
+/// path file records (made_for) and what make_path() compares a path file with.
+PathSettings path_settings(const Scene& scene, PathMode mode, const TriangleMesh& mesh, const Lens& lens);
+
+/// A path computed from the model (a search for the paper path and the feature orbit, a fit for
+/// the turntable), with the text of its path file, from which make_path() rebuilds the same path
+/// bit for bit without searching.
+struct SearchedPath {
+  std::unique_ptr<CameraPath> path;  ///< as make_path() returns it (framed for a fixed fov)
+  std::vector<double> view_scores;   ///< per frame of scene.frames (feature orbit), else empty
+  std::string file_text;
+};
+/// The scene's path mode on `mesh` (scene.path_file is not read). A search announces itself on
+/// stderr unless quiet ("meshtour: path search: MODE of MODEL (N faces)"). Arguments as make_path().
+SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull, const Lens& lens,
+                         bool quiet, std::shared_ptr<const RayScene> rays = nullptr);
+
+/// The camera path of the scene: read from scene.path_file when given (never a search; refused
+/// with InputError when the file was made for other settings, path_settings()), else
+/// search_path()'s. Geometry-driven paths are wrapped in FramedPath when the fov is
 /// fixed: the paper's 4r/6r distance rule frames typical models, but every vertex is checked.
 /// `hull` is convex_hull_vertices(mesh.positions) (mesh/convex_hull.h), computed once per mesh by
 /// the caller: the framing fits read its few vertices instead of every vertex, with the same result.

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Integration test of `meshtour farm slurm` on a REAL single-node Slurm cluster: starts munged,
 # slurmctld and slurmd in a temporary directory (tests/slurm/slurm-local.sh), submits a small tour
-# as a job array of frame chunks plus a dependent encode job, waits for them, and checks that the
-# frames are byte-identical and the video decodes to the same frames as `meshtour tour` on one
-# machine. Also: a re-submitted array renders nothing (resume), and no node was drained.
+# of the default path (the feature orbit) as a job array of frame chunks plus a dependent encode
+# job, waits for them, and checks that the path was searched once (at submission: the search
+# announces itself, and the lines are counted in every log), that the frames are byte-identical
+# and the video is the bytes of `meshtour tour` on one machine. Then the same job again with each
+# array task forced onto another instruction set (MESHTOUR_TILE_KERNEL): the same bytes. Also: a
+# re-submitted array renders nothing (resume), and no node was drained.
 # Stops the daemons by PID at the end, whatever happens.
 #
 #   run-slurm-test.sh MESHTOUR_EXECUTABLE
@@ -73,7 +76,8 @@ job_states() {  # "JobId State ExitCode" for every record of the jobs (array tas
 
 log "submitting: meshtour farm slurm --submit ${tour[*]} --chunk-size 5"
 submitted=$(date +%s.%N)
-out=$("$meshtour" farm slurm --out-dir "$work/farm" "${tour[@]}" --chunk-size 5 --submit -q)
+out=$("$meshtour" farm slurm --out-dir "$work/farm" "${tour[@]}" --chunk-size 5 --submit 2>"$work/submit.log")
+cat "$work/submit.log" >&2
 echo "$out" >&2
 render_job=$(sed -n 's/^render_job=//p' <<<"$out")
 encode_job=$(sed -n 's/^encode_job=//p' <<<"$out")
@@ -97,15 +101,43 @@ video=$work/farm/meshtour-default.mp4
 grep -h '"event":"summary"' "$work"/farm/logs/render_*.log | sed 's/^/  log /' >&2
 [ "$(grep -h '"event":"frame"' "$work"/farm/logs/render_*.log | wc -l)" -eq 12 ] || fail "expected 12 JSON frame lines in the task logs"
 
+# One path search for the whole job: at submission, none in the tasks.
+searches() { cat "$@" | grep -c 'path search:' || true; }
+[ "$(searches "$work/submit.log")" -eq 1 ] || fail "the submission should search the path once"
+[ "$(searches "$work"/farm/logs/render_*.log)" -eq 0 ] || fail "a render task searched the path again"
+grep -q '"mode": "feature-orbit"' "$work/farm/path.json" || fail "path.json does not hold the feature orbit"
+log "path searched once, at submission; the tasks read $work/farm/path.json"
+
 # The same tour on one machine.
 "$meshtour" tour -o "$work/single.mp4" "${tour[@]}" --frames-dir "$work/single" -q
-for f in "$work"/single/frame_*.png; do
-  cmp -s "$f" "$frames/$(basename "$f")" || fail "$(basename "$f") differs between the farm and one machine"
-done
-decoded() { ffmpeg -v error -i "$1" -f rawvideo -pix_fmt rgb24 - | md5sum | cut -d' ' -f1; }
+same_as_single() {  # $1: a farm's output directory
+  for f in "$work"/single/frame_*.png; do
+    cmp -s "$f" "$1/frames/$(basename "$f")" || fail "$(basename "$f") differs between the farm ($1) and one machine"
+  done
+  cmp -s "$1/meshtour-default.mp4" "$work/single.mp4" || fail "the farm's video $1/meshtour-default.mp4 is not the bytes of tour's"
+}
 [ "$(ffmpeg -v error -i "$video" -f rawvideo -pix_fmt rgb24 - | wc -c)" -eq $((64 * 48 * 3 * 12)) ] || fail "the farm's video does not decode to 12 frames of 64x48"
-[ "$(decoded "$video")" = "$(decoded "$work/single.mp4")" ] || fail "the farm's video decodes to other frames than the single-machine video"
-log "12 frames byte-identical to 'meshtour tour'; the videos decode to identical frames"
+same_as_single "$work/farm"
+log "12 frames and the video byte-identical to 'meshtour tour'"
+
+# Each array task forced onto another instruction set of the tile kernel: one path, the same bytes.
+kernels=(baseline)
+grep -qw avx2 /proc/cpuinfo && kernels+=(x86-64-v3)
+grep -qw avx512bw /proc/cpuinfo && kernels+=(x86-64-v4)
+"$meshtour" farm slurm --out-dir "$work/isa" "${tour[@]}" --chunk-size 5 -q
+ids=()
+for task in 0 1 2; do
+  kernel=${kernels[$(( task % ${#kernels[@]} ))]}
+  id=$(sbatch --parsable --array="$task" --export=ALL,MESHTOUR_TILE_KERNEL="$kernel" "$work/isa/render.sbatch"); ids+=("${id%%;*}")
+  log "task $task on $kernel: job ${id%%;*}"
+done
+deps=$(IFS=:; echo "${ids[*]}")
+enc=$(sbatch --parsable --dependency=afterok:"$deps" --kill-on-invalid-dep=yes "$work/isa/encode.sbatch"); enc=${enc%%;*}
+wait_jobs "$(IFS=,; echo "${ids[*]}"),$enc"
+if job_states "${ids[@]}" "$enc" | grep -vq ' COMPLETED 0:0$'; then fail "a job of the instruction-set run failed"; fi
+[ "$(searches "$work"/isa/logs/render_*.log)" -eq 0 ] || fail "a render task of the instruction-set run searched the path"
+same_as_single "$work/isa"
+log "tasks on ${kernels[*]}: frames and video byte-identical to 'meshtour tour'"
 
 # Resume: the same array again renders nothing.
 again=$(sbatch --parsable "$work/farm/render.sbatch"); again=${again%%;*}
