@@ -135,12 +135,28 @@ PaperCameraPath read_paper(JsonReader& rd) {
   return PaperCameraPath(std::move(g));
 }
 
+// The centre and the three axes every orbit of a path file has, under `key` ("orbit", "turntable").
+template <typename Geometry>
+void read_orbit_frame(JsonReader& rd, const std::string& key, Geometry& g) {
+  g.center = point(rd, key + ".center");
+  g.up = unit_vector(rd, key + ".up");
+  g.front = unit_vector(rd, key + ".front");
+  g.side = unit_vector(rd, key + ".side");
+}
+
+template <typename Geometry>
+OrderedJson orbit_frame_json(const Geometry& g) {
+  OrderedJson j;
+  j["center"] = vec(g.center);
+  j["up"] = vec(g.up);
+  j["front"] = vec(g.front);
+  j["side"] = vec(g.side);
+  return j;
+}
+
 FeatureOrbitPath read_feature_orbit(JsonReader& rd) {
   FeatureOrbitGeometry g;
-  g.center = point(rd, "orbit.center");
-  g.up = unit_vector(rd, "orbit.up");
-  g.front = unit_vector(rd, "orbit.front");
-  g.side = unit_vector(rd, "orbit.side");
+  read_orbit_frame(rd, "orbit", g);
   g.start = rd.number_in("orbit.start", -1e6, 1e6);
   const std::vector<double> d = rd.numbers("orbit.distance");
   if (d.size() != g.distance.size()) rd.fail_key("orbit.distance", "must hold 5 numbers (d0, c1, s1, c2, s2)");
@@ -163,10 +179,7 @@ FeatureOrbitPath read_feature_orbit(JsonReader& rd) {
 
 TurntablePath read_turntable(JsonReader& rd) {
   TurntableGeometry g;
-  g.center = point(rd, "turntable.center");
-  g.up = unit_vector(rd, "turntable.up");
-  g.front = unit_vector(rd, "turntable.front");
-  g.side = unit_vector(rd, "turntable.side");
+  read_orbit_frame(rd, "turntable", g);
   g.radius = rd.positive("turntable.radius");
   if (!(g.radius <= kLargestCoordinate)) rd.fail_key("turntable.radius", "must be at most 1e15");
   g.elevation_deg = rd.number_in("turntable.elevation_deg", -89.0, 89.0);
@@ -383,11 +396,7 @@ void check_path_settings(const PathFile& file, const PathSettings& current, cons
 std::string path_file_text(const FeatureOrbitGeometry& g, const PathRecord& record) {
   OrderedJson j = file_head("feature-orbit", "meshtour path --path feature-orbit (pathgen/feature_orbit.h)", record);
   j["units"] = "model";
-  OrderedJson orbit;
-  orbit["center"] = vec(g.center);
-  orbit["up"] = vec(g.up);
-  orbit["front"] = vec(g.front);
-  orbit["side"] = vec(g.side);
+  OrderedJson orbit = orbit_frame_json(g);
   orbit["start"] = g.start;
   orbit["distance"] = g.distance;
   OrderedJson e;
@@ -405,11 +414,7 @@ std::string path_file_text(const FeatureOrbitGeometry& g, const PathRecord& reco
 std::string path_file_text(const TurntableGeometry& g, const PathRecord& record) {
   OrderedJson j = file_head("turntable", "meshtour path --path turntable (pathgen/turntable.h)", record);
   j["units"] = "model";
-  OrderedJson t;
-  t["center"] = vec(g.center);
-  t["up"] = vec(g.up);
-  t["front"] = vec(g.front);
-  t["side"] = vec(g.side);
+  OrderedJson t = orbit_frame_json(g);
   t["radius"] = g.radius;
   t["elevation_deg"] = g.elevation_deg;
   t["revolutions"] = g.revolutions;
