@@ -95,7 +95,7 @@ struct PlyWhere {
 class PlyBody {
 public:
   PlyBody(std::ifstream& in, const std::string& name, bool ascii, bool big_endian)
-      : in_(in), name_(name), ascii_(ascii), big_endian_(big_endian), buffer_(kBuffer) {}
+      : in_(in), name_(name), ascii_(ascii), big_endian_(big_endian), buffer_(buffer_size(in)) {}
 
   // The next value, as a double (integers up to 2^53 are exact, enough for any index).
   double value(int size, bool is_float, bool is_signed, const PlyWhere& where) {
@@ -121,7 +121,17 @@ public:
   }
 
 private:
-  static constexpr std::size_t kBuffer = std::size_t{1} << 20;
+  // 1 MiB, or what is left of the file where that is less: zeroing 1 MiB for a small file was most
+  // of the cost of reading it.
+  static std::size_t buffer_size(std::ifstream& in) {
+    constexpr std::size_t kLargest = std::size_t{1} << 20, kSmallest = 4096;
+    const std::streampos at = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::streampos end = in.tellg();
+    in.seekg(at);
+    if (at < 0 || end < at || static_cast<std::size_t>(end - at) >= kLargest) return kLargest;
+    return std::max(kSmallest, static_cast<std::size_t>(end - at));
+  }
 
   template <class T>
   static double load(const char* b) {

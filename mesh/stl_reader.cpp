@@ -53,7 +53,7 @@ void read_binary(const std::filesystem::path& file, const std::string& name, std
   CornerWelder welder(3ull * facets);
   out.triangles.reserve(facets);
   constexpr std::size_t kRecord = 50, kBatch = 20000;  // 1 MB of facets at a time
-  std::vector<char> buffer(kRecord * kBatch);
+  std::vector<char> buffer(kRecord * std::min<std::size_t>(kBatch, facets));
   for (std::size_t done = 0; done < facets;) {
     const std::size_t batch = std::min<std::size_t>(kBatch, facets - done);
     in.read(buffer.data(), static_cast<std::streamsize>(batch * kRecord));

@@ -183,7 +183,10 @@ std::string decode_fault(OIIO::ImageInput& in) {
   const OIIO::ImageSpec& spec = in.spec();
   if (spec.tile_width > 0 && static_cast<double>(spec.width + spec.tile_width) * spec.tile_height * spec.nchannels > 256.0 * 1024 * 1024)
     return "its tiles (" + std::to_string(spec.tile_width) + " x " + std::to_string(spec.tile_height) + " pixels) are too large to decode";
-  const int band = spec.tile_height > 0 ? spec.tile_height : std::max(1, static_cast<int>((4 << 20) / (std::max(1, spec.width) * spec.nchannels)));
+  // Rows of about 4 MiB at a time, no more than the image has (a small image's band is all of it).
+  const int band = spec.tile_height > 0 ? spec.tile_height
+                                        : std::clamp(static_cast<int>((4 << 20) / (std::max(1, spec.width) * std::max(1, spec.nchannels))), 1,
+                                                     std::max(1, spec.height));
   std::vector<std::uint8_t> pixels(static_cast<std::size_t>(spec.width + std::max(0, spec.tile_width)) * band * spec.nchannels);
   for (int y = spec.y; y < spec.y + spec.height; y += band) {
     const int y_end = std::min(y + band, spec.y + spec.height);
