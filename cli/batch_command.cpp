@@ -98,6 +98,7 @@ void add_batch_command(CLI::App& app) {
   cmd->add_option("manifest", job.manifest, "Manifest: .csv with a header row, or .json")->required()->check(CLI::ExistingFile);
   add_scene_options(*cmd, args->defaults, options::batch,
                     {{"threads", options::to(job.threads)},
+                     {"max-memory", options::to(job.resources.max_memory)},
                      {"web", options::to(job.web)},
                      {"page-only", options::to(job.page_only)},
                      {"out-dir", options::to(job.out_dir)},

@@ -89,6 +89,7 @@ void add_farm_command(CLI::App& app) {
                      {"partition", options::to(job.partition)},
                      {"time", options::to(job.time_limit)},
                      {"cpus-per-task", options::to(job.cpus_per_task)},
+                     {"max-memory", options::recorded(given, "max-memory", options::to(job.max_memory))},
                      {"executable", options::to(job.executable)},
                      {"submit", options::to(job.submit)},
                      {"quiet", options::to(job.quiet)}});

@@ -86,15 +86,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "meshtour: " << e.what() << " (see 'meshtour --help')" << misplaced_flag_hints(app, argc, argv) << "\n";
     return 2;
-  } catch (const meshtour::InputError& e) {
+  } catch (const meshtour::Error& e) {
     std::cerr << "meshtour: error: " << e.what() << "\n";
-    return 2;
-  } catch (const meshtour::IoError& e) {
-    std::cerr << "meshtour: error: " << e.what() << "\n";
-    return 3;
-  } catch (const meshtour::RuntimeFailure& e) {
-    std::cerr << "meshtour: error: " << e.what() << "\n";
-    return 4;
+    return meshtour::exit_class_of(e).code;
   } catch (const meshtour::SomeItemsFailed& e) {
     std::cerr << "meshtour: " << e.what() << " (see the summary above)\n";
     return meshtour::kSomeItemsFailedExitCode;

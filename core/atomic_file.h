@@ -17,6 +17,7 @@
 #include <fstream>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 #include "core/error.h"
@@ -101,9 +102,9 @@ inline void write_file_atomically(const std::filesystem::path& file,
   pending.commit();
 }
 
-/// Writes `text` as the whole of `file`, atomically (see write_file_atomically).
+/// Writes `text` (any bytes) as the whole of `file`, atomically (see write_file_atomically).
 /// \throw IoError naming `what` (e.g. "path file") and `file` if it cannot be written.
-inline void write_text_file_atomically(const std::filesystem::path& file, const std::string& text, const std::string& what) {
+inline void write_text_file_atomically(const std::filesystem::path& file, std::string_view text, const std::string& what) {
   write_file_atomically(file, [&](const std::filesystem::path& temporary) {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) throw IoError("cannot write " + what + " " + file.string() + ": " + std::strerror(errno));

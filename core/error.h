@@ -31,4 +31,19 @@ public:
   using Error::Error;
 };
 
+/// How a failure ends the program: its exit code and the name a batch summary gives it.
+struct ExitClass {
+  int code;
+  const char* name;
+};
+
+/// The exit class of an error: input 2 (fix the input or the options), io 3 (a file could not be
+/// read or written), runtime 4 (a library failed), unexpected 1 (anything else: a bug).
+inline ExitClass exit_class_of(const std::exception& e) {
+  if (dynamic_cast<const InputError*>(&e)) return {2, "input"};
+  if (dynamic_cast<const IoError*>(&e)) return {3, "io"};
+  if (dynamic_cast<const RuntimeFailure*>(&e)) return {4, "runtime"};
+  return {1, "unexpected"};
+}
+
 }  // namespace meshtour

@@ -242,8 +242,9 @@ std::vector<Option> make_registry() {
        .commands = tour | render | batch});
   add({.id = "max-memory", .flag = "--max-memory", .kind = Kind::memory_size, .type_name = "SIZE",
        .help = "Memory the job may use, e.g. 512M or 8G (default: 75% of this machine's memory). A job whose "
-               "estimated peak is larger is refused before it allocates anything",
-       .commands = tour | render | path, .group = "Resources"});
+               "estimated peak is larger is refused before it allocates anything (in a batch: that item fails). "
+               "`farm slurm` gives it to every task and asks Slurm for it (--mem)",
+       .commands = tour | render | path | batch | farm, .farm = kToTasks, .group = "Resources"});
   add({.id = "verbose", .flag = "--verbose", .kind = Kind::flag,
        .help = "Report the time and memory (resident, peak) of every stage on stderr", .commands = tour | render | path,
        .group = "Resources"});

@@ -39,6 +39,7 @@ test_packages=(
   ffmpeg                                    # ffprobe, used by tests as an independent reader
   slurmctld slurmd slurm-client munge       # farm: the single-node Slurm cluster of tests/slurm/
   clang libclang-rt-14-dev                  # fuzz targets: clang with libFuzzer and the sanitizers
+  python3                                   # the soak test's driver (scripts/soak.py)
 )
 [ "$with_tests" = 1 ] && packages+=("${test_packages[@]}")
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/file_lock.h"
 #include "helpers.h"
 #include "textured_cube.h"
 
@@ -66,6 +67,7 @@ std::vector<std::string> write_order_faults(const std::vector<std::string>& trac
     if (!entry.is_regular_file()) continue;
     const std::string file = entry.path().string(), dir = entry.path().parent_path().string();
     const std::string name = entry.path().filename().string();
+    if (name == meshtour::kFolderLockFile) continue;  // the batch's item locks (core/file_lock.h): empty, no output
     if (name[0] == '.') {
       faults.push_back(name + ": a temporary file left behind");
       continue;

@@ -4,10 +4,12 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/file_lock.h"
 #include "helpers.h"
 
 namespace meshtour {
@@ -77,4 +79,19 @@ TEST(AtomicFile, UncommittedIsRemovedButNotWhatSquatsOnItsName) {
 }
 
 }  // namespace
+// Two holders of one name exclude each other (even in one process: the locks belong to the open
+// file, not to the process); other names are free; closing releases.
+TEST(FolderLock, OneNameOneHolderOtherNamesFreeReleasedOnClose) {
+  const auto dir = test::scratch_dir();
+  auto first = std::make_unique<FolderLock>(dir, "a.mp4");
+  ASSERT_TRUE(first->try_lock());
+  FolderLock same(dir, "a.mp4"), other(dir, "b.mp4");
+  EXPECT_FALSE(same.try_lock());
+  EXPECT_TRUE(other.try_lock());
+  first.reset();
+  EXPECT_TRUE(same.try_lock());
+  EXPECT_TRUE(std::filesystem::exists(dir / kFolderLockFile));
+  EXPECT_THROW(FolderLock(dir / "not-there", "a.mp4"), IoError);
+}
+
 }  // namespace meshtour

@@ -1,5 +1,6 @@
 #include "tour/batch_job.h"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 #include <string>
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/file_lock.h"
 #include "core/interrupt.h"
 #include "tour/mesh_warnings.h"
 #include "tour/path_overview.h"
@@ -26,12 +28,50 @@ struct ItemResult {
   std::string status;  // "rendered", "skipped" (video already there) or "failed"
   double seconds = 0.0;
   std::string error;
+  std::optional<ExitClass> exit_class;  // of a failed item: what `tour` would exit with
+  double peak_resident_bytes = 0;       // this process's peak so far, after the item
   // Beside the video in --out-dir ("" = not made): the poster, and with --web the WebM and glTF camera.
   std::string poster, webm, gltf, caption;
   long long faces = -1;
   double duration = -1;
 };
 
+// Removes what a killed run (SIGKILL, a dead node) left of the item's outputs: the hidden
+// temporaries `.<name>.partial-<pid>...` of core/atomic_file.h. Called with the item's lock held,
+// so no live writer of this item can own one.
+void remove_stale_temporaries(const std::filesystem::path& dir, const std::vector<std::string>& names) {
+  std::vector<std::string> prefixes;
+  for (const std::string& name : names) {
+    if (name.empty()) continue;
+    std::string prefix = ".";  // piece by piece: "." + name + ... trips a GCC 12 -Wrestrict false positive
+    prefix += name;
+    prefix += ".partial-";
+    prefixes.push_back(std::move(prefix));
+  }
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string file = entry.path().filename().string();
+    for (const std::string& prefix : prefixes)
+      if (file.starts_with(prefix)) {
+        std::error_code ignored;
+        std::filesystem::remove(entry.path(), ignored);
+      }
+  }
+}
+
+// Writes one of the job's shared files (a summary, the page) under its lock, after removing what a
+// killed run left of it: two runs on one folder each write a whole file, one after the other.
+template <class Write>
+void write_locked(const std::filesystem::path& dir, const std::string& name, Write&& write) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return write();  // it fails there, with its own message
+  FolderLock lock(dir, name);
+  lock.lock();
+  remove_stale_temporaries(dir, {name});
+  write();
+}
+
+// Makes the item, whose lock the caller holds.
 ItemResult run_item(const BatchJob& args, const BatchEntry& item) {
   ItemResult r;
   r.item = &item;
@@ -42,6 +82,9 @@ ItemResult run_item(const BatchJob& args, const BatchEntry& item) {
   r.poster = item.poster;
   r.caption = item.caption;
   if (args.web) r.webm = stem + ".webm", r.gltf = stem + ".gltf";
+  // The glTF camera's buffer is the .gltf's name with .bin (pathgen/camera_export.h).
+  const std::string gltf_buffer = r.gltf.empty() ? "" : std::filesystem::path(r.gltf).replace_extension(".bin").string();
+  if (item.error.empty()) remove_stale_temporaries(dir, {item.output, r.poster, r.webm, r.gltf, gltf_buffer});
   std::error_code ec;
   const auto exists = [&](const std::string& name) { return name.empty() || std::filesystem::is_regular_file(dir / name, ec); };
   if (item.error.empty() && exists(item.output) && exists(r.poster) && exists(r.webm) && exists(r.gltf)) {
@@ -60,6 +103,7 @@ ItemResult run_item(const BatchJob& args, const BatchEntry& item) {
     job.caption = item.caption_args;
     if (args.web) job.webm = dir / r.webm, job.gltf = dir / r.gltf;
     job.threads = args.threads;
+    job.resources = args.resources;
     job.progress = args.quiet ? ProgressMode::none : args.progress;
     job.quiet = args.quiet;
     const TourVideoResult made = render_tour_video(*item.scene, job);
@@ -71,10 +115,12 @@ ItemResult run_item(const BatchJob& args, const BatchEntry& item) {
   } catch (const std::exception& e) {
     r.status = "failed";
     r.error = e.what();
+    r.exit_class = exit_class_of(e);
     std::fprintf(stderr, "meshtour batch: item %d (%s, line %d) failed: %s\n", item.index, item.mesh.string().c_str(), item.line,
                  e.what());
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.peak_resident_bytes = resident_memory().peak;
   return r;
 }
 
@@ -93,6 +139,10 @@ void write_summary(const BatchJob& args, const std::vector<ItemResult>& results,
     i["status"] = r.status;
     i["seconds"] = r.seconds;
     if (!r.error.empty()) i["error"] = r.error;
+    if (r.exit_class) {
+      i["exit_class"] = r.exit_class->name;
+      i["exit_code"] = r.exit_class->code;
+    }
     if (!r.caption.empty()) i["caption"] = r.caption;
     if (r.status != "failed") {
       i["poster"] = r.poster;
@@ -101,6 +151,7 @@ void write_summary(const BatchJob& args, const std::vector<ItemResult>& results,
     }
     if (r.faces >= 0) i["faces"] = r.faces;
     if (r.duration >= 0) i["duration"] = r.duration;
+    if (r.peak_resident_bytes > 0) i["peak_resident_bytes"] = static_cast<long long>(r.peak_resident_bytes);
     items.push_back(std::move(i));
     counts[r.status == "rendered" ? 0 : r.status == "skipped" ? 1 : 2]++;
   }
@@ -132,8 +183,11 @@ void run_batch(const BatchJob& args) {
   install_interrupt_handlers();
   if (args.page_only) {
     // The last job of a farm's batch: the page from the array tasks' summaries.
-    const std::filesystem::path page = write_contact_sheet(args.out_dir);
-    if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());
+    report_stage(args.quiet ? ProgressMode::none : args.progress, "page");
+    write_locked(args.out_dir, "index.html", [&] {
+      const std::filesystem::path page = write_contact_sheet(args.out_dir);
+      if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());
+    });
     return;
   }
   const std::vector<BatchEntry>& items = args.items;
@@ -143,19 +197,41 @@ void run_batch(const BatchJob& args) {
   std::filesystem::create_directories(args.out_dir, ec);
   if (ec) throw IoError(args.out_dir + ": cannot create the output directory: " + ec.message());
 
+  // Each item is made under its lock in the output folder, so that two runs of the job on one
+  // folder (two operators, a re-submitted farm array) never make an item twice: an item another run
+  // is making is left for the end, then waited for, and found done.
   std::vector<ItemResult> results;
+  std::vector<const BatchEntry*> busy;
   for (const auto& item : items) {
     if (args.item && item.index != *args.item) continue;
-    results.push_back(run_item(args, item));
+    if (!item.error.empty()) {
+      results.push_back(run_item(args, item));
+      continue;
+    }
+    FolderLock lock(args.out_dir, item.output);
+    if (lock.try_lock())
+      results.push_back(run_item(args, item));
+    else
+      busy.push_back(&item);
   }
+  for (const BatchEntry* item : busy) {
+    if (!args.quiet) std::fprintf(stderr, "== item %d: %s is being made by another run; waiting for it\n", item->index, item->output.c_str());
+    FolderLock lock(args.out_dir, item->output);
+    lock.lock();
+    results.push_back(run_item(args, *item));
+  }
+  std::sort(results.begin(), results.end(), [](const ItemResult& a, const ItemResult& b) { return a.item->index < b.item->index; });
   print_table(results);
   // One summary per farm task (--item), so that concurrent tasks never write the same file.
   const std::string name = args.item ? "batch-summary-" + std::to_string(*args.item) + ".json" : "batch-summary.json";
-  write_summary(args, results, std::filesystem::path(args.out_dir) / name);
+  write_locked(args.out_dir, name, [&] { write_summary(args, results, std::filesystem::path(args.out_dir) / name); });
   // One farm task (--item) knows only its own item: the farm's last job writes the page.
   if (args.web && !args.item) {
-    const std::filesystem::path page = write_contact_sheet(args.out_dir);
-    if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());
+    report_stage(args.quiet ? ProgressMode::none : args.progress, "page");
+    write_locked(args.out_dir, "index.html", [&] {
+      const std::filesystem::path page = write_contact_sheet(args.out_dir);
+      if (!args.quiet) std::fprintf(stderr, "wrote %s\n", page.string().c_str());
+    });
   }
   for (const auto& r : results)
     if (r.status == "failed") throw SomeItemsFailed();

@@ -46,6 +46,7 @@ struct BatchJob {
   std::vector<BatchEntry> items;   // every item of the manifest, in its order (empty with page_only)
   std::optional<int> item;
   int threads = 0;  // 0 = thread_count()'s default
+  ResourceArgs resources;  // --max-memory, for each item
   bool web = false;        // per item also a VP9 WebM and a glTF camera, and index.html for the batch
   bool page_only = false;  // only index.html, from the summaries in out_dir
   ProgressMode progress = ProgressMode::automatic;

@@ -83,6 +83,7 @@ std::vector<SheetItem> read_summary(const fs::path& file) {
     s.caption = i.value("caption", std::string());
     s.status = i.value("status", std::string());
     s.error = i.value("error", std::string());
+    s.exit_class = i.value("exit_class", std::string());
     s.video = i.value("output", std::string());
     s.webm = i.value("webm", std::string());
     s.poster = i.value("poster", std::string());
@@ -126,7 +127,9 @@ std::string contact_sheet_html(const std::string& title, const std::vector<Sheet
     if (i.faces >= 0) h += " &middot; " + std::to_string(i.faces) + " faces";
     if (i.seconds >= 0) h += " &middot; " + format_seconds(i.seconds);
     h += std::string(" &middot; <span class=\"status ") + (done ? "done\">done" : "failed\">failed") + "</span></div>\n";
-    if (!done) h += "<div class=\"error\">" + escape(first_line(i.error)) + "</div>\n";
+    if (!done)
+      h += "<div class=\"error\">" + (i.exit_class.empty() ? std::string() : escape(i.exit_class) + " error: ") +
+           escape(first_line(i.error)) + "</div>\n";
     h += "<div class=\"links\">";
     const auto link = [&](const std::string& file, const char* label) {
       if (!file.empty() && done) h += "<a href=\"" + href(file) + "\">" + label + "</a>";

@@ -17,6 +17,7 @@ struct SheetItem {
   int index = 0;
   std::string name;  ///< the mesh's file name
   std::string caption, status, error;
+  std::string exit_class;  ///< of a failed item: input, io, runtime or unexpected ("" = not given)
   std::string video, webm, poster, gltf;
   long long faces = -1;  ///< -1 = unknown (failed or skipped items)
   double seconds = -1;   ///< video length; -1 = unknown

@@ -9,6 +9,8 @@
 #include <string>
 #include <stdexcept>
 #include <vector>
+
+#include "core/memory_size.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "jobs/frame_dir.h"
@@ -56,6 +58,9 @@ std::string sbatch_header(const FarmJob& a, const std::string& job_name, const s
   h += "#SBATCH --cpus-per-task=" + std::to_string(a.cpus_per_task) + "\n";
   if (!a.partition.empty()) h += "#SBATCH --partition=" + a.partition + "\n";
   if (!a.time_limit.empty()) h += "#SBATCH --time=" + a.time_limit + "\n";
+  // The memory the tasks are given with --max-memory is what Slurm reserves for them (MiB, up).
+  if (!a.max_memory.empty())
+    h += "#SBATCH --mem=" + std::to_string((parse_memory_size(a.max_memory) + (1u << 20) - 1) >> 20) + "M\n";
   return h;
 }
 

@@ -25,6 +25,7 @@ struct FarmJob {
   std::string output;  // video name inside out_dir
   std::string executable;
   std::string partition, time_limit;
+  std::string max_memory;  // --max-memory as given ("" = none): each task's budget and Slurm's --mem
   VideoCodec codec = VideoCodec::h264;      // of the video the encode job writes
   FrameFormats format = FrameFormats::png;  // of the frames
   bool web = false;            // with a manifest: web outputs per item and the contact sheet

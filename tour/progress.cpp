@@ -25,6 +25,12 @@ ProgressMode resolve(ProgressMode mode) {
 }
 }  // namespace
 
+void report_stage(ProgressMode mode, const std::string& stage) {
+  if (resolve(mode) != ProgressMode::json) return;
+  std::fprintf(stderr, "{\"event\":\"stage\",\"stage\":\"%s\"}\n", stage.c_str());
+  std::fflush(stderr);
+}
+
 Progress::Progress(std::string what, int total, ProgressMode mode)
     : what_(std::move(what)), total_(total), mode_(resolve(mode)), start_(std::chrono::steady_clock::now()) {}
 

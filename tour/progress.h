@@ -4,6 +4,7 @@
 // and a summary line, so that log collectors can parse them:
 //   {"event":"frame","frame":12,"seconds":0.84,"done":3,"total":12}
 //   {"event":"summary","what":"frame","done":12,"total":12,"skipped":0,"seconds":9.6,"per_second":1.25}
+//   {"event":"stage","stage":"render"}
 
 #include <chrono>
 #include <string>
@@ -14,6 +15,11 @@ enum class ProgressMode { automatic, bar, json, none };
 
 /// Parses "auto", "bar", "json" or "none".
 ProgressMode parse_progress_mode(const std::string& text);
+
+/// Where the progress is JSON lines (json, or automatic off a terminal): the line
+/// {"event":"stage","stage":"path"} as a stage starts, so that a farm or batch log says which stage
+/// a task was in when it stopped (load, bvh, path, shading, render, encode, poster, page, ...).
+void report_stage(ProgressMode mode, const std::string& stage);
 
 class Progress {
 public:

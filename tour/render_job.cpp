@@ -81,7 +81,7 @@ void run_render(const RenderJob& args) {
                  "FILE' (same settings) and give every chunk --path-file FILE\n", std::string(path_mode_name(scene.path_mode)).c_str());
   const ThreadLimit thread_limit(args.threads, args.quiet);
   if (!args.quiet) std::fprintf(stderr, "rendering with %d threads\n", thread_limit.threads());
-  StageLog log(args.resources.verbose);
+  StageLog log(args.resources.verbose, mode);
   log.start("check");
   const TourMemoryCheck memory = check_tour_memory(scene, args.resources);
   const PreparedTour tour = prepare_tour(scene, args.quiet, &log, &memory);
@@ -97,6 +97,7 @@ void run_render(const RenderJob& args) {
     }
   }
 
+  log.announce("render");
   Progress progress("frame", static_cast<int>(todo.size()), mode);  // from here: frames/s are rendering only
 
   int done = 0;

@@ -16,24 +16,19 @@
 #include "mesh/mesh.h"
 
 namespace meshtour {
-namespace {
-
-// Resident and peak resident memory of this process, bytes (0 if /proc is not there).
-std::pair<double, double> resident_memory() {
+ResidentMemory resident_memory() {
   std::ifstream status("/proc/self/status");
-  double rss = 0, hwm = 0;
+  ResidentMemory m;
   for (std::string line; std::getline(status, line);) {
     std::istringstream words(line);
     std::string key;
     double kib = 0;
     words >> key >> kib;
-    if (key == "VmRSS:") rss = kib * 1024;
-    if (key == "VmHWM:") hwm = kib * 1024;
+    if (key == "VmRSS:") m.now = kib * 1024;
+    if (key == "VmHWM:") m.peak = kib * 1024;
   }
-  return {rss, hwm};
+  return m;
 }
-
-}  // namespace
 
 
 std::string format_bytes(double bytes) {
@@ -137,6 +132,7 @@ void check_memory(const MemoryEstimate& estimate, const MemoryBudget& budget, co
 
 void StageLog::start(const std::string& name) {
   stop();
+  announce(name);
   current_ = name;
   started_ = std::chrono::steady_clock::now();
 }

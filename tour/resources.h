@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/memory_size.h"  // parse_memory_size: --max-memory
+#include "tour/progress.h"
 
 namespace meshtour {
 
@@ -74,13 +75,23 @@ double estimate_texture_cache_bytes(double decoded_texture_bytes);
 /// the estimate by part and how to raise the budget.
 void check_memory(const MemoryEstimate& estimate, const MemoryBudget& budget, const std::string& job);
 
+/// This process's resident memory now and at its peak so far (VmRSS, VmHWM of /proc/self/status),
+/// bytes; 0 where /proc is not there.
+struct ResidentMemory {
+  double now = 0.0, peak = 0.0;
+};
+ResidentMemory resident_memory();
+
 /// --verbose: one line per stage on stderr with its wall time, the resident memory at its end and
 /// the peak so far (VmRSS / VmHWM of /proc/self/status).
 class StageLog {
 public:
-  explicit StageLog(bool verbose) : verbose_(verbose) {}
-  /// Ends the previous stage (if any) and starts `name`.
+  explicit StageLog(bool verbose, ProgressMode stage_events = ProgressMode::none)
+      : verbose_(verbose), stage_events_(stage_events) {}
+  /// Ends the previous stage (if any) and starts `name` (a JSON stage event where the progress is JSON).
   void start(const std::string& name);
+  /// Announces a stage timed elsewhere as it starts (report() gives its time when it ends).
+  void announce(const std::string& name) const { report_stage(stage_events_, name); }
   /// Ends the current stage and reports it.
   void stop();
   /// Reports a stage timed elsewhere (seconds), with the memory figures of now.
@@ -91,6 +102,7 @@ public:
 
 private:
   bool verbose_;
+  ProgressMode stage_events_;
   std::string current_;
   std::chrono::steady_clock::time_point started_;
 };

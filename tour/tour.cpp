@@ -365,7 +365,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   const ThreadLimit thread_limit(job.threads, job.quiet);
 
   // Refuse what would not fit before allocating anything.
-  StageLog log(job.resources.verbose);
+  StageLog log(job.resources.verbose, job.quiet ? ProgressMode::none : job.progress);
   log.start("check");
   const TourMemoryCheck memory = check_tour_memory(scene, job.resources);
 
@@ -419,6 +419,8 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
     if (web_captioned) web_captioned->start(poster->to_srgb8());
   }
 
+  log.stop();
+  log.announce("render");
   Progress progress("frame", scene.frames, job.progress);
   using Clock = std::chrono::steady_clock;
   double render_seconds = 0.0, encode_seconds = 0.0;
@@ -439,6 +441,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   });
   throw_if_interrupted();
   log.report("render", render_seconds);
+  log.announce("encode");
   const auto finish_start = Clock::now();
   captioned.finish();
   if (web_captioned) web_captioned->finish();
@@ -446,6 +449,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   progress.finish();
   // After the video: a failed tour leaves no poster either.
   if (poster && !job.poster.file.empty()) {
+    log.announce("poster");
     write_poster(*poster, job.poster);
     if (!job.quiet) std::fprintf(stderr, "wrote %s (poster: frame %d, the best-scored view)\n", job.poster.file.string().c_str(), poster_k);
   }
