@@ -8,6 +8,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -20,6 +22,7 @@
 #include "jobs/frame_dir.h"
 #include "jobs/frame_range.h"
 #include "tour/progress.h"
+#include "tracer/color.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
@@ -199,11 +202,12 @@ struct DisplayTransform {
 // Reads one frame as 8-bit sRGB RGB, the encoder's input; with `alpha`, as RGBA with straight alpha.
 std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& plan, const DisplayTransform& display,
                                      bool alpha) {
-  // OpenImageIO premultiplies a PNG's colour by its alpha as it reads it, unless told not to; the
-  // video with alpha keeps the PNG's straight colour.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(file.string(), alpha ? &config : nullptr);
+  // (PNG frames with alpha: OpenImageIO's PNG writer takes the pixels it is given as premultiplied
+  // and divides them by alpha as it writes, and its reader multiplies them back. meshtour's frames
+  // are written through it (tracer/image_writer.cpp) with straight colour, so the file holds
+  // colour / alpha, and the default read gives back the frame's straight colour. Read otherwise
+  // (oiio:UnassociatedAlpha), a frame's partly covered pixels come out brighter than rendered.)
+  auto in = OIIO::ImageInput::open(file.string());
   if (!in) throw IoError(file.string() + ": cannot read frame: " + one_line(OIIO::geterror()));
   const OIIO::ImageSpec spec = in->spec();
   if (spec.width != plan.width || spec.height != plan.height)
@@ -246,9 +250,9 @@ std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& pla
     return image.to_srgb8();
   }
 
-  // PNG: already 8-bit sRGB, alpha straight. Grey is spread to RGB; a frame with alpha (transparent
-  // background) is shown over black, as the video of a transparent tour is, unless the video keeps
-  // the alpha: then the PNG's pixels go in as they are.
+  // PNG: already 8-bit sRGB, colour straight (read as above). Grey is spread to RGB; a frame with
+  // alpha (transparent background) is shown over black, as the video of a transparent tour is,
+  // unless the video keeps the alpha: then the frame's pixels go in as they are.
   std::vector<std::uint8_t> all(pixels * static_cast<std::size_t>(channels));
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, all.data()))
     throw IoError(file.string() + ": cannot read frame: " + one_line(in->geterror()));
@@ -263,12 +267,21 @@ std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& pla
     }
     return rgba;
   }
+  // Over black in linear light, as the tour's own video shows a transparent render (its colour is
+  // premultiplied in linear light before the sRGB curve): 50 % alpha on sRGB grey 128 gives 93
+  // (multiplying the sRGB values gives 64).
+  std::array<float, 256> linear{};
+  for (int v = 0; v < 256; ++v) linear[static_cast<std::size_t>(v)] = srgb_to_linear(static_cast<float>(v) / 255.0f);
   for (std::size_t p = 0; p < pixels; ++p) {
     const std::uint8_t* src = &all[p * static_cast<std::size_t>(channels)];
     const unsigned a = has_alpha ? src[colour] : 255u;
     for (int c = 0; c < 3; ++c) {
-      const unsigned v = src[colour == 3 ? c : 0];
-      rgb[p * 3 + static_cast<std::size_t>(c)] = static_cast<std::uint8_t>((v * a + 127) / 255);
+      const std::uint8_t v = src[colour == 3 ? c : 0];
+      rgb[p * 3 + static_cast<std::size_t>(c)] =
+          a == 255u ? v
+          : a == 0u ? 0
+                    : static_cast<std::uint8_t>(std::lround(
+                          std::clamp(linear_to_srgb(linear[v] * static_cast<float>(a) / 255.0f), 0.0f, 1.0f) * 255.0f));
     }
   }
   return rgb;

@@ -398,7 +398,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   std::optional<CaptionedVideo> web_captioned;
   if (!job.webm.empty()) {
     VideoOptions web = video;
-    web.alpha = false;  // (batch --web: no --alpha there)
+    web.alpha = false;  // batch --web: the page's WebM is over black (a caption may be burned in)
     web.codec = VideoCodec::vp9;
     web.crf.reset();
     web_encoder.emplace(job.webm, web);
@@ -448,6 +448,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
     const auto written = Clock::now();
     if (job.alpha) {
       captioned.add(image.to_srgba8());  // straight alpha, as in the PNG frames
+      if (web_captioned) web_captioned->add(image.to_srgb8());
     } else {
       const std::vector<std::uint8_t> rgb = image.to_srgb8();
       captioned.add(rgb);
