@@ -163,8 +163,8 @@ std::vector<Option> make_registry() {
        .help = "Keep the frames' alpha in the video, straight (not premultiplied) as editors and browsers expect:\n"
                "ProRes 4444 (.mov), VP9 with alpha (.webm) or FFV1 RGBA (.mkv); h264 and gif cannot carry it.\n"
                "Needs transparent frames (--background transparent; encode: RGBA PNG frames). Without it they\n"
-               "are shown over black",
-       .commands = tour | encode});
+               "are shown over black. farm slurm: its encode job keeps it (give --codec prores, vp9 or ffv1)",
+       .commands = tour | farm | encode, .farm = encode_job});
   // ---- Frames and jobs
   add({.id = "frame-selection", .flag = "--frames", .kind = Kind::frame_selection, .default_text = "all",
        .help = "Frames to use, numbered from 0: all (default), A, A-B, A-B:S (every S-th), or a comma-separated\n"

@@ -322,6 +322,11 @@ TEST(OptionRegistry, NamedSizesSetBothSidesAndExcludeWidthAndHeight) {
   EXPECT_EQ(size_of("4K"), "3840x2160");
   EXPECT_EQ(size_of("1080p"), "1920x1080");
 
+  // The names are no value of the options a size could be confused with.
+  for (const NamedSize& n : kNamedSizes)
+    for (const char* other : {"format", "preset", "codec", "background"})
+      for (const std::string_view choice : options::option(other).choices) EXPECT_NE(choice, n.name) << other;
+
   const std::string bad = options::check_value(options::option("size"), "tall");
   for (const char* name : {"720p", "1080p", "4k", "vertical", "square"})
     EXPECT_NE(bad.find(name), std::string::npos) << bad;
