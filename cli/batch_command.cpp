@@ -38,7 +38,7 @@ SceneArgs item_scene_args(const SceneArgs& defaults, const BatchItem& item) {
   a.input = item.mesh.string();
   for (const auto& [id, text] : item.values) {
     const options::Option& o = options::option(id);
-    if (!o.excludes.empty()) a.values.erase(std::string(o.excludes));
+    std::erase_if(a.values, [&o](const auto& value) { return o.excludes_option(value.first); });
     a.values[id] = text;
   }
   return a;

@@ -73,12 +73,15 @@ void add_encode_command(CLI::App& app) {
       "prores (fixed 422 HQ quality), ffv1 (lossless) and gif (256 colours) refuse --crf.\n\n"
       "EXR frames are linear light: they get the display transform of the PNG frames (exposure and tone\n"
       "curve, recorded in each EXR's header by meshtour; --exposure and --tone-mapping override it), so a\n"
-      "video from EXR frames looks like one from the PNG frames. PNG frames with alpha are shown over black.\n\n"
+      "video from EXR frames looks like one from the PNG frames. PNG frames with alpha are shown over black,\n"
+      "unless --alpha keeps their alpha (straight) in the video: prores becomes ProRes 4444, vp9 stores an\n"
+      "alpha plane (WebM AlphaMode; browsers play it transparent), ffv1 stores RGBA; h264 and gif cannot.\n\n"
       "Examples:\n"
       "  meshtour encode frames/ -o tour.mp4                   # the whole tour, H.264\n"
       "  meshtour encode frames/ -o tour.mkv                   # lossless FFV1 archive (codec from the name)\n"
       "  meshtour encode frames/ -o web.webm --crf 36          # smaller VP9 for a web page\n"
       "  meshtour encode frames/ -o preview.gif --frames 0-119:2 --fps 15\n"
+      "  meshtour encode frames/ -o overlay.mov --alpha         # ProRes 4444 from RGBA PNG frames\n"
       "  meshtour encode shots/ -o clip.mov --frames 0-47 --fps 24   # frames from elsewhere, no manifest");
   cmd->add_option("dir", args->job.dir, "Directory holding the frames (frame_000000.png ...)")->required();
   EncodeJob& job = args->job;
@@ -90,6 +93,7 @@ void add_encode_command(CLI::App& app) {
                                 {"frame-selection", options::to(job.frames)},
                                 {"output", options::to(job.output)},
                                 {"quiet", options::to(job.quiet)},
+                                {"alpha", options::to(job.alpha)},
                                 {"input-format", options::to(job.input_format)},
                                 {"tone-mapping", options::to(job.tone_mapping, parse_tone_mapping)}});
   cmd->callback([args] { run_encode(*args); });

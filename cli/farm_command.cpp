@@ -42,20 +42,46 @@ void run_farm(FarmArgs& args) {
     if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
       throw InputError("--crf " + problem);
   job.input = args.scene.input;
+  const bool alpha = job.alpha;
   if (job.manifest.empty()) {
     job.scene = resolve_scene(args.scene, codec);
+    // What the encode job would refuse, refused now, before anything is rendered.
+    if (alpha) {
+      require_alpha_codec(job.codec);
+      if (job.scene->render.shading.background != BackgroundKind::transparent)
+        throw InputError("--alpha needs a transparent background: add --background transparent (over the gradient the "
+                         "frames have no alpha to keep)");
+      if (job.format == FrameFormats::exr)
+        throw InputError("--alpha encodes the PNG frames (RGBA); give --format png or png+exr, not exr");
+    }
   } else {
+    if (alpha)
+      throw InputError("--alpha is for one tour; the items of a batch (--manifest) are H.264 MP4, which cannot carry alpha");
     job.manifest_items = static_cast<int>(read_batch_manifest(std::filesystem::absolute(job.manifest)).size());
   }
   job.render_args = options::forwarded_args(given, options::render_tasks, options::render);
   job.batch_args = options::forwarded_args(given, options::batch_tasks, options::batch);
   const std::vector<std::string> to_encode = options::forwarded_args(given, options::encode_job, options::encode);
-  for (std::size_t i = 0; i < to_encode.size(); i += 2) {
+  // (--flag value pairs, and flags alone: --alpha.)
+  const auto takes_value = [](const std::string& flag) {
+    for (const options::Option& o : options::registry())
+      if (o.flag_in(options::encode) == flag) return o.kind != options::Kind::flag;
+    return true;
+  };
+  for (std::size_t i = 0; i < to_encode.size(); ++i) {
     const std::string& flag = to_encode[i];
-    if (flag == options::option("codec").flag) continue;  // the farm gives it, with its default
+    if (!takes_value(flag)) {
+      job.encode_args.push_back(flag);
+      continue;
+    }
+    if (flag == options::option("codec").flag) {  // the farm gives it, with its default
+      ++i;
+      continue;
+    }
     // Files named here are found from the job's own directory too.
     const bool file = flag == options::option("poster").flag || flag == options::option("font").flag;
-    job.encode_args.insert(job.encode_args.end(), {flag, file ? std::filesystem::absolute(to_encode[i + 1]).string() : to_encode[i + 1]});
+    const std::string& value = to_encode.at(++i);
+    job.encode_args.insert(job.encode_args.end(), {flag, file ? std::filesystem::absolute(value).string() : value});
   }
   run_farm_slurm(job);
 }
@@ -82,6 +108,7 @@ void add_farm_command(CLI::App& app) {
                     {{"codec", options::recorded(given, "codec", options::to(job.codec, parse_video_codec))},
                      {"format", options::to(job.format, parse_frame_formats)},
                      {"web", options::recorded(given, "web", options::to(job.web))},
+                     {"alpha", options::recorded(given, "alpha", options::to(job.alpha))},
                      {"manifest", options::to(job.manifest)},
                      {"out-dir", options::to(job.out_dir)},
                      {"output", options::to(job.output)},

@@ -36,9 +36,10 @@ std::filesystem::path default_output(const TourArgs& a) {
 
 void run_tour(TourArgs& args) {
   install_interrupt_handlers();
-  const Scene scene = resolve_scene(args.scene);
   TourVideoJob& job = args.job;
   job.output = args.output.empty() ? default_output(args) : std::filesystem::path(args.output);
+  const Scene scene = resolve_scene(args.scene, video_codec_info(tour_video_codec(job.output)).name);
+  job.crf_given = args.scene.values.contains("crf");
   if (job.quiet) job.progress = ProgressMode::none;
   job.poster = poster_job(args.scene.values);
   job.caption = caption_args(args.scene.values);
@@ -52,12 +53,20 @@ void add_tour_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("tour", "Render a tour video of a mesh or a scene (the whole job on this machine).");
   cmd->description(
       "Render a tour video: load the model, compute the camera path, render every frame with the\n"
-      "ray tracer and encode them to an H.264 MP4. With no INPUT, renders the built-in default scene.\n"
-      "Options given here override the scene file; a mesh file gets the default scene's settings.");
+      "ray tracer and encode them to an H.264 MP4 (or the codec the output's name says: .mov ProRes, .mkv FFV1,\n"
+      ".webm VP9, .gif; --alpha keeps a transparent background's alpha in .mov, .webm and .mkv). With no INPUT,\n"
+      "renders the built-in default scene. The video loops: frame k of N is at k/N of the closed path.\n"
+      "Options given here override the scene file; a mesh file gets the default scene's settings.\n\n"
+      "Examples:\n"
+      "  meshtour tour bunny.ply -o bunny.mp4                                 # H.264, 1280x720, 30 fps\n"
+      "  meshtour tour bunny.ply --size vertical --fps 60 -o story.mp4        # 1080x1920 for phones\n"
+      "  meshtour tour bunny.ply --background transparent --alpha -o bunny.mov  # ProRes 4444 with alpha\n"
+      "  meshtour tour bunny.ply --background transparent --alpha -o bunny.webm # VP9 with alpha, for web pages");
   TourVideoJob& job = args->job;
   add_scene_options(*cmd, args->scene, options::tour,
                     {{"format", options::to(job.format, parse_frame_formats)},
                      {"threads", options::to(job.threads)},
+                     {"alpha", options::to(job.alpha)},
                      {"gltf", options::to(job.gltf)},
                      {"camera-frames", options::to(job.camera_frames)},
                      {"output", options::to(args->output)},

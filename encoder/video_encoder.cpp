@@ -131,6 +131,7 @@ void validate(const fs::path& output, const VideoOptions& o) {
                        " stores colour at half resolution and needs even sizes, use " +
                        std::to_string(v - 1) + " or " + std::to_string(v + 1));
   };
+  if (o.alpha) require_alpha_codec(o.codec);
   check_size("width", o.width);
   check_size("height", o.height);
   // H.264 levels stop at 8192x4320 (level 6.2); beyond 16384 a side players and encoders give up.
@@ -228,7 +229,16 @@ const AVCodec* find_encoder(VideoCodec codec) {
                        " encoder; install Debian's libavcodec59 (see scripts/install-deps.sh)");
 }
 
-AVPixelFormat encoder_pixel_format(VideoCodec codec) {
+AVPixelFormat encoder_pixel_format(VideoCodec codec, bool alpha) {
+  if (alpha) {
+    switch (codec) {
+      case VideoCodec::prores: return AV_PIX_FMT_YUVA444P10LE;  // ProRes 4444: full-resolution colour
+      case VideoCodec::ffv1: return AV_PIX_FMT_BGRA;             // bytes B, G, R, A: lossless
+      case VideoCodec::vp9: return AV_PIX_FMT_YUVA420P;          // libvpx codes the alpha as a second plane
+      case VideoCodec::h264:
+      case VideoCodec::gif: break;                                // refused by validate()
+    }
+  }
   switch (codec) {
     case VideoCodec::h264: return AV_PIX_FMT_YUV420P;
     case VideoCodec::prores: return AV_PIX_FMT_YUV422P10LE;
@@ -321,7 +331,7 @@ struct VideoEncoder::Impl {
         // Slices are coded independently, so the thread count only changes the speed.
         codec->thread_count = kEncoderThreads;
         codec->thread_type = FF_THREAD_SLICE;
-        set_private("profile", "hq");
+        set_private("profile", options.alpha ? "4444" : "hq");
         break;
       case VideoCodec::ffv1:
         // Level 3 (slices with CRCs, the archival standard), every frame a key frame so any
@@ -371,7 +381,7 @@ struct VideoEncoder::Impl {
     if (!codec) fail_libav(std::string("allocating the ") + encoder->name + " encoder", AVERROR(ENOMEM));
     codec->width = options.width;
     codec->height = options.height;
-    codec->pix_fmt = encoder_pixel_format(options.codec);
+    codec->pix_fmt = encoder_pixel_format(options.codec, options.alpha);
     codec->time_base = AVRational{1, options.fps};  // pts counts frames
     codec->framerate = AVRational{options.fps, 1};
     codec->sample_aspect_ratio = AVRational{1, 1};
@@ -389,6 +399,8 @@ struct VideoEncoder::Impl {
     stream->avg_frame_rate = codec->framerate;
     stream->r_frame_rate = codec->framerate;
     stream->sample_aspect_ratio = codec->sample_aspect_ratio;
+    // (VP9 with alpha: the Matroska muxer writes the track's AlphaMode, which tells players to
+    // decode the alpha plane libvpx stores beside each frame, from the yuva420p pixel format.)
 
     ret = avio_open(&format->pb, url.c_str(), AVIO_FLAG_WRITE);
     if (ret < 0)
@@ -427,7 +439,7 @@ struct VideoEncoder::Impl {
     // there, so frames are copied into a padded, zeroed buffer first.
     rgb_input.reset(av_frame_alloc());
     if (!rgb_input) fail_libav("allocating frame buffers", AVERROR(ENOMEM));
-    rgb_input->format = AV_PIX_FMT_RGB24;
+    rgb_input->format = options.alpha ? AV_PIX_FMT_RGBA : AV_PIX_FMT_RGB24;
     rgb_input->width = options.width;
     rgb_input->height = options.height;
     ret = av_frame_get_buffer(rgb_input.get(), 64);
@@ -436,7 +448,8 @@ struct VideoEncoder::Impl {
 
     // SWS_ACCURATE_RND | SWS_BITEXACT: exact rounding, and the same result with or without SIMD,
     // so the output bytes do not depend on the CPU.
-    sws.reset(sws_getContext(options.width, options.height, AV_PIX_FMT_RGB24, options.width,
+    // With alpha, swscale carries the alpha plane over unchanged: colour stays straight.
+    sws.reset(sws_getContext(options.width, options.height, static_cast<AVPixelFormat>(rgb_input->format), options.width,
                              options.height, codec->pix_fmt,
                              SWS_BICUBIC | SWS_ACCURATE_RND | SWS_BITEXACT | SWS_FULL_CHR_H_INP,
                              nullptr, nullptr, nullptr));
@@ -485,9 +498,11 @@ struct VideoEncoder::Impl {
     if (!filtered) fail_libav("allocating frame buffers", AVERROR(ENOMEM));
   }
 
-  // Packed RGB rows into a frame whose rows may be longer (aligned).
+  int bytes_per_pixel() const { return options.alpha ? 4 : 3; }
+
+  // Packed RGB(A) rows into a frame whose rows may be longer (aligned).
   void copy_rows(std::span<const std::uint8_t> rgb, AVFrame& dst) const {
-    const std::size_t row = static_cast<std::size_t>(options.width) * 3;
+    const std::size_t row = static_cast<std::size_t>(options.width) * static_cast<std::size_t>(bytes_per_pixel());
     for (int y = 0; y < options.height; ++y)
       std::memcpy(dst.data[0] + static_cast<std::ptrdiff_t>(y) * dst.linesize[0], rgb.data() + y * row, row);
   }
@@ -566,16 +581,17 @@ struct VideoEncoder::Impl {
     int ret = av_frame_make_writable(frame.get());
     if (ret < 0) fail_libav("preparing frame " + std::to_string(frames), ret);
     if (options.codec == VideoCodec::ffv1) {
-      // A plain copy into B, G, R, 0 order, so the archive holds exactly the given pixels.
+      // A plain copy into B, G, R, 0 (or A) order, so the archive holds exactly the given pixels.
       const std::size_t width = static_cast<std::size_t>(options.width);
+      const std::size_t n = static_cast<std::size_t>(bytes_per_pixel());
       for (int y = 0; y < options.height; ++y) {
-        const std::uint8_t* src = rgb.data() + y * width * 3;
+        const std::uint8_t* src = rgb.data() + y * width * n;
         std::uint8_t* dst = frame->data[0] + static_cast<std::ptrdiff_t>(y) * frame->linesize[0];
         for (std::size_t x = 0; x < width; ++x) {
-          dst[4 * x] = src[3 * x + 2];
-          dst[4 * x + 1] = src[3 * x + 1];
-          dst[4 * x + 2] = src[3 * x];
-          dst[4 * x + 3] = 0;
+          dst[4 * x] = src[n * x + 2];
+          dst[4 * x + 1] = src[n * x + 1];
+          dst[4 * x + 2] = src[n * x];
+          dst[4 * x + 3] = n == 4 ? src[n * x + 3] : 0;
         }
       }
       return;
@@ -587,11 +603,11 @@ struct VideoEncoder::Impl {
   void add_frame(std::span<const std::uint8_t> rgb) {
     require_open("add_frame");
     const std::size_t expected = static_cast<std::size_t>(options.width) *
-                                 static_cast<std::size_t>(options.height) * 3;
+                                 static_cast<std::size_t>(options.height) * static_cast<std::size_t>(bytes_per_pixel());
     if (rgb.size() != expected)
       throw InputError("video frame " + std::to_string(frames) + " for " + quoted(output) + " has " +
                        std::to_string(rgb.size()) + " bytes; a " + std::to_string(options.width) +
-                       "x" + std::to_string(options.height) + " RGB frame needs " +
+                       "x" + std::to_string(options.height) + (options.alpha ? " RGBA" : " RGB") + " frame needs " +
                        std::to_string(expected));
     try {
       if (graph) {

@@ -1,6 +1,7 @@
 #pragma once
 // Video writer on libavcodec/libavformat/libswscale/libavfilter (no ffmpeg subprocess): H.264
-// MP4, ProRes MOV, FFV1 MKV, VP9 WebM or animated GIF. Frames go in as 8-bit sRGB RGB; the file
+// MP4, ProRes MOV, FFV1 MKV, VP9 WebM or animated GIF. Frames go in as 8-bit sRGB RGB (or RGBA
+// with straight alpha, for the codecs that keep it); the file
 // appears under its final name only when finish() succeeds, so a crash or an error never leaves a
 // half-written video behind. Every encoder setting, its thread count included, follows from
 // VideoOptions alone: the same frames and options give the same file bytes on any machine with
@@ -28,6 +29,9 @@ struct VideoOptions {
   /// InputError (ProRes has a fixed profile, FFV1 is lossless, GIF is palette-limited).
   std::optional<int> crf;
   std::string preset = "medium";  ///< x264 speed preset (ultrafast .. veryslow); h264 only
+  /// Frames carry straight (not premultiplied) alpha and the file keeps it: ProRes 4444, VP9 with
+  /// its alpha plane, FFV1 RGBA. An InputError for h264 and gif, which cannot carry alpha.
+  bool alpha = false;
 };
 
 /// Writes one video file. Not copyable; the destructor discards an unfinished file.
@@ -42,7 +46,8 @@ public:
   VideoEncoder(const VideoEncoder&) = delete;
   VideoEncoder& operator=(const VideoEncoder&) = delete;
 
-  /// Appends one frame: width*height*3 bytes, rows top to bottom, RGB order, sRGB-encoded.
+  /// Appends one frame: width*height*3 bytes, rows top to bottom, RGB order, sRGB-encoded; with
+  /// VideoOptions::alpha width*height*4 bytes, RGBA with straight alpha (as PNG stores it).
   /// \throw InputError if the size is wrong, RuntimeFailure if encoding fails, IoError if writing
   ///        fails. After a RuntimeFailure/IoError the file is discarded and the encoder is unusable.
   /// GIF keeps every frame until finish() (its palette is computed over the whole clip).

@@ -65,7 +65,7 @@ void add_rows(CLI::App& cmd, Command command, Values& values, const Bindings* bo
   for (const auto& [o, opt] : added) {
     if (o->excludes.empty()) continue;
     for (const auto& [other, other_opt] : added)
-      if (other->id == o->excludes) opt->excludes(other_opt);
+      if (o->excludes_option(other->id)) opt->excludes(other_opt);
   }
 }
 

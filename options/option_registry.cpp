@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "core/frame_sizes.h"
 #include "core/memory_size.h"
 #include "encoder/video_codecs.h"
 #include "jobs/frame_range.h"
@@ -33,12 +34,25 @@ std::vector<Option> make_registry() {
   std::vector<Option> r;
   const auto add = [&r](Option o) { r.push_back(std::move(o)); };
   // ---- Tour: size, timing, camera
+  // Before width and height: a scene file's output.width or output.height refines its output.size.
+  static const std::string size_help = [] {
+    std::string help = "Frame size by name, instead of --width and --height:";
+    for (const NamedSize& s : kNamedSizes)
+      help += std::string(&s == &kNamedSizes.front() ? " " : ",\n") + std::string(s.name) + " " + std::to_string(s.width) +
+              "x" + std::to_string(s.height) + " (" + std::string(s.use) + ")";
+    return help;
+  }();
+  std::vector<std::string_view> size_names;
+  for (const NamedSize& s : kNamedSizes) size_names.push_back(s.name);
+  add({.id = "size", .flag = "--size", .kind = Kind::choice, .type_name = "NAME", .choices = size_names, .ignore_case = true,
+       .help = size_help, .scene_key = "output.size", .manifest_column = true, .commands = kRendering | path | evaluate,
+       .farm = kToTasks, .excludes = "width,height"});
   add({.id = "width", .flag = "--width", .kind = Kind::integer, .lo = 2, .hi = 16384, .default_text = "1280",
        .help = "Frame width in pixels, even (default 1280)", .scene_key = "output.width", .manifest_column = true,
-       .commands = kRendering | path | evaluate, .farm = kToTasks});
+       .commands = kRendering | path | evaluate, .farm = kToTasks, .excludes = "size"});
   add({.id = "height", .flag = "--height", .kind = Kind::integer, .lo = 2, .hi = 16384, .default_text = "720",
        .help = "Frame height in pixels, even (default 720)", .scene_key = "output.height", .manifest_column = true,
-       .commands = kRendering | path | evaluate, .farm = kToTasks});
+       .commands = kRendering | path | evaluate, .farm = kToTasks, .excludes = "size"});
   add({.id = "fps", .flag = "--fps", .kind = Kind::integer, .lo = 1, .hi = 240, .default_text = "30",
        .help = "Frames per second (default 30; encode: the manifest's, else 30)", .scene_key = "timing.fps",
        .manifest_column = true, .commands = kRendering | path | encode, .farm = kToTasks | encode_job});
@@ -126,7 +140,8 @@ std::vector<Option> make_registry() {
                     "Deterministic: the same bits for any thread count, CPU and farm split.",
        .scene_key = "output.denoise", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "background", .flag = "--background", .kind = Kind::choice, .choices = {"gradient", "transparent"},
-       .help = "gradient, or transparent (PNG frames get alpha; the ground's shadows stay, as alpha)",
+       .help = "gradient, or transparent (PNG frames get straight alpha: clear background and ground, the ground's\n"
+               "shadows stay as partial alpha; --alpha keeps it in .mov and .webm video)",
        .scene_key = "look.background", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "exposure", .flag = "--exposure", .kind = Kind::number, .lo = -20, .hi = 20,
        .help = "Exposure in stops for PNG frames and the video (EXR stays linear; encode: for EXR frames, default from\n"
@@ -144,6 +159,12 @@ std::vector<Option> make_registry() {
   add({.id = "codec", .flag = "--codec", .kind = Kind::choice, .choices = {"h264", "prores", "ffv1", "vp9", "gif"},
        .default_text = "h264", .help = "Video codec: h264 (default, .mp4), prores (.mov), ffv1 (.mkv), vp9 (.webm) or gif",
        .commands = farm | encode, .farm = encode_job});
+  add({.id = "alpha", .flag = "--alpha", .kind = Kind::flag,
+       .help = "Keep the frames' alpha in the video, straight (not premultiplied) as editors and browsers expect:\n"
+               "ProRes 4444 (.mov), VP9 with alpha (.webm) or FFV1 RGBA (.mkv); h264 and gif cannot carry it.\n"
+               "Needs transparent frames (--background transparent; encode: RGBA PNG frames). Without it they\n"
+               "are shown over black. farm slurm: its encode job keeps it (give --codec prores, vp9 or ffv1)",
+       .commands = tour | farm | encode, .farm = encode_job});
   // ---- Frames and jobs
   add({.id = "frame-selection", .flag = "--frames", .kind = Kind::frame_selection, .default_text = "all",
        .help = "Frames to use, numbered from 0: all (default), A, A-B, A-B:S (every S-th), or a comma-separated\n"

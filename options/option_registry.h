@@ -91,13 +91,23 @@ struct Option {
   /// because its --frames selects frames).
   std::string_view alt_flag;
   unsigned alt_flag_commands = 0;
-  std::string_view excludes;        ///< id of an option that cannot be given together with this one
+  /// Ids of the options that cannot be given together with this one, comma-separated ("width,height").
+  std::string_view excludes;
   /// The range is the video codec's (CRF: encoder/video_codecs.h); lo..hi is the widest of them.
   bool codec_dependent = false;
   bool even_sides = false;          ///< Kind::size: both sides even (video chroma subsampling)
   unsigned required = 0;            ///< Command bits of the commands that need it
   std::vector<CommandMeaning> meanings;  ///< per-command help, default or kind
 
+  /// Whether `id` is one of the options this one excludes.
+  bool excludes_option(std::string_view id) const {
+    for (std::string_view rest = excludes; !rest.empty();) {
+      const std::size_t comma = rest.find(',');
+      if (rest.substr(0, comma) == id) return true;
+      rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+    }
+    return false;
+  }
   /// The flag this option has in `command`.
   std::string_view flag_in(Command command) const { return (alt_flag_commands & command) ? alt_flag : flag; }
   /// The help, default and kind of the option in `command`.

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/frame_sizes.h"
 #include "core/json_reader.h"
 #include "mesh/up_axis.h"
 #include "default_scene.h"
@@ -158,6 +159,12 @@ const std::map<std::string_view, SceneSetter>& scene_bindings() {
   using S = Scene&;
   using T = const std::string&;
   static const std::map<std::string_view, SceneSetter> table = {
+      {"size",
+       [](S s, T t) {
+         const NamedSize size = *named_size(t);  // checked against the registry's choices
+         s.render.width = size.width;
+         s.render.height = size.height;
+       }},
       {"width", [](S s, T t) { s.render.width = whole(t); }},
       {"height", [](S s, T t) { s.render.height = whole(t); }},
       {"fps", [](S s, T t) { s.fps = whole(t); }},

@@ -620,5 +620,68 @@ TEST(FarmSlurm, CaptionAndPosterGoToTheEncodeJobOnly) {
   EXPECT_NE(encode.find("'--poster' '" + (test::source_dir() / "p.png").string() + "'"), std::string::npos) << encode;
 }
 
+// --size reaches the path searched at submission, the frames manifest and every render task (a
+// named size, checked without rendering at 1080x1080); --alpha reaches the encode job, whose
+// ProRes 4444 video keeps the frames' alpha; what the encode job would refuse is refused at
+// submission.
+TEST(FarmSlurm, SizeReachesTheTasksAndAlphaTheEncodeJob) {
+  const auto dir = test::scratch_dir();
+  auto r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / "square") + " --path turntable --frames 4 --size square -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(test::file_bytes(dir / "square" / "render.sbatch").find("'--size' 'square'"), std::string::npos);
+  const auto frames = nlohmann::json::parse(test::file_bytes(dir / "square" / "frames" / "meshtour-frames.json"));
+  EXPECT_EQ(frames["width"], 1080);
+  EXPECT_EQ(frames["height"], 1080);
+  EXPECT_EQ(nlohmann::json::parse(test::file_bytes(dir / "square" / "path.json"))["made_for"]["aspect"], "1");
+  std::ofstream(dir / "m.csv") << "mesh\na.obj\n";
+  r = run_meshtour("farm slurm --manifest " + test::shell_quoted(dir / "m.csv") + " --out-dir " + test::shell_quoted(dir / "batch") + " --size vertical -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(test::file_bytes(dir / "batch" / "batch.sbatch").find("'--size' 'vertical'"), std::string::npos);
+
+  const std::string tour = " --path turntable --frames 4 --width 64 --height 48 --spp 1 --background transparent";
+  r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / "alpha") + tour + " --alpha --codec prores --chunk-size 4 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string render = test::file_bytes(dir / "alpha" / "render.sbatch"), encode = test::file_bytes(dir / "alpha" / "encode.sbatch");
+  EXPECT_NE(render.find("'--background' 'transparent'"), std::string::npos) << render;
+  EXPECT_EQ(render.find("--alpha"), std::string::npos) << render;
+  EXPECT_NE(encode.find("'--codec' 'prores' '--alpha'"), std::string::npos) << encode;
+  r = run_meshtour("--version && SLURM_ARRAY_TASK_ID=0 SLURM_CPUS_PER_TASK=1 bash " + test::shell_quoted(dir / "alpha" / "render.sbatch") +
+                   " && bash " + test::shell_quoted(dir / "alpha" / "encode.sbatch"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto video = test::probe_video(dir / "alpha" / "meshtour-default.mov", {3});
+  EXPECT_NE(video.decoded_pixel_format.find("yuva444p"), std::string::npos) << video.decoded_pixel_format;
+  OIIO::ImageBuf frame((dir / "alpha" / "frames" / "frame_000003.png").string());
+  ASSERT_TRUE(frame.read(0, 0, true, OIIO::TypeDesc::UINT8));
+  ASSERT_EQ(frame.spec().nchannels, 4);
+  std::vector<std::uint8_t> png(64 * 48 * 4);
+  ASSERT_TRUE(frame.get_pixels(frame.roi(), OIIO::TypeDesc::UINT8, png.data()));
+  const auto& rgba = video.rgba_frames.at(0);
+  ASSERT_EQ(rgba.size(), png.size());
+  double alpha_error = 0, clear = 0;
+  for (std::size_t p = 0; p < png.size() / 4; ++p) {
+    alpha_error += std::abs(rgba[p * 4 + 3] - png[p * 4 + 3]);
+    clear += png[p * 4 + 3] == 0;
+  }
+  alpha_error /= static_cast<double>(png.size() / 4);
+  EXPECT_GT(clear / static_cast<double>(png.size() / 4), 0.3) << "the frame has clear background to keep";
+  EXPECT_LT(alpha_error, 0.5) << "the encode job's video lost the frames' alpha";
+
+  struct Refused {
+    std::string args, expected;
+  };
+  for (const Refused& c : {Refused{tour + " --alpha", "h264 (.mp4) cannot carry alpha"},
+                           Refused{" --path turntable --frames 4 --alpha --codec vp9", "--alpha needs a transparent background"},
+                           Refused{tour + " --alpha --codec ffv1 --format exr", "--alpha encodes the PNG frames"}}) {
+    r = run_meshtour("farm slurm --out-dir " + test::shell_quoted(dir / "refused") + c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+  }
+  r = run_meshtour("farm slurm --manifest " + test::shell_quoted(dir / "m.csv") + " --out-dir " + test::shell_quoted(dir / "refused") +
+                   " --background transparent --alpha --codec prores");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("cannot carry alpha"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused" / "encode.sbatch"));
+}
+
 }  // namespace
 }  // namespace meshtour

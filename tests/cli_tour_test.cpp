@@ -3,6 +3,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -163,6 +164,27 @@ TEST(TourCommand, BadInputGivesOneClearLineAndNoVideo) {
   }
   // Nothing half-written anywhere: only the inputs remain.
   EXPECT_EQ(count_files(dir), 4u);
+}
+
+// --size NAME: an unknown name is one line listing every name; a name with --width is refused;
+// a named size reaches the path (planned for its aspect) without rendering a frame that large.
+TEST(TourCommand, SizeByNameRefusesUnknownNamesWithTheList) {
+  const auto dir = test::scratch_dir();
+  auto r = run_meshtour("tour --size tall --frames 2 -q -o " + test::shell_quoted(dir / "x.mp4"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  for (const char* name : {"tall", "720p", "1080p", "1440p", "4k", "vertical", "vertical-720", "square", "portrait"})
+    EXPECT_NE(r.output.find(name), std::string::npos) << name << ": " << r.output;
+  r = run_meshtour("tour --size square --width 640 --frames 2 -q -o " + test::shell_quoted(dir / "x.mp4"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find("--width"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.mp4"));
+  std::ofstream(dir / "tetra.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  r = run_meshtour("path " + test::shell_quoted(dir / "tetra.obj") + " --path turntable --size vertical --frames 2 -q -o " +
+                   test::shell_quoted(dir / "p.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(test::file_bytes(dir / "p.json").find("\"aspect\": \"0.5625\""), std::string::npos) << test::file_bytes(dir / "p.json");
 }
 
 TEST(Cli, HelpAndVersion) {

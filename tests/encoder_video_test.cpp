@@ -14,6 +14,7 @@ extern "C" {
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -397,6 +398,122 @@ TEST(EncoderVideo, ReplacesExistingFileAndAcceptsColonInName) {
   encode(file, small_options(), 3);
   EXPECT_EQ(probe_video(file).decoded_frames, 3);
   EXPECT_EQ(directory_entries(file.parent_path()), std::vector<std::string>{"take:2.mp4"});
+}
+
+
+// ---- Video with alpha (VideoOptions::alpha): the alpha and the straight colour come back.
+
+// Blocks of one colour each (so 4:2:0 chroma is exact inside them) at four alpha levels: opaque,
+// half, a quarter and clear, in columns; the colour rows differ in every channel. Straight alpha:
+// the colour stays the same whatever the alpha, so a premultiplying encoder (or reader) would
+// darken the half and quarter columns by 2x and 4x, far outside the tolerance.
+constexpr std::array<std::uint8_t, 4> kAlphaLevels = {255, 128, 64, 0};
+constexpr std::array<std::array<std::uint8_t, 3>, 2> kAlphaColours = {{{200, 60, 30}, {40, 150, 220}}};
+
+std::vector<std::uint8_t> make_alpha_frame() {
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(kWidth) * kHeight * 4);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      std::uint8_t* p = &rgba[(static_cast<std::size_t>(y) * kWidth + x) * 4];
+      const auto& colour = kAlphaColours[static_cast<std::size_t>(y * 2 / kHeight)];
+      p[0] = colour[0], p[1] = colour[1], p[2] = colour[2];
+      p[3] = kAlphaLevels[static_cast<std::size_t>(x * 4 / kWidth)];
+    }
+  return rgba;
+}
+
+struct AlphaError {
+  int alpha = 0;   ///< largest |alpha - expected| at the blocks' centres
+  int colour = 0;  ///< largest |colour - expected| there, where alpha >= 64 (clear pixels have no colour)
+};
+
+// Compares the centre 8x8 of each block of decoded frame `rgba` with make_alpha_frame().
+AlphaError alpha_error(const std::vector<std::uint8_t>& rgba) {
+  AlphaError e;
+  const std::vector<std::uint8_t> expected = make_alpha_frame();
+  EXPECT_EQ(rgba.size(), expected.size());
+  if (rgba.size() != expected.size()) return {255, 255};
+  for (int by = 0; by < 2; ++by)
+    for (int bx = 0; bx < 4; ++bx) {
+      const int cx = bx * kWidth / 4 + kWidth / 8, cy = by * kHeight / 2 + kHeight / 4;
+      for (int y = cy - 4; y < cy + 4; ++y)
+        for (int x = cx - 4; x < cx + 4; ++x) {
+          const std::size_t i = (static_cast<std::size_t>(y) * kWidth + x) * 4;
+          e.alpha = std::max(e.alpha, std::abs(rgba[i + 3] - expected[i + 3]));
+          if (expected[i + 3] >= 64)
+            for (int c = 0; c < 3; ++c) e.colour = std::max(e.colour, std::abs(rgba[i + c] - expected[i + c]));
+        }
+    }
+  return e;
+}
+
+test::VideoProbe encode_alpha(const fs::path& file, VideoCodec codec, const std::string& decoder = {}) {
+  VideoOptions o = small_options();
+  o.codec = codec;
+  o.alpha = true;
+  VideoEncoder encoder(file, o);
+  for (int i = 0; i < 6; ++i) encoder.add_frame(make_alpha_frame());
+  encoder.finish();
+  return probe_video(file, {0, 5}, decoder);
+}
+
+// Measured at the blocks' centres: ProRes 4444 alpha and colour exact; VP9 (crf 31) alpha within 1,
+// colour exact. Premultiplied colour would be off by 100 (half alpha), a dropped alpha by 127.
+TEST(EncoderVideo, ProRes4444KeepsStraightAlpha) {
+  const fs::path dir = scratch_dir();
+  const test::VideoProbe p = encode_alpha(dir / "alpha.mov", VideoCodec::prores);
+  EXPECT_EQ(p.codec, "prores");
+  EXPECT_NE(p.decoded_pixel_format.find("yuva444p"), std::string::npos) << p.decoded_pixel_format;
+  EXPECT_EQ(p.decoded_frames, 6);
+  for (const auto& frame : p.rgba_frames) {
+    const AlphaError e = alpha_error(frame);
+    EXPECT_LE(e.alpha, 2);
+    EXPECT_LE(e.colour, 3);
+  }
+}
+
+TEST(EncoderVideo, Vp9KeepsStraightAlphaForTheLibvpxDecoder) {
+  const fs::path dir = scratch_dir();
+  // The native VP9 decoder ignores WebM's alpha; libvpx-vp9 decodes it (as browsers do).
+  const test::VideoProbe p = encode_alpha(dir / "alpha.webm", VideoCodec::vp9, "libvpx-vp9");
+  EXPECT_EQ(p.codec, "vp9");
+  EXPECT_EQ(p.alpha_mode, "1");  // the track header browsers need to play the alpha
+  EXPECT_EQ(p.decoded_pixel_format, "yuva420p");
+  EXPECT_EQ(p.decoded_frames, 6);
+  for (const auto& frame : p.rgba_frames) {
+    const AlphaError e = alpha_error(frame);
+    EXPECT_LE(e.alpha, 6);
+    EXPECT_LE(e.colour, 6);
+  }
+}
+
+TEST(EncoderVideo, Ffv1KeepsAlphaExactly) {
+  const fs::path dir = scratch_dir();
+  const test::VideoProbe p = encode_alpha(dir / "alpha.mkv", VideoCodec::ffv1);
+  for (const auto& frame : p.rgba_frames) EXPECT_EQ(frame, make_alpha_frame());
+}
+
+TEST(EncoderVideo, AlphaWithACodecThatCannotCarryItIsRefused) {
+  const fs::path dir = scratch_dir();
+  for (const auto& [codec, name] : {std::pair{VideoCodec::h264, "x.mp4"}, std::pair{VideoCodec::gif, "x.gif"}}) {
+    VideoOptions o = small_options();
+    o.codec = codec;
+    o.alpha = true;
+    try {
+      VideoEncoder encoder(dir / name, o);
+      FAIL() << name << ": alpha accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("cannot carry alpha"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("prores (.mov)"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+  // An RGB frame given to an encoder that expects RGBA is the wrong size.
+  VideoOptions o = small_options();
+  o.codec = VideoCodec::prores;
+  o.alpha = true;
+  VideoEncoder encoder(dir / "x.mov", o);
+  EXPECT_THROW(encoder.add_frame(make_frame(0)), InputError);
 }
 
 }  // namespace

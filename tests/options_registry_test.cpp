@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/frame_sizes.h"
 #include "helpers.h"
 #include "options/batch_manifest.h"
 #include "options/cli_options.h"
@@ -294,6 +295,53 @@ TEST(OptionRegistry, ManifestAcceptsEveryPathMode) {
   const auto dir = test::scratch_dir();
   std::ofstream(dir / "m.csv") << "mesh,path\na.ply,feature-orbit\nb.ply,paper\nc.ply,turntable\n";
   for (const auto& item : read_batch_manifest(dir / "m.csv")) EXPECT_EQ(item.error, "") << item.index;
+}
+
+}  // namespace
+}  // namespace meshtour
+
+namespace meshtour {
+namespace {
+
+// --size: each name sets both sides (even, for every codec); a bad name is refused with the list
+// of names; it cannot be given with --width or --height, and a manifest's width column replaces a
+// batch-wide --size.
+TEST(OptionRegistry, NamedSizesSetBothSidesAndExcludeWidthAndHeight) {
+  for (const NamedSize& n : kNamedSizes) {
+    const Scene s = resolve_scene("", {{"size", std::string(n.name)}});
+    EXPECT_EQ(s.render.width, n.width) << n.name;
+    EXPECT_EQ(s.render.height, n.height) << n.name;
+    EXPECT_EQ(n.width % 2 + n.height % 2, 0) << n.name;
+  }
+  const auto size_of = [](const std::string& name) {
+    const Scene s = resolve_scene("", {{"size", options::normalize_value(options::option("size"), name)}});
+    return std::to_string(s.render.width) + "x" + std::to_string(s.render.height);
+  };
+  EXPECT_EQ(size_of("vertical"), "1080x1920");
+  EXPECT_EQ(size_of("square"), "1080x1080");
+  EXPECT_EQ(size_of("4K"), "3840x2160");
+  EXPECT_EQ(size_of("1080p"), "1920x1080");
+
+  // The names are no value of the options a size could be confused with.
+  for (const NamedSize& n : kNamedSizes)
+    for (const char* other : {"format", "preset", "codec", "background"})
+      for (const std::string_view choice : options::option(other).choices) EXPECT_NE(choice, n.name) << other;
+
+  const std::string bad = options::check_value(options::option("size"), "tall");
+  for (const char* name : {"720p", "1080p", "4k", "vertical", "square"})
+    EXPECT_NE(bad.find(name), std::string::npos) << bad;
+  const auto [values, error] = parse_cli(options::tour, {"--size", "bogus"});
+  EXPECT_NE(error.find("vertical"), std::string::npos) << error;
+
+  for (const char* side : {"--width", "--height"}) {
+    const std::string both = parse_cli(options::tour, {"--size", "square", side, "640"}).second;
+    EXPECT_NE(both.find("excludes"), std::string::npos) << both;
+  }
+  const std::string from_scene_file = R"({"format": "meshtour-scene/1", "model": {"procedural": "sculpture"},
+                                         "output": {"size": "vertical"}})";
+  const Scene file = parse_scene(from_scene_file, "t.json", "/");
+  EXPECT_EQ(file.render.width, 1080);
+  EXPECT_EQ(file.render.height, 1920);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
+#include <libavutil/dict.h>
 #include <libavutil/error.h>
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
@@ -74,9 +75,38 @@ std::vector<std::uint8_t> to_rgb(const std::filesystem::path& file, const AVFram
   return rgb;
 }
 
+// Converts one decoded frame to packed RGBA with straight alpha (colour as to_rgb reads it; the
+// alpha plane is carried over as it is; 255 where the frame has none).
+std::vector<std::uint8_t> to_rgba(const std::filesystem::path& file, const AVFrame& frame) {
+  const std::vector<std::uint8_t> rgb = to_rgb(file, frame);
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(frame.width) * frame.height * 4, 255);
+  for (std::size_t p = 0, n = static_cast<std::size_t>(frame.width) * frame.height; p < n; ++p)
+    for (int c = 0; c < 3; ++c) rgba[p * 4 + static_cast<std::size_t>(c)] = rgb[p * 3 + static_cast<std::size_t>(c)];
+  const AVPixFmtDescriptor* desc = av_pix_fmt_desc_get(static_cast<AVPixelFormat>(frame.format));
+  if (!desc || !(desc->flags & AV_PIX_FMT_FLAG_ALPHA)) return rgba;
+  // Alpha by hand from its component: the plane (planar formats) or the byte (packed 8-bit RGBA
+  // kinds), scaled from its bit depth to 8 bits with rounding.
+  const AVComponentDescriptor& a = desc->comp[3];
+  const int bits = a.depth;
+  for (int y = 0; y < frame.height; ++y)
+    for (int x = 0; x < frame.width; ++x) {
+      const std::uint8_t* row = frame.data[a.plane] + static_cast<std::ptrdiff_t>(y) * frame.linesize[a.plane];
+      unsigned v = 0;
+      if (bits <= 8) {
+        v = row[x * a.step + a.offset];
+      } else {
+        const std::uint8_t* q = row + x * a.step + a.offset;
+        v = (static_cast<unsigned>(q[0]) | static_cast<unsigned>(q[1]) << 8) >> a.shift;  // little-endian
+        v = (v * 255u + ((1u << bits) - 1u) / 2u) / ((1u << bits) - 1u);
+      }
+      rgba[(static_cast<std::size_t>(y) * frame.width + x) * 4 + 3] = static_cast<std::uint8_t>(v);
+    }
+  return rgba;
+}
+
 }  // namespace
 
-VideoProbe probe_video(const std::filesystem::path& file, const std::vector<int>& keep) {
+VideoProbe probe_video(const std::filesystem::path& file, const std::vector<int>& keep, const std::string& decoder_name) {
   const std::string url = "file:" + file.string();
   AVFormatContext* raw = nullptr;
   int ret = avformat_open_input(&raw, url.c_str(), nullptr, nullptr);
@@ -100,9 +130,13 @@ VideoProbe probe_video(const std::filesystem::path& file, const std::vector<int>
                                ? static_cast<double>(stream->duration) * av_q2d(stream->time_base)
                                : static_cast<double>(input->duration) / AV_TIME_BASE;
   probe.stream_frames = stream->nb_frames;
+  // Matroska/WebM: the demuxer reports a track's AlphaMode element as this stream tag.
+  if (const AVDictionaryEntry* tag = av_dict_get(stream->metadata, "alpha_mode", nullptr, 0)) probe.alpha_mode = tag->value;
 
-  const AVCodec* decoder = avcodec_find_decoder(par->codec_id);
-  if (!decoder) fail(file, std::string("no decoder for ") + probe.codec, AVERROR_DECODER_NOT_FOUND);
+  const AVCodec* decoder =
+      decoder_name.empty() ? avcodec_find_decoder(par->codec_id) : avcodec_find_decoder_by_name(decoder_name.c_str());
+  if (!decoder)
+    fail(file, "no decoder " + (decoder_name.empty() ? "for " + probe.codec : decoder_name), AVERROR_DECODER_NOT_FOUND);
   std::unique_ptr<AVCodecContext, CodecDeleter> codec(avcodec_alloc_context3(decoder));
   if (!codec) fail(file, "allocating decoder", AVERROR(ENOMEM));
   ret = avcodec_parameters_to_context(codec.get(), par);
@@ -115,6 +149,7 @@ VideoProbe probe_video(const std::filesystem::path& file, const std::vector<int>
   std::unique_ptr<AVFrame, FrameDeleter> frame(av_frame_alloc());
   if (!packet || !frame) fail(file, "allocating buffers", AVERROR(ENOMEM));
   probe.rgb_frames.resize(keep.size());
+  probe.rgba_frames.resize(keep.size());
 
   // Decoded frames come out in display order, so the running count is the frame index.
   auto drain = [&] {
@@ -123,7 +158,14 @@ VideoProbe probe_video(const std::filesystem::path& file, const std::vector<int>
       if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
       if (r < 0) fail(file, "decoding", r);
       for (std::size_t k = 0; k < keep.size(); ++k)
-        if (keep[k] == probe.decoded_frames) probe.rgb_frames[k] = to_rgb(file, *frame);
+        if (keep[k] == probe.decoded_frames) {
+          probe.rgb_frames[k] = to_rgb(file, *frame);
+          probe.rgba_frames[k] = to_rgba(file, *frame);
+        }
+      if (probe.decoded_frames == 0) {
+        const char* name = av_get_pix_fmt_name(static_cast<AVPixelFormat>(frame->format));
+        probe.decoded_pixel_format = name ? name : "unknown";
+      }
       ++probe.decoded_frames;
       av_frame_unref(frame.get());
     }

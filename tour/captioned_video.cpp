@@ -6,6 +6,10 @@ namespace meshtour {
 
 CaptionedVideo::CaptionedVideo(VideoEncoder& encoder, const VideoOptions& video, const CaptionArgs& args)
     : encoder_(encoder), video_(video), args_(args) {
+  // The caption and the title card are drawn on opaque RGB; they would need their own alpha.
+  if (video.alpha && args_.any())
+    throw InputError("--caption and --title-card are not drawn into video with alpha; leave them out, or leave out "
+                     "--alpha (the frames then show over black)");
   if (args_.caption) caption_ = std::make_unique<CaptionBurner>(video.width, video.height, *args_.caption);
 }
 

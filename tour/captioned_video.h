@@ -24,6 +24,7 @@ struct CaptionArgs {
 class CaptionedVideo {
 public:
   /// Builds the caption filter now, so a caption that does not fit fails before any rendering.
+  /// \throw InputError for a caption or title card on video with alpha (VideoOptions::alpha).
   CaptionedVideo(VideoEncoder& encoder, const VideoOptions& video, const CaptionArgs& args);
   ~CaptionedVideo();
   CaptionedVideo(const CaptionedVideo&) = delete;
@@ -33,7 +34,7 @@ public:
   bool needs_poster() const { return args_.title_card > 0.0; }
   /// The poster frame (8-bit sRGB RGB), for the title card.
   void start(std::span<const std::uint8_t> poster_rgb);
-  /// One tour frame (8-bit sRGB RGB).
+  /// One tour frame (8-bit sRGB RGB; RGBA with straight alpha for video with alpha).
   void add(std::span<const std::uint8_t> rgb);
   /// Flushes the title card and finishes the encoder.
   void finish();

@@ -8,6 +8,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -20,6 +22,7 @@
 #include "jobs/frame_dir.h"
 #include "jobs/frame_range.h"
 #include "tour/progress.h"
+#include "tracer/color.h"
 #include "tracer/tracer.h"
 
 namespace meshtour {
@@ -53,8 +56,7 @@ VideoCodec choose_codec(const EncodeJob& a) {
                        "; name the file *" + std::string(info.extension));
     return info.codec;
   }
-  for (const auto& info : video_codecs())
-    if (info.extension == ext) return info.codec;
+  if (const std::optional<VideoCodec> codec = codec_for_extension(ext)) return *codec;
   std::string list;
   for (const auto& info : video_codecs())
     list += (list.empty() ? "" : ", ") + std::string(info.extension) + " (" + std::string(info.name) + ")";
@@ -105,6 +107,7 @@ EncodePlan make_plan(const EncodeJob& a) {
 // What a frame file holds, from its header only.
 struct FrameHeader {
   int width = 0, height = 0, channels = 0;
+  bool alpha = false;  // an alpha channel (PNG: grey+alpha or RGBA; EXR: "A")
   std::string error;  // empty when the file could be opened as an image
 };
 
@@ -120,6 +123,7 @@ FrameHeader read_header(const fs::path& file) {
   h.width = spec.width;
   h.height = spec.height;
   h.channels = spec.nchannels;
+  h.alpha = spec.alpha_channel >= 0 || h.channels == 2 || h.channels == 4;
   in->close();
   return h;
 }
@@ -133,9 +137,9 @@ std::string one_line(std::string text) {
 
 // Checks that every frame exists, opens as an image and has the tour's size; throws one
 // InputError naming all the frames at fault. Fills in the size when there is no manifest.
-void check_frames(EncodePlan& plan) {
+void check_frames(EncodePlan& plan, bool alpha) {
   const std::vector<int> missing = missing_frames(plan.dir, plan.frames, plan.extension);
-  std::vector<int> unreadable, wrong_size;
+  std::vector<int> unreadable, wrong_size, opaque;
   std::string first_unreadable, first_wrong;
   for (const int k : plan.frames) {
     throw_if_interrupted();
@@ -153,7 +157,12 @@ void check_frames(EncodePlan& plan) {
         first_wrong = file.filename().string() + " is " + std::to_string(h.width) + "x" + std::to_string(h.height);
       wrong_size.push_back(k);
     }
+    if (alpha && !h.alpha) opaque.push_back(k);
   }
+  if (missing.empty() && unreadable.empty() && wrong_size.empty() && !opaque.empty())
+    throw InputError(plan.dir.string() + ": --alpha, but frames " + format_frame_range(opaque) + " have no alpha (e.g. " +
+                     frame_file(plan.dir, opaque.front(), plan.extension).filename().string() +
+                     "); render them with --background transparent, or leave out --alpha");
   if (missing.empty() && unreadable.empty() && wrong_size.empty()) return;
 
   const std::string total = std::to_string(plan.frames.size());
@@ -190,8 +199,14 @@ struct DisplayTransform {
   std::optional<ToneMapping> tone_mapping;  // unset: from the EXR header, else filmic
 };
 
-// Reads one frame as 8-bit sRGB RGB, the encoder's input.
-std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& plan, const DisplayTransform& display) {
+// Reads one frame as 8-bit sRGB RGB, the encoder's input; with `alpha`, as RGBA with straight alpha.
+std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& plan, const DisplayTransform& display,
+                                     bool alpha) {
+  // (PNG frames with alpha: OpenImageIO's PNG writer takes the pixels it is given as premultiplied
+  // and divides them by alpha as it writes, and its reader multiplies them back. meshtour's frames
+  // are written through it (tracer/image_writer.cpp) with straight colour, so the file holds
+  // colour / alpha, and the default read gives back the frame's straight colour. Read otherwise
+  // (oiio:UnassociatedAlpha), a frame's partly covered pixels come out brighter than rendered.)
   auto in = OIIO::ImageInput::open(file.string());
   if (!in) throw IoError(file.string() + ": cannot read frame: " + one_line(OIIO::geterror()));
   const OIIO::ImageSpec spec = in->spec();
@@ -202,7 +217,7 @@ std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& pla
   const std::size_t pixels = static_cast<std::size_t>(spec.width) * spec.height;
   std::vector<std::uint8_t> rgb(pixels * 3);
 
-  if (plan.extension == "exr") {
+  if (plan.extension == "exr") {  // (never with `alpha`: encode_frames refuses it)
     // Linear light: the same Image::to_srgb8 (exposure, tone curve, sRGB) the tracer uses for
     // its PNGs and the tour's video. Channels are found by name; a missing alpha is opaque.
     Image image;
@@ -235,19 +250,38 @@ std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& pla
     return image.to_srgb8();
   }
 
-  // PNG: already 8-bit sRGB. Grey is spread to RGB; a frame with alpha (transparent background)
-  // is shown over black, as the video of a transparent tour is.
+  // PNG: already 8-bit sRGB, colour straight (read as above). Grey is spread to RGB; a frame with
+  // alpha (transparent background) is shown over black, as the video of a transparent tour is,
+  // unless the video keeps the alpha: then the frame's pixels go in as they are.
   std::vector<std::uint8_t> all(pixels * static_cast<std::size_t>(channels));
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, all.data()))
     throw IoError(file.string() + ": cannot read frame: " + one_line(in->geterror()));
-  const bool alpha = channels == 2 || channels >= 4;
+  const bool has_alpha = channels == 2 || channels >= 4;
   const int colour = channels >= 3 ? 3 : 1;
+  if (alpha) {
+    std::vector<std::uint8_t> rgba(pixels * 4);
+    for (std::size_t p = 0; p < pixels; ++p) {
+      const std::uint8_t* src = &all[p * static_cast<std::size_t>(channels)];
+      for (int c = 0; c < 3; ++c) rgba[p * 4 + static_cast<std::size_t>(c)] = src[colour == 3 ? c : 0];
+      rgba[p * 4 + 3] = has_alpha ? src[colour] : 255;
+    }
+    return rgba;
+  }
+  // Over black in linear light, as the tour's own video shows a transparent render (its colour is
+  // premultiplied in linear light before the sRGB curve): 50 % alpha on sRGB grey 128 gives 93
+  // (multiplying the sRGB values gives 64).
+  std::array<float, 256> linear{};
+  for (int v = 0; v < 256; ++v) linear[static_cast<std::size_t>(v)] = srgb_to_linear(static_cast<float>(v) / 255.0f);
   for (std::size_t p = 0; p < pixels; ++p) {
     const std::uint8_t* src = &all[p * static_cast<std::size_t>(channels)];
-    const unsigned a = alpha ? src[colour] : 255u;
+    const unsigned a = has_alpha ? src[colour] : 255u;
     for (int c = 0; c < 3; ++c) {
-      const unsigned v = src[colour == 3 ? c : 0];
-      rgb[p * 3 + static_cast<std::size_t>(c)] = static_cast<std::uint8_t>((v * a + 127) / 255);
+      const std::uint8_t v = src[colour == 3 ? c : 0];
+      rgb[p * 3 + static_cast<std::size_t>(c)] =
+          a == 255u ? v
+          : a == 0u ? 0
+                    : static_cast<std::uint8_t>(std::lround(
+                          std::clamp(linear_to_srgb(linear[v] * static_cast<float>(a) / 255.0f), 0.0f, 1.0f) * 255.0f));
     }
   }
   return rgb;
@@ -259,9 +293,16 @@ void encode_frames(const EncodeJob& args) {
   VideoOptions video;
   video.codec = choose_codec(args);
   video.crf = args.crf;
+  video.alpha = args.alpha;
+  if (args.alpha) require_alpha_codec(video.codec);  // before the frames are read
   EncodePlan plan = make_plan(args);
+  // An EXR frame always has alpha (the model's coverage), also over the gradient: only PNG frames
+  // tell a transparent render (RGBA) from an opaque one (RGB).
+  if (args.alpha && plan.extension != "png")
+    throw InputError(args.dir + ": --alpha reads PNG frames (RGBA, as render --background transparent writes them), not " +
+                     plan.extension + "; give --input-format png");
   video.fps = plan.fps;
-  check_frames(plan);
+  check_frames(plan, args.alpha);
   video.width = plan.width;
   video.height = plan.height;
 
@@ -277,12 +318,12 @@ void encode_frames(const EncodeJob& args) {
   if ((captioned.needs_poster() || !args.poster.file.empty()) && !fs::exists(poster_file))
     throw InputError(plan.dir.string() + ": the poster frame " + poster_file.filename().string() +
                      " is missing; render it (meshtour render --frames " + std::to_string(plan.poster) + ")");
-  if (captioned.needs_poster()) captioned.start(read_frame(poster_file, plan, display));
+  if (captioned.needs_poster()) captioned.start(read_frame(poster_file, plan, display, args.alpha));
   const int total = static_cast<int>(plan.frames.size());
   Progress progress("encoded frame", total, args.quiet);
   for (int i = 0; i < total; ++i) {
     throw_if_interrupted();
-    captioned.add(read_frame(frame_file(plan.dir, plan.frames[static_cast<std::size_t>(i)], plan.extension), plan, display));
+    captioned.add(read_frame(frame_file(plan.dir, plan.frames[static_cast<std::size_t>(i)], plan.extension), plan, display, args.alpha));
     progress.update(i + 1);
   }
   throw_if_interrupted();
@@ -292,14 +333,14 @@ void encode_frames(const EncodeJob& args) {
     // A PNG frame is the poster as it is (byte for byte the frame `tour` would write); EXR frames
     // go through the same display transform as the video.
     if (plan.extension == "png") write_poster_from_png(poster_file, args.poster);
-    else write_poster_pixels(read_frame(poster_file, plan, display), plan.width, plan.height, 3, args.poster);
+    else write_poster_pixels(read_frame(poster_file, plan, display, false), plan.width, plan.height, 3, args.poster);
     if (!args.quiet) std::fprintf(stderr, "wrote %s (poster: frame %d)\n", args.poster.file.string().c_str(), plan.poster);
   }
   if (!args.quiet) {
     std::error_code ec;
     const auto bytes = fs::file_size(output, ec);
-    std::fprintf(stderr, "wrote %s (%s, %d frames %s, %dx%d, %d fps, %.2f MB)\n", output.string().c_str(),
-                 std::string(video_codec_info(video.codec).name).c_str(), total, format_frame_range(plan.frames).c_str(),
+    std::fprintf(stderr, "wrote %s (%s%s, %d frames %s, %dx%d, %d fps, %.2f MB)\n", output.string().c_str(),
+                 std::string(video_codec_info(video.codec).name).c_str(), args.alpha ? " with alpha" : "", total, format_frame_range(plan.frames).c_str(),
                  plan.width, plan.height, plan.fps, ec ? 0.0 : static_cast<double>(bytes) / 1e6);
   }
 }

@@ -23,6 +23,9 @@ struct EncodeJob {
   std::optional<double> exposure;
   PosterJob poster;    ///< the best frame (the manifest's best_view_frame, else 0) as a PNG
   CaptionArgs caption;  ///< burned into the video; the frames stay as they are
+  /// Keep the frames' alpha (straight) in the video: prores, vp9 or ffv1; the frames must have
+  /// alpha. Unset: frames with alpha are shown over black.
+  bool alpha = false;
   bool quiet = false;
 };
 

@@ -29,6 +29,7 @@ struct FarmJob {
   VideoCodec codec = VideoCodec::h264;      // of the video the encode job writes
   FrameFormats format = FrameFormats::png;  // of the frames
   bool web = false;            // with a manifest: web outputs per item and the contact sheet
+  bool alpha = false;          // the encode job keeps the frames' alpha (its arguments say so: encode_args)
   /// The options given that each task must be given again, as command-line arguments for the
   /// scripts (options::forwarded_args): render tasks, the encode job, batch tasks.
   std::vector<std::string> render_args, encode_args, batch_args;

@@ -355,9 +355,22 @@ void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
   }
 }
 
+VideoCodec tour_video_codec(const std::filesystem::path& output) {
+  if (const std::optional<VideoCodec> codec = codec_for_extension(output.extension().string())) return *codec;
+  std::string list;
+  for (const auto& info : video_codecs())
+    list += (list.empty() ? "" : ", ") + std::string(info.extension) + " (" + std::string(info.name) + ")";
+  throw InputError(output.string() + ": the video's type follows its name; name it *.mp4 (H.264), or one of " + list);
+}
+
 TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   const std::filesystem::path& output = job.output;
-  if (output.extension() != ".mp4") throw InputError(output.string() + ": the video is written as H.264 MP4; name it *.mp4");
+  const VideoCodec codec = tour_video_codec(output);
+  const bool transparent = scene.render.shading.background == BackgroundKind::transparent;
+  if (job.alpha) require_alpha_codec(codec);
+  if (job.alpha && !transparent)
+    throw InputError("--alpha needs a transparent background: add --background transparent (over the gradient the "
+                     "frames have no alpha to keep)");
   const bool keep_frames = !job.frames_dir.empty();
   const bool write_png = keep_frames && job.format != FrameFormats::exr;
   const bool write_exr = keep_frames && job.format != FrameFormats::png;
@@ -374,7 +387,9 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   video.width = scene.render.width;
   video.height = scene.render.height;
   video.fps = scene.fps;
-  video.crf = scene.crf;
+  video.codec = codec;
+  if (codec == VideoCodec::h264 || job.crf_given) video.crf = scene.crf;
+  video.alpha = job.alpha;
   VideoEncoder encoder(output, video);
   // The caption is measured now: one that does not fit fails before the model is even loaded.
   CaptionedVideo captioned(encoder, video, job.caption);
@@ -383,6 +398,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   std::optional<CaptionedVideo> web_captioned;
   if (!job.webm.empty()) {
     VideoOptions web = video;
+    web.alpha = false;  // batch --web: the page's WebM is over black (a caption may be burned in)
     web.codec = VideoCodec::vp9;
     web.crf.reset();
     web_encoder.emplace(job.webm, web);
@@ -415,7 +431,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   std::optional<Image> poster;
   if (captioned.needs_poster()) {
     poster = tour.render_frame(poster_k);
-    captioned.start(poster->to_srgb8());
+    captioned.start(job.alpha ? poster->to_srgba8() : poster->to_srgb8());
     if (web_captioned) web_captioned->start(poster->to_srgb8());
   }
 
@@ -432,9 +448,14 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
     if (write_exr) write_image(image, frame_file(job.frames_dir, k, "exr"));
     if (k == poster_k && !job.poster.file.empty() && !poster) poster = image;
     const auto written = Clock::now();
-    const std::vector<std::uint8_t> rgb = image.to_srgb8();
-    captioned.add(rgb);
-    if (web_captioned) web_captioned->add(rgb);
+    if (job.alpha) {
+      captioned.add(image.to_srgba8());  // straight alpha, as in the PNG frames
+      if (web_captioned) web_captioned->add(image.to_srgb8());
+    } else {
+      const std::vector<std::uint8_t> rgb = image.to_srgb8();
+      captioned.add(rgb);
+      if (web_captioned) web_captioned->add(rgb);
+    }
     encode_seconds += std::chrono::duration<double>(Clock::now() - written).count();
     render_seconds += seconds + std::chrono::duration<double>(written - start).count();
     progress.step_done(k, seconds + std::chrono::duration<double>(Clock::now() - start).count(), k + 1);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "encoder/video_codecs.h"
 #include "jobs/frame_dir.h"
 #include "tour/captioned_video.h"
 #include "tour/poster.h"
@@ -131,7 +132,13 @@ void render_frames(const PreparedTour& tour, const std::vector<int>& frames,
 /// The tour pipeline on one machine: path, frames, and the video encoded as frames finish; `tour`
 /// runs it once, `batch` for every item.
 struct TourVideoJob {
-  std::filesystem::path output;      // .mp4
+  std::filesystem::path output;      // .mp4 (H.264); .mov, .mkv, .webm or .gif: that codec (encoder/video_codecs.h)
+  /// The output keeps the frames' alpha (straight): needs a transparent background and a codec
+  /// that carries alpha (prores, ffv1, vp9).
+  bool alpha = false;
+  /// --crf was given: codecs other than h264 then use scene.crf, else their own default (a scene's
+  /// output.crf, 18 in the default scene, is H.264's).
+  bool crf_given = false;
   std::filesystem::path webm;        // also a VP9 WebM of the same frames ("" = no), at VP9's default crf
   std::filesystem::path frames_dir;  // also write the frames here ("" = no)
   FrameFormats format = FrameFormats::png;  // for frames_dir
@@ -153,5 +160,8 @@ struct TourVideoResult {
   double seconds() const { return fps > 0 ? static_cast<double>(video_frames) / fps : 0.0; }
 };
 TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job);
+/// The codec a tour's video file is written with: the one its extension names (.mp4: h264).
+/// \throw InputError for another extension, listing them.
+VideoCodec tour_video_codec(const std::filesystem::path& output);
 
 }  // namespace meshtour
