@@ -78,11 +78,6 @@ void write_image(const Image& image, const std::filesystem::path& file) {
     return;
   }
 
-  // The temporary keeps the extension: OpenImageIO picks the format from it.
-  PendingFile pending(file);
-  const std::filesystem::path& temp = pending.temporary();
-  auto out = OIIO::ImageOutput::create(temp.string());
-  if (!out) throw IoError(file.string() + ": no image writer for '" + ext + "': " + OIIO::geterror());
   // One interleaved float buffer with every layer; OpenEXR stores RGBA and the extra layers
   // as half, depth as float (half's 11-bit mantissa would band the depth of large scenes).
   // The raw (unbiased) frame is the main layer; the denoised one, which the PNG and the video
@@ -133,11 +128,7 @@ void write_image(const Image& image, const std::filesystem::path& file) {
       for (int k = 0; k < 3; ++k) *dst++ = image.normal[p * 3 + k];
     if (!image.depth.empty()) *dst++ = image.depth[p];
   }
-  bool ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
-  const std::string error = ok ? "" : out->geterror();
-  ok = out->close() && ok;
-  if (!ok) throw IoError(file.string() + ": cannot write image: " + (error.empty() ? "write failed" : error));
-  pending.commit();
+  write_encoded_image(file, spec, OIIO::TypeDesc::FLOAT, pixels.data(), "frame");
 }
 
 }  // namespace meshtour
