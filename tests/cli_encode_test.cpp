@@ -53,20 +53,23 @@ void write_png(const fs::path& file, const std::vector<std::uint8_t>& rgb, int w
   ASSERT_TRUE(out->close());
 }
 
+// The manifest `render` would write for `count` PNG frames of the test's size and rate.
+void write_test_frames_manifest(const fs::path& dir, int count) {
+  FrameDirInfo info;
+  info.frame_count = count;
+  info.fps = kFps;
+  info.width = kWidth;
+  info.height = kHeight;
+  info.image_formats = {"png"};
+  info.source = "test";
+  write_frame_dir_info(dir, info);
+}
+
 // kFrames PNG frames and, unless `manifest` is false, the manifest `render` would write.
 fs::path make_frames_dir(const fs::path& dir, bool manifest = true) {
   fs::create_directories(dir);
   for (int k = 0; k < kFrames; ++k) write_png(frame_file(dir, k, "png"), make_frame(k));
-  if (manifest) {
-    FrameDirInfo info;
-    info.frame_count = kFrames;
-    info.fps = kFps;
-    info.width = kWidth;
-    info.height = kHeight;
-    info.image_formats = {"png"};
-    info.source = "test";
-    write_frame_dir_info(dir, info);
-  }
+  if (manifest) write_test_frames_manifest(dir, kFrames);
   return dir;
 }
 
@@ -387,14 +390,7 @@ fs::path make_half_alpha_frames(const fs::path& dir, int count) {
     }
     write_image(image, frame_file(dir, k, "png"));
   }
-  FrameDirInfo info;
-  info.frame_count = count;
-  info.fps = kFps;
-  info.width = kWidth;
-  info.height = kHeight;
-  info.image_formats = {"png"};
-  info.source = "test";
-  write_frame_dir_info(dir, info);
+  write_test_frames_manifest(dir, count);
   return dir;
 }
 
