@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "mesh/file_extension.h"
+#include "mesh/image_bytes_reader.h"
 
 namespace meshtour {
 namespace {
@@ -205,7 +206,7 @@ std::string decode_fault(OIIO::ImageInput& in) {
 // Opens the image (from `bytes` when given, else from `file`) and checks its header: the checks
 // that need no decoding. Returns the reader, positioned at the first subimage.
 std::unique_ptr<OIIO::ImageInput> open_checked(const std::string& file, const std::string& what, const std::vector<unsigned char>* bytes,
-                                               std::unique_ptr<OIIO::Filesystem::IOMemReader>& memory, double& file_size) {
+                                               std::unique_ptr<ImageBytesReader>& memory, double& file_size) {
   const std::string head = bytes ? std::string(bytes->begin(), bytes->begin() + std::min<std::size_t>(16, bytes->size())) : [&] {
     std::ifstream f(file, std::ios::binary);
     std::string h(16, '\0');
@@ -223,7 +224,7 @@ std::unique_ptr<OIIO::ImageInput> open_checked(const std::string& file, const st
     if (const std::string fault = with_bytes(file, bytes, exr_header_fault); !fault.empty()) throw IoError(what + " is damaged: " + fault);
   std::unique_ptr<OIIO::ImageInput> in;
   if (bytes) {
-    memory = std::make_unique<OIIO::Filesystem::IOMemReader>(bytes->data(), bytes->size());
+    memory = std::make_unique<ImageBytesReader>(bytes->data(), bytes->size());
     in = OIIO::ImageInput::open(file, nullptr, memory.get());
     file_size = static_cast<double>(bytes->size());
   } else {
@@ -259,7 +260,7 @@ TextureSize probe_texture(const MeshMaterial& material) {
   const std::string what = file + ": the texture of material '" + material.name + "'" + (material.texture_bytes ? " (embedded)" : "");
   std::error_code ec;
   if (!material.texture_bytes && !std::filesystem::is_regular_file(material.texture_file, ec)) throw IoError(what + " does not exist");
-  std::unique_ptr<OIIO::Filesystem::IOMemReader> memory;
+  std::unique_ptr<ImageBytesReader> memory;
   double file_size = 0;
   const auto in = open_checked(file, what, material.texture_bytes.get(), memory, file_size);
   TextureSize size{in->spec().width, in->spec().height, in->spec().nchannels};
@@ -272,7 +273,7 @@ void verify_texture(const MeshMaterial& material) {
   const std::string what = file + ": the texture of material '" + material.name + "'" + (material.texture_bytes ? " (embedded)" : "");
   std::error_code ec;
   if (!material.texture_bytes && !std::filesystem::is_regular_file(material.texture_file, ec)) throw IoError(what + " does not exist");
-  std::unique_ptr<OIIO::Filesystem::IOMemReader> memory;
+  std::unique_ptr<ImageBytesReader> memory;
   double file_size = 0;
   const auto in = open_checked(file, what, material.texture_bytes.get(), memory, file_size);
   const std::string format = in->format_name();

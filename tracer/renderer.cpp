@@ -128,7 +128,7 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
       const OIIO::ustring texture_name(m.texture_file.string());
       if (m.texture_bytes) {
         s.embedded_bytes.push_back(m.texture_bytes);
-        s.embedded_images.push_back(std::make_unique<OIIO::Filesystem::IOMemReader>(m.texture_bytes->data(), m.texture_bytes->size()));
+        s.embedded_images.push_back(std::make_unique<ImageBytesReader>(m.texture_bytes->data(), m.texture_bytes->size()));
         OIIO::ImageSpec config;
         void* proxy = s.embedded_images.back().get();
         config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "mesh/image_bytes_reader.h"
 #include "mesh/ray_scene.h"
 #include "tracer/denoiser.h"
 #include "tracer/film.h"
@@ -118,7 +119,7 @@ struct Renderer::Impl {
   std::vector<float> uv_scale;  // per triangle: sqrt(uv area / world area), for the filter footprint
   // Embedded images (glTF) read through these; declared before `textures`, which reads them until
   // it is destroyed.
-  std::vector<std::unique_ptr<OIIO::Filesystem::IOMemReader>> embedded_images;
+  std::vector<std::unique_ptr<ImageBytesReader>> embedded_images;
   std::vector<std::shared_ptr<const std::vector<unsigned char>>> embedded_bytes;
   TextureSystemPtr textures;
   ReconstructionFilter filter;
