@@ -25,6 +25,7 @@ models=(
   "odedstein/meshes 835213277571d625722d25880c9c3010c6f45a5a objects/lionstatue/lionstatue.obj os_lionstatue.obj"
   "odedstein/meshes 835213277571d625722d25880c9c3010c6f45a5a objects/skull/skull_low_resolution.obj os_skull_low_resolution.obj"
   "odedstein/meshes 835213277571d625722d25880c9c3010c6f45a5a objects/penguin/penguin.obj os_penguin.obj"
+  "odedstein/meshes 835213277571d625722d25880c9c3010c6f45a5a objects/cow/cow-low-resolution.obj os_cow-low-resolution.obj"
   "libigl/libigl-tutorial-data c1f9ede366d02e3531ecbaec5e3769312f31cccd decimated-max.obj li_decimated-max.obj"
   "libigl/libigl-tutorial-data c1f9ede366d02e3531ecbaec5e3769312f31cccd fertility.off li_fertility.off"
   "libigl/libigl-tutorial-data c1f9ede366d02e3531ecbaec5e3769312f31cccd lion.off li_lion.off"
