@@ -80,7 +80,8 @@ double elevation_deg(const meshtour::CameraPose& p, const Eigen::Vector3d& up) {
 int invariance(int levels) {
   const Eigen::Vector3d up = g_up.vector();
   std::vector<meshtour::FeatureOrbitPath> paths;
-  std::printf("%-6s %10s %8s %9s %9s %10s", "level", "faces", "orbit_s", "objective", "max_dElev", "start_deg");
+  std::printf("%-6s %10s %8s %9s %9s %10s %9s %9s %9s", "level", "faces", "orbit_s", "objective", "max_dElev", "start_deg", "frame_dEl",
+              "frame_dAz", "ties c/s");
   for (const auto& d : meshtour::feature_definitions()) std::printf(" %20s", meshtour::CoverageOptions{}.key(d).c_str());
   std::printf("\n");
   for (int level = 0; level <= levels; ++level) {
@@ -96,8 +97,20 @@ int invariance(int levels) {
     for (int k = 0; k < 12; ++k) cameras.push_back(meshtour::Camera::at(meshtour::frame_pose(paths.back(), k, 12), 35.0));
     const meshtour::PathEvaluator evaluator(mesh);
     const meshtour::PathEvaluation e = evaluator.evaluate(cameras, 16.0 / 9.0);
-    std::printf("%-6d %10zu %8.2f %9.4f %9.2f %10.1f", level, mesh.triangles.size(), seconds, r.scores.objective, worst,
-                360.0 * r.geometry.start);
+    // The must-show of the tour: every one of the 12 frames within 1 degree of elevation and 2 of
+    // azimuth (around the up axis, of the eye about the target) of level 0's frame.
+    double frame_elevation = 0.0, frame_azimuth = 0.0;
+    for (int k = 0; k < 12; ++k) {
+      const meshtour::CameraPose a = meshtour::frame_pose(paths.front(), k, 12), b = meshtour::frame_pose(paths.back(), k, 12);
+      frame_elevation = std::max(frame_elevation, std::abs(elevation_deg(a, up) - elevation_deg(b, up)));
+      const Eigen::Vector3d da = a.eye - a.target, db = b.eye - b.target;
+      const Eigen::Vector3d pa = da - da.dot(up) * up, pb = db - db.dot(up) * up;
+      frame_azimuth = std::max(frame_azimuth, std::abs(std::atan2(pa.cross(pb).dot(up), pa.dot(pb))) * 180.0 / std::numbers::pi);
+    }
+    char ties[32];
+    std::snprintf(ties, sizeof ties, "%d/%d", r.curves_tied, r.starts_tied);
+    std::printf("%-6d %10zu %8.2f %9.4f %9.2f %10.1f %9.2f %9.2f %9s", level, mesh.triangles.size(), seconds, r.scores.objective, worst,
+                360.0 * r.geometry.start, frame_elevation, frame_azimuth, ties);
     for (const auto& f : e.by_definition) std::printf(" %19.2f%%", 100.0 * f.feature_coverage);
     // The leading curves (objective ×100; mean elevation / swing @ phase / ripple, degrees and
     // loop fractions): a flip between levels is a tie when the curves scored within the tie tolerance.

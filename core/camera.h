@@ -50,4 +50,17 @@ inline LookAtFrame look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& ta
 inline LookAtFrame look_at(const CameraPose& pose) { return look_at(pose.eye, pose.target, pose.up); }
 inline LookAtFrame look_at(const Camera& camera) { return look_at(camera.eye, camera.target, camera.up); }
 
+/// How much of the half-frame the model may fill across (x) and up (y) when `margin` of the
+/// frame's smaller side stays free between the model and every edge (broadcast and social crops
+/// ask for 5 %: the action-safe area). In tangent units a point at (x, y, z) in camera space is
+/// inside when |x| <= x·tan(fov_x / 2)·z and |y| <= y·tan(fov_y / 2)·z.
+struct FrameFill {
+  double x = 1.0, y = 1.0;
+};
+/// `aspect` = width / height; `margin` in [0, 0.5).
+inline FrameFill frame_fill(double aspect, double margin) {
+  const double smaller_over_height = aspect < 1.0 ? aspect : 1.0, smaller_over_width = aspect > 1.0 ? 1.0 / aspect : 1.0;
+  return {1.0 - 2.0 * margin * smaller_over_width, 1.0 - 2.0 * margin * smaller_over_height};
+}
+
 }  // namespace meshtour

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
@@ -118,6 +119,13 @@ PathEvaluation PathEvaluator::evaluate(std::span<const Camera> cameras, double a
   out.feature_median_frames = main.feature_median_frames;
   measure_motion(cameras, s.center, out);
   out.frames_out_of_frame = count_out_of_frame(cameras, s.hull_points, aspect);
+  out.min_edge_margin = narrowest_edge_margin(cameras, s.hull_points, aspect);
+  for (const Camera& camera : cameras) {
+    // The lowest point along this camera's up (every path's up is the model's).
+    double floor = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& p : s.hull_points) floor = std::min(floor, p.dot(camera.up));
+    if (camera.eye.dot(camera.up) < floor) ++out.frames_below_floor;
+  }
   return out;
 }
 
@@ -150,6 +158,25 @@ int count_out_of_frame(std::span<const Camera> cameras, const std::vector<Eigen:
   return count;
 }
 
+double narrowest_edge_margin(std::span<const Camera> cameras, const std::vector<Eigen::Vector3d>& points, double aspect) {
+  // A point at image coordinates (x, y) in [-1, 1] leaves (1 - |x|) of the half-width and
+  // (1 - |y|) of the half-height free; in shares of the smaller side those are
+  // (1 - |x|) a / 2m and (1 - |y|) / 2m, with a = width / height and m = min(a, 1).
+  const double smaller = std::min(aspect, 1.0);
+  double narrowest = std::numeric_limits<double>::infinity();
+  for (const Camera& camera : cameras) {
+    const CameraFrame f = camera_frame(camera);
+    for (const Eigen::Vector3d& p : points) {
+      const Eigen::Vector3d d = p - camera.eye;
+      const double z = d.dot(f.forward);
+      if (!(z > 0.0)) return -1.0;
+      const double x = std::abs(d.dot(f.right)) / (z * f.tan_half * aspect), y = std::abs(d.dot(f.up)) / (z * f.tan_half);
+      narrowest = std::min({narrowest, (1.0 - x) * aspect / (2.0 * smaller), (1.0 - y) / (2.0 * smaller)});
+    }
+  }
+  return cameras.empty() ? 0.0 : narrowest;
+}
+
 std::string evaluation_json(const std::vector<std::pair<std::string, PathEvaluation>>& modes, const CoverageOptions& options) {
   nlohmann::ordered_json doc;
   nlohmann::ordered_json& by_mode = doc["modes"];
@@ -165,6 +192,8 @@ std::string evaluation_json(const std::vector<std::pair<std::string, PathEvaluat
         {"view_max_angular_speed", e.view_max_angular_speed},
         {"view_max_angular_acceleration", e.view_max_angular_acceleration},
         {"frames_out_of_frame", e.frames_out_of_frame},
+        {"min_edge_margin", e.min_edge_margin},
+        {"frames_below_floor", e.frames_below_floor},
     };
     m["objective"] = e.objective;
     m["frame_scores"] = e.frame_scores;

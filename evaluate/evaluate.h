@@ -55,6 +55,12 @@ struct PathEvaluation {
   double view_max_angular_speed = 0.0;           ///< of the view direction (target - eye)
   double view_max_angular_acceleration = 0.0;
   int frames_out_of_frame = 0;  ///< frames where a vertex is behind the camera or outside the image
+  /// The narrowest space between the model and an edge of the image over all frames, as a share of
+  /// the image's smaller side (the action-safe margin asks for at least 0.05; negative: cut off).
+  double min_edge_margin = 0.0;
+  /// Frames whose eye is below the floor the model stands on (the plane through its lowest point,
+  /// across the cameras' up direction): a studio look's ground would hide the model's underside.
+  int frames_below_floor = 0;
 };
 
 /// Evaluates camera sets on one mesh. Builds the coverage model once; evaluate() may be called
@@ -84,6 +90,10 @@ void measure_motion(std::span<const Camera> cameras, const Eigen::Vector3d& cent
 
 /// Number of cameras that do not see every one of `points` inside their frame (no margin).
 int count_out_of_frame(std::span<const Camera> cameras, const std::vector<Eigen::Vector3d>& points, double aspect);
+
+/// The narrowest space left between `points` and an edge of the image over `cameras`, as a share
+/// of the image's smaller side (PathEvaluation::min_edge_margin); -1 when a point is behind a camera.
+double narrowest_edge_margin(std::span<const Camera> cameras, const std::vector<Eigen::Vector3d>& points, double aspect);
 
 /// The JSON document of `meshtour evaluate --json`: {"modes": {"<mode>": {"feature_coverage": ...,
 /// ..., "objective": ..., "frame_scores": [...], "definitions": {"<key>": {...}, ...}}, ...}} in

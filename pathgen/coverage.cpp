@@ -295,29 +295,61 @@ ViewCoverage CoverageModel::coverage(const View& view, std::size_t stride) const
   return out;
 }
 
-CoverageScores CoverageModel::scores(std::span<const ViewCoverage* const> views) const {
-  const Impl& s = *impl_;
-  CoverageScores out;
+namespace {
+// The stride shared by `views` (every stride-th sample was tested).
+std::size_t common_stride(std::span<const ViewCoverage* const> views) {
   const std::size_t stride = views.empty() ? 1 : views.front()->stride;
   for (const ViewCoverage* v : views)
     if (v->stride != stride) throw InputError("coverage: views tested on different sample subsets cannot be scored together");
-  // The samples counted: all, or every stride-th (a bit pattern that repeats in every word,
-  // since the stride divides 64).
+  return stride;
+}
+// The samples tested at `stride`: a bit pattern that repeats in every word (the stride divides 64).
+std::uint64_t stride_pattern(std::size_t stride) {
   std::uint64_t tested = 0;
   for (std::size_t b = 0; b < 64; b += stride) tested |= std::uint64_t{1} << b;
-  const std::size_t n = (s.samples.size() + stride - 1) / stride;
-  std::array<std::size_t, kFeatureMeasures> feature_count = s.feature_count;
-  if (stride > 1)
-    for (int m = 0; m < kFeatureMeasures; ++m) {
-      feature_count[m] = 0;
-      for (std::size_t w = 0; w < s.words; ++w) feature_count[m] += static_cast<std::size_t>(std::popcount(s.feature_bits[m][w] & tested));
+  return tested;
+}
+}  // namespace
+
+CoverageScores CoverageModel::scores(std::span<const ViewCoverage* const> views) const {
+  return scores_on(views, stride_pattern(common_stride(views)));
+}
+
+std::array<CoverageScores, 2> CoverageModel::half_scores(std::span<const ViewCoverage* const> views) const {
+  // Every other tested sample: the tested pattern's set bits, alternately.
+  const std::uint64_t tested = stride_pattern(common_stride(views));
+  std::uint64_t even = 0;
+  bool take = true;
+  for (int b = 0; b < 64; ++b)
+    if (tested >> b & 1u) {
+      if (take) even |= std::uint64_t{1} << b;
+      take = !take;
     }
+  return {scores_on(views, even), scores_on(views, tested & ~even)};
+}
+
+CoverageScores CoverageModel::scores_on(std::span<const ViewCoverage* const> views, std::uint64_t counted) const {
+  const Impl& s = *impl_;
+  CoverageScores out;
+  // The samples counted: the bits of `counted` in every word, up to the last sample.
+  const auto counted_in = [&](std::size_t w) {
+    const std::size_t rest = s.samples.size() - 64 * w;
+    return rest >= 64 ? counted : counted & ((std::uint64_t{1} << rest) - 1);
+  };
+  std::size_t n = 0;
+  std::array<std::size_t, kFeatureMeasures> feature_count{};
+  for (std::size_t w = 0; w < s.words; ++w) {
+    n += static_cast<std::size_t>(std::popcount(counted_in(w)));
+    for (int m = 0; m < kFeatureMeasures; ++m) feature_count[m] += static_cast<std::size_t>(std::popcount(s.feature_bits[m][w] & counted_in(w)));
+  }
+  n = std::max<std::size_t>(n, 1);
   for (int a = 0; a < kSeenAngles; ++a) {
     std::array<std::size_t, kFeatureMeasures> features_seen{};
     std::size_t seen = 0;
     for (std::size_t w = 0; w < s.words; ++w) {
       std::uint64_t word = 0;
       for (const ViewCoverage* v : views) word |= v->seen[a][w];
+      word &= counted_in(w);
       seen += static_cast<std::size_t>(std::popcount(word));
       for (int m = 0; m < kFeatureMeasures; ++m) features_seen[m] += static_cast<std::size_t>(std::popcount(word & s.feature_bits[m][w]));
     }

@@ -105,6 +105,10 @@ public:
   /// Scores of the union of `views` (all of one stride). \throw InputError for mixed strides.
   CoverageScores scores(std::span<const ViewCoverage* const> views) const;
   CoverageScores scores(const ViewCoverage& view) const;
+  /// The same scores on each half of the tested samples alone (the even-numbered ones, then the
+  /// odd-numbered ones): two independent estimates, whose difference measures how much of a
+  /// score is where the samples happen to fall (the path search's tie rule).
+  std::array<CoverageScores, 2> half_scores(std::span<const ViewCoverage* const> views) const;
 
   const SurfaceSamples& samples() const;
   /// 1 for each feature sample under `measure`.
@@ -118,6 +122,9 @@ public:
   const std::vector<std::pair<std::string, double>>& stage_seconds() const;
 
 private:
+  // The scores counting only the samples whose bit is set in `counted` (a pattern repeated in
+  // every 64-sample word).
+  CoverageScores scores_on(std::span<const ViewCoverage* const> views, std::uint64_t counted) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -187,7 +187,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   // pathgen/coverage.h: two measures at four seen-well angles) among the curves that see, under
   // every definition, at least as much as the two plain paths the orbit must beat, less
   // reference_slack: the level circle (how the paper's path looks at the model, from its
-  // mid-height; the grid's row at 0 degrees) and the turntable (its own views: elevation, lens and
+  // mid-height; the grid's row at 0 degrees, or the band's lowest) and the turntable (its own views: elevation, lens and
   // framing). Where no curve does, the one that falls least behind them. Measured with `meshtour
   // evaluate --compare` on 23 meshes (the shared ones and 16 public models) under the eight
   // definitions: the mean over 75 and 60 degrees alone, as before, left the orbit more than a
@@ -227,14 +227,16 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     else
       turntable_exact[k - n] = coverage.coverage(turntable_views[k - n]);
   });
+  // The level circle, or the band's circle nearest to it when the band is above the level.
+  const ElevationCurve level{std::clamp(0.0, options.lowest_deg, options.highest_deg) * kRadiansPerDegree};
   // The better of the references under each definition: the level circle from the grid's `views`,
   // the turntable from its own (estimates or exact alike).
   const auto reference = [&](const std::vector<ViewCoverage>& views, const std::vector<ViewCoverage>& turntable) {
     std::array<double, kFeatureDefinitions> best{};
     std::vector<const ViewCoverage*> all;
     for (const ViewCoverage& v : turntable) all.push_back(&v);
-    const CoverageScores level = score(ElevationCurve{}, views), turn = coverage.scores(all);
-    for (int d = 0; d < kFeatureDefinitions; ++d) best[d] = std::max(level.feature_share[d], turn.feature_share[d]);
+    const CoverageScores circle = score(level, views), turn = coverage.scores(all);
+    for (int d = 0; d < kFeatureDefinitions; ++d) best[d] = std::max(circle.feature_share[d], turn.feature_share[d]);
     return best;
   };
   // How far `s` falls behind the references under its worst definition (<= 0: nowhere).
@@ -244,10 +246,11 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     return worst;
   };
   // The estimates rank the curves; the leaders are scored again on every sample, and among those
-  // that score alike (within tie_tolerance of the best) the plainest wins: least swing and
-  // ripple, then the mean elevation nearest the turntable's 15 degrees. Otherwise the subset's
-  // noise, or a different tessellation of the same shape (which moves the scores by a little
-  // noise too), could flip the choice between two equally good but very different curves.
+  // that score alike (within the tie band of the best: twice the measured noise) the plainest
+  // wins: least swing and ripple, then the mean elevation nearest the middle of the band.
+  // Otherwise the subset's noise, or a different tessellation of the same shape (which moves the
+  // scores by a little noise too), could flip the choice between two equally good but very
+  // different curves.
   auto settle = [&] {
     const std::array<double, kFeatureDefinitions> ref_estimate = reference(estimates, turntable_estimate);
     const double slack = options.reference_slack;
@@ -271,7 +274,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
         }
     };
     for (std::size_t c : order) need(scored[c].first);
-    need(ElevationCurve{});  // the level circle
+    need(level);  // the level circle
     tbb::parallel_for(std::size_t{0}, missing.size(), [&](std::size_t i) {
       throw_if_interrupted();
       exact[missing[i]] = coverage.coverage(grid[missing[i]]);
@@ -280,25 +283,46 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     struct Leader {
       ElevationCurve curve;
       double behind, objective;
+      std::array<double, 2> half;  // the objective on each half of the samples
     };
     std::vector<Leader> leaders;
     for (std::size_t c : order) {
-      const CoverageScores s = score(scored[c].first, exact);
-      leaders.push_back({scored[c].first, std::max(0.0, shortfall(s, ref_exact) - slack), s.objective});
+      for (int j = 0; j < n; ++j) chosen[j] = &exact[grid_index(scored[c].first, j)];
+      const CoverageScores s = coverage.scores(chosen);
+      const std::array<CoverageScores, 2> halves = coverage.half_scores(chosen);
+      leaders.push_back({scored[c].first, std::max(0.0, shortfall(s, ref_exact) - slack), s.objective,
+                         {halves[0].objective, halves[1].objective}});
     }
     double least_behind = std::numeric_limits<double>::infinity();
     for (const Leader& l : leaders) least_behind = std::min(least_behind, l.behind);
-    double top = -1.0;
+    const Leader* top_leader = nullptr;
     for (const Leader& l : leaders)
-      if (l.behind <= least_behind + options.tie_tolerance) top = std::max(top, l.objective);
-    auto plainness = [](const ElevationCurve& c) {
-      return std::make_pair(std::round(1e6 * (std::abs(c.swing) + std::abs(c.ripple))), std::abs(c.base - 15.0 * kRadiansPerDegree));
+      if (l.behind <= least_behind + options.tie_tolerance && (!top_leader || l.objective > top_leader->objective)) top_leader = &l;
+    // The noise of a difference between two curves' objectives: the two halves of the samples
+    // measure each difference twice, independently; half their disagreement is one standard
+    // deviation of the difference on all samples.
+    double variance = 0.0;
+    int pairs = 0;
+    for (const Leader& l : leaders)
+      if (&l != top_leader) {
+        const double disagreement = (l.half[0] - top_leader->half[0]) - (l.half[1] - top_leader->half[1]);
+        variance += 0.25 * disagreement * disagreement;
+        ++pairs;
+      }
+    result.curve_noise = pairs > 0 ? std::sqrt(variance / pairs) : 0.0;
+    result.curve_tie_band = std::max(options.tie_tolerance, 2.0 * result.curve_noise);
+    const double band = result.curve_tie_band;
+    const double middle = 0.5 * (options.lowest_deg + options.highest_deg) * kRadiansPerDegree;
+    auto plainness = [&](const ElevationCurve& c) {
+      return std::make_pair(std::round(1e6 * (std::abs(c.swing) + std::abs(c.ripple))), std::round(1e6 * std::abs(c.base - middle)));
     };
     const ElevationCurve* pick = nullptr;
+    result.curves_tied = 0;
     for (const Leader& l : leaders)
-      if (l.behind <= least_behind + options.tie_tolerance && l.objective >= top - options.tie_tolerance &&
-          (!pick || plainness(l.curve) < plainness(*pick)))
-        pick = &l.curve;
+      if (l.behind <= least_behind + band && l.objective >= top_leader->objective - band) {
+        ++result.curves_tied;
+        if (!pick || plainness(l.curve) < plainness(*pick)) pick = &l.curve;
+      }
     const ElevationCurve picked = *pick;
     result.leaders.clear();
     for (const Leader& l : leaders) result.leaders.emplace_back(l.curve, l.objective);
@@ -327,63 +351,57 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   if (options.dolly) plan_dolly(points, options, g);
   std::tie(result.angular_speed, result.angular_acceleration) = loop_angular_extremes([&](double a) { return g.direction(a); }, g.up);
 
-  // The best first view. The grid's views along the chosen curve give a coarse profile of single
-  // views; the three best azimuths are refined on the final path (dolly included) by halving
-  // steps. With a frame count, the loop is then turned so that the best of its frames comes first.
-  auto view_score = [&](double a) {
-    throw_if_interrupted();
+  // The first view: the best single view along the chosen path (dolly included), among views
+  // at a fixed 5-degree step from the front, so that the same shape gives the same start however
+  // it is tessellated. Views within the noise of the best (measured as for the curves, on the two
+  // halves of the samples) are equally good, and the one nearest the front wins.
+  constexpr int kStarts = 72;
+  {
     FeatureOrbitGeometry at = g;
     at.start = 0.0;  // pose(a) is azimuth fraction a
-    return coverage.scores(coverage.coverage(view_at(FeatureOrbitPath(at).pose(a).eye))).objective;
-  };
-  // `chosen` still holds the grid views along the best curve (score(best, exact) filled it above).
-  std::vector<std::pair<double, int>> coarse;
-  for (int j = 0; j < n; ++j) coarse.emplace_back(-coverage.scores(*chosen[j]).objective, j);
-  std::sort(coarse.begin(), coarse.end());  // best first; ties to the lower azimuth
-  std::vector<std::pair<double, double>> refined;  // (azimuth fraction, score)
-  for (std::size_t c = 0; c < std::min<std::size_t>(3, coarse.size()); ++c) {
-    double a = static_cast<double>(coarse[c].second) / n, value = view_score(a);
-    for (double step = 0.5 / n; step > 0.1 / n; step *= 0.5)
-      for (double candidate : {a - step, a + step}) {
-        const double v = view_score(candidate);
-        if (v > value + 1e-12) {
-          value = v;
-          a = candidate;
-        }
-      }
-    refined.emplace_back(a - std::floor(a), value);
-  }
-  // Of starts that score alike, the one nearest the model's conventional front (azimuth 0).
-  double top = -1.0;
-  for (const auto& r : refined) top = std::max(top, r.second);
-  double start = 0.0, start_score = -1.0, nearest = 2.0;
-  for (const auto& [a, value] : refined) {
-    const double from_front = std::min(a, 1.0 - a);
-    if (value >= top - options.tie_tolerance && from_front < nearest) {
-      nearest = from_front;
-      start = a;
-      start_score = value;
+    const FeatureOrbitPath unturned(at);
+    std::vector<ViewCoverage> views(kStarts);
+    tbb::parallel_for(0, kStarts, [&](int j) {
+      throw_if_interrupted();
+      views[j] = coverage.coverage(view_at(unturned.pose(static_cast<double>(j) / kStarts).eye));
+    });
+    std::vector<double> objective(kStarts);
+    std::vector<std::array<double, 2>> half(kStarts);
+    int best = 0;
+    for (int j = 0; j < kStarts; ++j) {
+      const ViewCoverage* one[] = {&views[j]};
+      objective[j] = coverage.scores(one).objective;
+      const std::array<CoverageScores, 2> halves = coverage.half_scores(one);
+      half[j] = {halves[0].objective, halves[1].objective};
+      if (objective[j] > objective[best]) best = j;
     }
+    double variance = 0.0;
+    for (int j = 0; j < kStarts; ++j) {
+      const double disagreement = (half[j][0] - half[best][0]) - (half[j][1] - half[best][1]);
+      variance += 0.25 * disagreement * disagreement;
+    }
+    result.start_noise = std::sqrt(variance / (kStarts - 1));
+    result.start_tie_band = std::max(options.tie_tolerance, 2.0 * result.start_noise);
+    int start = best;
+    result.starts_tied = 0;
+    const auto from_front = [&](int j) { return std::min(j, kStarts - j); };
+    for (int j = 0; j < kStarts; ++j)
+      if (objective[j] >= objective[best] - result.start_tie_band) {
+        ++result.starts_tied;
+        if (from_front(j) < from_front(start) || (from_front(j) == from_front(start) && j < start)) start = j;
+      }
+    g.start = static_cast<double>(start) / kStarts;
+    result.start_score = objective[start];
   }
-  g.start = start - std::floor(start);
-  result.start_score = start_score;
   if (options.frames > 0) {
-    const FeatureOrbitPath path(g);
+    // The frames as the tour takes them: evenly spaced in the view's turn (UniformTurnPath,
+    // whose t = 0 is the orbit's, so frame 0 is the start chosen above).
+    const UniformTurnPath path(std::make_unique<FeatureOrbitPath>(g));
     result.frame_scores.assign(static_cast<std::size_t>(options.frames), 0.0);
     tbb::parallel_for(0, options.frames, [&](int k) {
       throw_if_interrupted();
       result.frame_scores[k] = coverage.scores(coverage.coverage(view_at(frame_pose(path, k, options.frames).eye))).objective;
     });
-    // The frames sample the loop more finely or differently than the refinement: if one of them
-    // beats frame 0, the loop starts there instead (the same frames, turned).
-    const auto top = std::max_element(result.frame_scores.begin(), result.frame_scores.end()) - result.frame_scores.begin();
-    if (top > 0 && result.frame_scores[top] > result.frame_scores[0] + 1e-12) {
-      g.start += static_cast<double>(top) / options.frames;
-      g.start -= std::floor(g.start);
-      // The turned loop has the same frames, `top` places earlier: their scores need no new views.
-      std::rotate(result.frame_scores.begin(), result.frame_scores.begin() + top, result.frame_scores.end());
-    }
-    result.start_score = result.frame_scores[0];
   }
   result.geometry = std::move(g);
   return result;

@@ -53,7 +53,9 @@ TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
   ASSERT_EQ(doc["modes"].size(), 3u);
   for (const char* mode : {"turntable", "paper", "feature-orbit"}) {
     const auto& m = doc["modes"].at(mode);
-    EXPECT_EQ(m.size(), 11u) << mode;  // today's 8 keys, objective, frame_scores, definitions
+    EXPECT_EQ(m.size(), 13u) << mode;  // 10 figures, objective, frame_scores, definitions
+    EXPECT_GE(m.at("min_edge_margin").get<double>(), 0.05) << mode;  // action-safe framing
+    EXPECT_EQ(m.at("frames_below_floor").get<int>(), 0) << mode;
     ASSERT_EQ(m.at("frame_scores").size(), 24u) << mode;
     ASSERT_EQ(m.at("definitions").size(), 8u) << mode;
     // The default definition's figures are today's top-level keys.

@@ -191,7 +191,8 @@ TEST(EvaluateMetrics, JsonHasExactlyTheDocumentedShape) {
   ASSERT_EQ(doc["modes"].size(), 2u);
   const std::vector<std::string> keys = {"feature_coverage", "surface_coverage", "feature_min_frames",
                                          "feature_median_frames", "camera_max_angular_speed", "view_max_angular_speed",
-                                         "view_max_angular_acceleration", "frames_out_of_frame"};
+                                         "view_max_angular_acceleration", "frames_out_of_frame", "min_edge_margin",
+                                         "frames_below_floor"};
   for (const char* mode : {"turntable", "paper"}) {
     const auto& m = doc["modes"].at(mode);
     EXPECT_EQ(m.size(), keys.size() + 3);  // + objective, frame_scores, definitions

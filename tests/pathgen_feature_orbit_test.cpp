@@ -46,9 +46,36 @@ TEST(FeatureOrbit, RisesToShowFeaturesOnTheTop) {
   EXPECT_LE(r.angular_acceleration, options.max_angular_acceleration);
 }
 
-TEST(FeatureOrbit, DipsToShowFeaturesUnderneath) {
+TEST(FeatureOrbit, StaysInItsBandAboveTheFloorEvenForFeaturesUnderneath) {
+  // Features only on the underside: the default band (10 to 30 degrees above the centre) still
+  // holds, so no eye is below the floor the model stands on (the plane through its lowest point).
   const TriangleMesh mesh = test_meshes::icosphere(4);
-  const FeatureOrbitResult r = compute_feature_orbit(mesh, fast_orbit_options(polar_features(mesh, -1.0, 12.0)));
+  const FeatureOrbitOptions options = fast_orbit_options(polar_features(mesh, -1.0, 12.0));
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
+  const FeatureOrbitPath path = r.camera_path();
+  const double floor = mesh.bounds().lo.y();
+  for (int k = 0; k < 360; ++k) {
+    const double e = r.geometry.elevation(k / 360.0) / kDegree;
+    EXPECT_GE(e, options.lowest_deg - 1e-9) << k;
+    EXPECT_LE(e, options.highest_deg + 1e-9) << k;
+    EXPECT_GT(path.pose(k / 360.0).eye.y(), floor) << k;
+  }
+}
+
+TEST(FeatureOrbit, DipsToShowFeaturesUnderneathWhenItsBandAllows) {
+  // With a band reaching below the model's equator (a look without a floor), the search goes
+  // there for the features underneath.
+  const TriangleMesh mesh = test_meshes::icosphere(4);
+  FeatureOrbitOptions options = fast_orbit_options(polar_features(mesh, -1.0, 12.0));
+  options.lowest_deg = -37.5;
+  options.highest_deg = 75.0;
+  options.base_min_deg = -15.0;
+  options.base_max_deg = 60.0;
+  options.base_step_deg = 5.0;
+  options.swing_max_deg = 45.0;
+  options.swing_step_deg = 5.0;
+  options.elevation_grid_deg = 7.5;
+  const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
   double lowest = 1e9;
   for (int k = 0; k < 360; ++k) lowest = std::min(lowest, r.geometry.elevation(k / 360.0));
   EXPECT_LT(lowest / kDegree, -10.0);
@@ -96,7 +123,11 @@ TEST(FeatureOrbit, TheLoopStartsAtItsBestView) {
   options.frames = 24;
   const FeatureOrbitResult r = compute_feature_orbit(mesh, options);
   ASSERT_EQ(r.frame_scores.size(), 24u);
-  for (int k = 1; k < 24; ++k) EXPECT_GE(r.frame_scores[0], r.frame_scores[k]) << "frame " << k << " scores higher than frame 0";
+  // Frame 0 is the best frame, or within the noise of where the samples fall of it (the tie band).
+  EXPECT_GE(r.start_tie_band, options.tie_tolerance);
+  EXPECT_LT(r.start_tie_band, 0.02);
+  for (int k = 1; k < 24; ++k)
+    EXPECT_GE(r.frame_scores[0], r.frame_scores[k] - r.start_tie_band) << "frame " << k << " scores clearly higher than frame 0";
   EXPECT_DOUBLE_EQ(r.frame_scores[0], r.start_score);
   EXPECT_GT(r.frame_scores[0], r.frame_scores[12] + 0.1);  // the far side shows none of them
   const CameraPose first = r.camera_path().pose(0.0);
@@ -162,21 +193,25 @@ TEST(FeatureOrbit, SameShapeFinerTessellationSameOrbitFromComputedFeatures) {
   options.coverage.proxy_cells = 2000;  // cells of about twice the coarse edges
   options.frames = 12;
   // On this small sphere (32k samples, evenly spread bumps) the leading curves lie within 0.3
-  // points of each other, a tie by the rule, and where the samples fall decides between
-  // them under the default 0.2-point tolerance (a 5 degree flip). With a wider tolerance the
-  // plainest of them wins at both levels, and what is checked is that the features and scores
-  // are the same.
-  options.tie_tolerance = 0.01;
+  // points of each other: where the samples fall would decide between them (a 5 degree flip
+  // under a fixed 0.2-point tolerance). The tie band, twice the noise measured on the two halves
+  // of the samples, takes them as equals, and the fixed rule picks the same curve and start at
+  // both levels: every frame within 1 degree of elevation and 2 of azimuth.
   const FeatureOrbitResult a = compute_feature_orbit(coarse, options), b = compute_feature_orbit(fine, options);
+  // (Here the start is the rule's: two views along the curve score within the noise.)
+  EXPECT_GT(a.curves_tied + a.starts_tied + b.curves_tied + b.starts_tied, 4) << "the rule decided no choice: the test no longer tests it";
   const FeatureOrbitPath pa = a.camera_path(), pb = b.camera_path();
-  double worst = 0.0;
+  double worst = 0.0, worst_azimuth = 0.0;
   for (int k = 0; k < 72; ++k) {
     const Eigen::Vector3d da = (pa.pose(k / 72.0).eye - pa.pose(k / 72.0).target).normalized();
     const Eigen::Vector3d db = (pb.pose(k / 72.0).eye - pb.pose(k / 72.0).target).normalized();
     worst = std::max(worst, std::abs(std::asin(da.y()) - std::asin(db.y())) / kDegree);
+    const double turn = std::abs(std::atan2(da.x() * db.z() - da.z() * db.x(), da.x() * db.x() + da.z() * db.z()));
+    worst_azimuth = std::max(worst_azimuth, turn / kDegree);
   }
-  EXPECT_LT(worst, 0.5) << "largest elevation difference, degrees";
-  EXPECT_NEAR(a.scores.objective, b.scores.objective, 0.002);  // achieved: 0.0 degrees, 0.00005 (a proxy of the input vertices: 0.025)
+  EXPECT_LT(worst, 1.0) << "largest elevation difference, degrees";
+  EXPECT_LT(worst_azimuth, 2.0) << "largest azimuth difference, degrees";
+  EXPECT_NEAR(a.scores.objective, b.scores.objective, 0.002);
 }
 
 }  // namespace

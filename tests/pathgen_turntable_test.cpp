@@ -44,13 +44,18 @@ TEST(FitPullback, PointsEndUpExactlyInsideTheMargin) {
   const Eigen::Vector3d back = (pose.eye - pose.target).normalized();
   pose.eye += s * back;
   pose.target += s * back;
+  // The margin is a share of the smaller side (the height here): 10 % of it is 20 % of the
+  // half-height and 13.3 % of the half-width.
+  const FrameFill fill = frame_fill(lens.aspect, lens.margin);
+  EXPECT_NEAR(fill.y, 0.8, 1e-15);
+  EXPECT_NEAR(fill.x, 1.0 - 0.2 / 1.5, 1e-15);
   double extreme = 0;
   for (const auto& p : points) {
     const Eigen::Vector2d ndc = project(pose, lens, p);
-    extreme = std::max({extreme, std::abs(ndc.x()), std::abs(ndc.y())});
+    extreme = std::max({extreme, std::abs(ndc.x()) / fill.x, std::abs(ndc.y()) / fill.y});
   }
-  // The tightest point sits exactly on the margin: 1 - margin of the half-frame.
-  EXPECT_NEAR(extreme, 0.9, 1e-12);
+  // The tightest point sits exactly on the margin.
+  EXPECT_NEAR(extreme, 1.0, 1e-12);
 }
 
 TEST(FitPullback, RejectsDegenerateCameras) {
@@ -71,6 +76,7 @@ TEST(Turntable, OrbitIsACircleAroundTheUpAxisAndKeepsEverythingInFrame) {
   EXPECT_EQ(center.z(), 0.0);
   EXPECT_GT(center.y(), 0.0);
   EXPECT_LT(center.y(), 2.5);
+  const FrameFill fill = frame_fill(options.lens.aspect, options.lens.margin);
   double tightest = 0, balance = 0;
   for (int k = 0; k < 360; ++k) {
     const CameraPose pose = frame_pose(path, k, 360);
@@ -84,16 +90,16 @@ TEST(Turntable, OrbitIsACircleAroundTheUpAxisAndKeepsEverythingInFrame) {
       const Eigen::Vector2d ndc = project(pose, options.lens, p);
       lo = std::min(lo, ndc.y());
       hi = std::max(hi, ndc.y());
-      EXPECT_LE(std::abs(ndc.x()), 1.0 - options.lens.margin + 1e-3);
-      EXPECT_LE(std::abs(ndc.y()), 1.0 - options.lens.margin + 1e-3);
-      tightest = std::max({tightest, std::abs(ndc.x()), std::abs(ndc.y())});
+      EXPECT_LE(std::abs(ndc.x()), fill.x + 1e-3);
+      EXPECT_LE(std::abs(ndc.y()), fill.y + 1e-3);
+      tightest = std::max({tightest, std::abs(ndc.x()) / fill.x, std::abs(ndc.y()) / fill.y});
     }
     balance += (lo + hi) / 2 / 360;
   }
   // Vertically centred on average over the orbit.
   EXPECT_NEAR(balance, 0.0, 0.01);
   // Not further than needed: some frame touches the margin.
-  EXPECT_GT(tightest, 1.0 - options.lens.margin - 1e-3);
+  EXPECT_GT(tightest, 1.0 - 1e-3);
 }
 
 TEST(Turntable, StartsInFrontAndTurnsCounterClockwiseSeenFromUp) {
@@ -128,6 +134,7 @@ TEST(FramedPath, PullsBackJustEnoughAndKeepsTheDirection) {
   const FramedPath framed(std::make_unique<CloseCircle>(), points, lens, 360);
   EXPECT_GT(framed.pullback(), 1.0);
   const CloseCircle raw;
+  const FrameFill fill = frame_fill(lens.aspect, lens.margin);
   double tightest = 0;
   for (int k = 0; k < 360; ++k) {
     const double t = k / 360.0;
@@ -136,11 +143,11 @@ TEST(FramedPath, PullsBackJustEnoughAndKeepsTheDirection) {
     EXPECT_NEAR((b.eye - a.eye).norm(), framed.pullback(), 1e-12);
     for (const auto& p : points) {
       const Eigen::Vector2d ndc = project(b, lens, p);
-      EXPECT_LE(std::max(std::abs(ndc.x()), std::abs(ndc.y())), 1.0 - lens.margin + 1e-9);
-      tightest = std::max({tightest, std::abs(ndc.x()), std::abs(ndc.y())});
+      EXPECT_LE(std::max(std::abs(ndc.x()) / fill.x, std::abs(ndc.y()) / fill.y), 1.0 + 1e-9);
+      tightest = std::max({tightest, std::abs(ndc.x()) / fill.x, std::abs(ndc.y()) / fill.y});
     }
   }
-  EXPECT_NEAR(tightest, 1.0 - lens.margin, 1e-9);
+  EXPECT_NEAR(tightest, 1.0, 1e-9);
 }
 
 // A lumpy, lopsided model: an icosphere (10k vertices) pushed in and out, stretched and moved off

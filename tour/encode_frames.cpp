@@ -202,12 +202,11 @@ struct DisplayTransform {
 // Reads one frame as 8-bit sRGB RGB, the encoder's input; with `alpha`, as RGBA with straight alpha.
 std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& plan, const DisplayTransform& display,
                                      bool alpha) {
-  // (PNG frames with alpha: OpenImageIO's PNG writer takes the pixels it is given as premultiplied
-  // and divides them by alpha as it writes, and its reader multiplies them back. meshtour's frames
-  // are written through it (tracer/image_writer.cpp) with straight colour, so the file holds
-  // colour / alpha, and the default read gives back the frame's straight colour. Read otherwise
-  // (oiio:UnassociatedAlpha), a frame's partly covered pixels come out brighter than rendered.)
-  auto in = OIIO::ImageInput::open(file.string());
+  // PNG frames with alpha hold straight colour (tracer/image_writer.cpp), and the encoder takes
+  // straight colour: read them as they are, not premultiplied (OpenImageIO's default).
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(file.string(), &config);
   if (!in) throw IoError(file.string() + ": cannot read frame: " + one_line(OIIO::geterror()));
   const OIIO::ImageSpec spec = in->spec();
   if (spec.width != plan.width || spec.height != plan.height)

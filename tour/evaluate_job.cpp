@@ -25,14 +25,14 @@ namespace {
 
 void print_table(const std::vector<std::pair<std::string, PathEvaluation>>& rows, std::ostream& out) {
   char line[512];
-  std::snprintf(line, sizeof line, "%-14s %9s %9s %6s %7s %9s %9s %9s %9s %6s\n", "mode", "features", "surface",
-                "f.min", "f.median", "cam.speed", "cam.accel", "view.spd", "view.acc", "out");
+  std::snprintf(line, sizeof line, "%-14s %9s %9s %6s %7s %9s %9s %9s %9s %6s %7s %6s\n", "mode", "features", "surface",
+                "f.min", "f.median", "cam.speed", "cam.accel", "view.spd", "view.acc", "out", "margin", "below");
   out << line;
   for (const auto& [mode, e] : rows) {
-    std::snprintf(line, sizeof line, "%-14s %8.2f%% %8.2f%% %6d %7.1f %9.4f %9.4f %9.4f %9.4f %6d\n", mode.c_str(),
+    std::snprintf(line, sizeof line, "%-14s %8.2f%% %8.2f%% %6d %7.1f %9.4f %9.4f %9.4f %9.4f %6d %6.2f%% %6d\n", mode.c_str(),
                   100.0 * e.feature_coverage, 100.0 * e.surface_coverage, e.feature_min_frames, e.feature_median_frames,
                   e.camera_max_angular_speed, e.camera_max_angular_acceleration, e.view_max_angular_speed,
-                  e.view_max_angular_acceleration, e.frames_out_of_frame);
+                  e.view_max_angular_acceleration, e.frames_out_of_frame, 100.0 * e.min_edge_margin, e.frames_below_floor);
     out << line;
   }
 }

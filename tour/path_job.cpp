@@ -148,7 +148,7 @@ void run_path(PathJob& a) {
     // Once per mesh: the framing fits read only the hull's vertices.
     const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
     if (paper) {
-      camera_path = std::make_unique<PaperCameraPath>(result->camera_path());
+      camera_path = std::make_unique<UniformTurnPath>(std::make_unique<PaperCameraPath>(result->camera_path()));
     } else {
       SearchedPath searched = search_path(scene, mesh, hull, lens, a.quiet);
       camera_path = std::move(searched.path);

@@ -49,6 +49,10 @@ void write_resampled(const OIIO::ImageBuf& frame, const PosterSize& size, const 
   OIIO::ImageBuf poster(out_spec);
   if (!OIIO::ImageBufAlgo::resize(poster, cropped, "lanczos3", 0.0f, {}, /*nthreads=*/1))
     throw RuntimeFailure(file.string() + ": resampling the poster failed: " + poster.geterror());
+  // The frame was read premultiplied (OpenImageIO's default), which is how it must be resampled;
+  // the poster is written with straight alpha, as PNG stores it.
+  if (spec.alpha_channel >= 0 && !OIIO::ImageBufAlgo::unpremult(poster, poster, {}, /*nthreads=*/1))
+    throw RuntimeFailure(file.string() + ": resampling the poster failed: " + poster.geterror());
   std::vector<std::uint8_t> pixels(static_cast<std::size_t>(size.width) * size.height * spec.nchannels);
   if (!poster.get_pixels(poster.roi(), OIIO::TypeDesc::UINT8, pixels.data()))
     throw RuntimeFailure(file.string() + ": resampling the poster failed: " + poster.geterror());

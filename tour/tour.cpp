@@ -81,7 +81,7 @@ PathSettings path_settings(const Scene& scene, PathMode mode, const TriangleMesh
       settings.emplace_back("path-search", search_options_text(scene.path_search.surface));
       settings.emplace_back("aspect", setting_text(lens.aspect));
       settings.emplace_back("fov", fov);
-      // The loop starts at the best of its frames: the frame count turns it.
+      // The frame scores the file records are for this frame count.
       settings.emplace_back("frames", std::to_string(scene.frames));
       break;
     case PathMode::turntable:
@@ -127,11 +127,17 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
                    "(objective %.3f over patch density and saliency at four angles)\n", e.base * deg, e.swing * deg,
                    e.swing_phase, e.ripple * deg, e.ripple_phase, 360.0 * result.geometry.start,
                    100.0 * result.feature_share_seen, result.scores.objective);
+      // Where the scores could not tell candidates apart (within twice their measured noise), the
+      // fixed rule chose: the plainest curve nearest the band's middle, the start nearest the front.
+      std::fprintf(stderr, "  ties: %d of the leading curves within %.2f points (noise %.2f), %d starts within %.2f points (noise %.2f)%s\n",
+                   result.curves_tied, 100.0 * result.curve_tie_band, 100.0 * result.curve_noise, result.starts_tied,
+                   100.0 * result.start_tie_band, 100.0 * result.start_noise,
+                   result.curves_tied > 1 || result.starts_tied > 1 ? ": the tie rule chose" : "");
     }
     record.frames = scene.frames;
     record.frame_scores = result.frame_scores;
     out.file_text = path_file_text(result.geometry, record);
-    out.path = frame_for_lens(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, hull, lens);
+    out.path = frame_for_lens(std::make_unique<UniformTurnPath>(std::make_unique<FeatureOrbitPath>(result.camera_path())), scene, hull, lens);
     return out;
   }
   if (scene.path_mode == PathMode::turntable) {
@@ -157,10 +163,10 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
   }
   out.file_text = path_file_text(result, record);
   if (scene.auto_fov) {
-    out.path = std::make_unique<PaperCameraPath>(result.camera_path());
+    out.path = std::make_unique<UniformTurnPath>(std::make_unique<PaperCameraPath>(result.camera_path()));
     return out;
   }
-  auto framed = std::make_unique<FramedPath>(std::make_unique<PaperCameraPath>(result.camera_path()), hull, lens);
+  auto framed = std::make_unique<FramedPath>(std::make_unique<UniformTurnPath>(std::make_unique<PaperCameraPath>(result.camera_path())), hull, lens);
   if (!quiet && framed->pullback() > 0.0)
     std::fprintf(stderr, "  camera moved back by %.4g model units to keep the whole model in frame\n", framed->pullback());
   out.path = std::move(framed);
@@ -180,7 +186,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     if (view_scores && file.record.frames == scene.frames) *view_scores = file.record.frame_scores;
     // The turntable was fitted to its lens when it was made; the others are framed as when searched.
     if (mode == PathMode::turntable) return std::move(file.path);
-    return frame_for_lens(std::move(file.path), scene, hull, lens);
+    return frame_for_lens(std::make_unique<UniformTurnPath>(std::move(file.path)), scene, hull, lens);
   }
   SearchedPath searched = search_path(scene, mesh, hull, lens, quiet, std::move(rays));
   if (view_scores) *view_scores = std::move(searched.view_scores);

@@ -19,7 +19,8 @@ double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eige
 double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eigen::Vector3d> positions,
                         std::span<const Eigen::Vector3d> hull, double aspect, double margin) {
   if (!(aspect > 0.0)) throw InputError("the frame's aspect ratio must be positive");
-  if (!(margin >= 0.0 && margin < 1.0)) throw InputError("the framing margin must be between 0 and 1");
+  if (!(margin >= 0.0 && margin < 0.5)) throw InputError("the framing margin must be at least 0 and under half the frame");
+  const FrameFill fill = frame_fill(aspect, margin);
   // The half-height tangent each vertex needs: |y|/z vertically, |x|/z / aspect horizontally.
   double needed = 0.0;
   bool any = false;
@@ -36,12 +37,11 @@ double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eige
       const double z = d.dot(f);
       if (!(z > 0.0)) continue;
       any = true;
-      needed = std::max({needed, std::abs(d.dot(u)) / z, std::abs(d.dot(r)) / z / aspect});
+      needed = std::max({needed, std::abs(d.dot(u)) / z / fill.y, std::abs(d.dot(r)) / z / aspect / fill.x});
     }
   }
   if (!any) throw InputError("no vertex of the model is in front of the camera; check the camera path");
-  // The margin is a share of the half-frame left free: the model fills (1 - margin) of it.
-  const double fov = 2.0 * std::atan(needed / (1.0 - margin)) * 180.0 / std::numbers::pi;
+  const double fov = 2.0 * std::atan(needed) * 180.0 / std::numbers::pi;
   if (!(fov <= 170.0))
     throw InputError("the model cannot be kept in frame (it would need a " + std::to_string(fov) +
                      " degree field of view); move the camera further away or fix the field of view");

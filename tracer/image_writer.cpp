@@ -18,6 +18,10 @@ void write_8bit_image(const std::filesystem::path& file, std::span<const std::ui
                          std::to_string(height) + "x" + std::to_string(channels));
   OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
   if (tag == SrgbTag::tagged) spec.attribute("oiio:ColorSpace", "sRGB");
+  // The pixels' alpha is straight, as PNG stores it: without this OpenImageIO's PNG writer takes
+  // them as premultiplied and divides the colour by alpha once more (an edge pixel of grey 128 at
+  // alpha 128 was stored as 255).
+  if (channels == 2 || channels == 4) spec.attribute("oiio:UnassociatedAlpha", 1);
   write_encoded_image(file, spec, OIIO::TypeDesc::UINT8, pixels.data(), what);
 }
 

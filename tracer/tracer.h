@@ -179,8 +179,9 @@ private:
 };
 
 /// The vertical field of view (degrees) at which every vertex of `positions` stays inside the
-/// frame of every camera in `cameras` (their own fov is ignored), with `margin` of the half-frame
-/// left free on each side (0.05 = 5 %). Vertices behind a camera are ignored.
+/// frame of every camera in `cameras` (their own fov is ignored), with `margin` of the frame's
+/// smaller side left free at every edge (0.05 = 5 %; core/camera.h frame_fill). Vertices behind a
+/// camera are ignored.
 /// \throw InputError if no vertex is in front of any camera or the model cannot fit in 170 degrees.
 double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eigen::Vector3d> positions,
                         double aspect, double margin = 0.05);
