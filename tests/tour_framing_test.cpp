@@ -43,6 +43,7 @@ void PrintTo(const Case& c, std::ostream* os) { *os << c.mesh << " " << c.mode <
 class ActionSafe : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ActionSafe, EveryFrameKeepsFivePercentOfTheSmallerSideFree) {
+  MESHTOUR_SKIP_UNDER_SANITIZERS("path searches and 720p renders; the Release pass measures the framing");
   const Case& c = GetParam();
   MESHTOUR_SHARED_MESH(mesh, c.mesh);
   const Scene scene = resolve_scene(mesh.string(), {{"size", c.size},
