@@ -64,7 +64,8 @@ void add_path_command(CLI::App& app) {
       "where many small patches meet are 'interesting'. A cylinder around the up axis is cut "
       "into a grid, each column's most interesting cell becomes a control point, and a closed "
       "B-spline through them gives the height of the camera as it circles the model. Lengths "
-      "in options are in units of the bounding-box diagonal; I-n refers to the interpretations "
+      "in options are in units of the bounding-box diagonal, but --tolerance, whose unit is "
+      "--tolerance-unit (half the box's largest side by default); I-n refers to the interpretations "
       "in docs/METHOD.md §15. With --path feature-orbit or turntable, -o writes that mode's path "
       "file instead (as 'tour' would compute it with the same size, --fov, --frames and --up), "
       "for 'tour --path-file' and the farm.");

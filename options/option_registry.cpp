@@ -335,12 +335,14 @@ std::vector<Option> make_registry() {
   const unsigned kPathCommands = kRendering | path | evaluate;
   add({.id = "tolerance", .flag = "--tolerance", .kind = Kind::positive, .default_text = "0.001",
        .help = "Patch tolerance epsilon: largest distance between a face and the torus of its patch, "
-               "in units of the model's bounding-box diagonal. Smaller = more, smaller patches",
+               "in units of --tolerance-unit (default: half the bounding box's largest side). Smaller = more, smaller patches",
        .scene_key = "patches.tolerance", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks, .group = kPatches});
   add({.id = "tolerance-unit", .flag = "--tolerance-unit", .kind = Kind::choice,
-       .choices = {"diagonal", "box-extent", "box-half-extent"}, .ignore_case = true, .default_text = "diagonal",
-       .help = "The length --tolerance is a fraction of (I-34, docs/FIDELITY.md): the bounding-box diagonal "
-               "(the specification), its largest side, or half of it (the model scaled into the cube [-1, 1]^3)",
+       .choices = {"diagonal", "box-extent", "box-half-extent"}, .ignore_case = true, .default_text = "box-half-extent",
+       .help = "The length --tolerance is a fraction of (I-34, docs/FIDELITY.md): half the bounding box's largest "
+               "side (default: the model scaled into the cube [-1, 1]^3, which reproduces the paper's tables on the "
+               "bunny and the horse), that side, or the bounding-box diagonal (the specification's text). The feature "
+               "orbit's and evaluate's patch density on the coarse proxy keep the diagonal",
        .scene_key = "patches.tolerance_unit", .manifest_column = true, .commands = kPathCommands, .farm = kToTasks,
        .group = kPatches});
   add({.id = "smoothing", .flag = "--smoothing", .kind = Kind::choice, .choices = {"implicit", "none", "taubin", "pmp-default"},

@@ -38,7 +38,8 @@ struct Leftover {
   std::uint32_t vertex = 0;
 };
 
-// I-34: the chosen unit in the normalized frame, where the diagonal of the bounding box is 1.
+}  // namespace
+
 double tolerance_unit_length(const std::vector<Eigen::Vector3d>& positions, ToleranceUnit unit) {
   if (unit == ToleranceUnit::diagonal || positions.empty()) return 1.0;
   Eigen::Vector3d lo = positions.front(), hi = positions.front();
@@ -52,8 +53,6 @@ double tolerance_unit_length(const std::vector<Eigen::Vector3d>& positions, Tole
   const double side = extent.maxCoeff() / diagonal;
   return unit == ToleranceUnit::box_extent ? side : side / 2.0;
 }
-
-}  // namespace
 
 std::vector<Torus> vertex_tori(const SurfaceMesh& mesh, const std::vector<VertexDifferential>& differential,
                                double kappa_min) {

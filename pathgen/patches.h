@@ -26,6 +26,10 @@ struct Decomposition {
   int largest = 0;
 };
 
+/// I-34: the length of the tolerance's unit in the normalized frame of `positions` (bounding-box
+/// diagonal 1): 1 for the diagonal, else the box's largest side or half of it.
+double tolerance_unit_length(const std::vector<Eigen::Vector3d>& positions, ToleranceUnit unit);
+
 /// §7.3–§7.4. `seed_order` lists the vertices in seed order (its ranks also break Phase-B ties);
 /// `phase_a_seeds`, if not empty, replaces it as the list Phase A visits (test hook).
 /// `test_positions`, when given, are the vertex positions the faces are tested at (I-33).

@@ -39,7 +39,10 @@ std::string sample_value(const Option& o) {
     case Kind::integer: return number_not_default(o.lo + (o.hi > o.lo ? 1 : 0), o.lo);
     case Kind::number: return number_not_default(o.lo + 0.25 * (o.hi - o.lo), o.lo + 0.75 * (o.hi - o.lo));
     case Kind::positive: return "0.0025";
-    case Kind::choice: return std::string(o.choices.back());
+    case Kind::choice:  // the last choice that is not the default
+      for (auto c = o.choices.rbegin(); c != o.choices.rend(); ++c)
+        if (*c != o.default_text) return std::string(*c);
+      return std::string(o.choices.back());
     case Kind::choice_list: return std::string(o.choices.front()) + "," + std::string(o.choices.back());
     case Kind::number_or_choice: return options::number_text(o.lo + 0.5 * (o.hi - o.lo));
     case Kind::frame_selection: return "0-3:2";

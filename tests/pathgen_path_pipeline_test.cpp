@@ -24,7 +24,9 @@ std::string rows_text(const std::vector<int>& rows) {
 // 18–19, so only the columns well inside the far side are required to stay in the middle. (The
 // reference rows of §17.6, 5 7 7 7 7 6 8 6 6 5 | 5 ..., came from other random bump centres.)
 TEST(PathgenPathPipeline, BumpySphereRowsFollowTheBumps) {
-  const PaperPathResult r = compute_paper_path(tm::bumpy_sphere(5), PaperPathOptions{});
+  PaperPathOptions options;
+  options.surface = tm::specification_units();  // §17.6's rows are the specification's (ε per diagonal)
+  const PaperPathResult r = compute_paper_path(tm::bumpy_sphere(5), options);
   const std::string rows = rows_text(r.control.rows);
   for (int j = 11; j <= 17; ++j) EXPECT_EQ(r.control.rows[j], 5) << "far column " << j << ": " << rows;
   int above = 0;

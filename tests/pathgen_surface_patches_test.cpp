@@ -8,6 +8,7 @@
 #include <set>
 
 #include "pathgen/curvature.h"
+#include "pathgen/patches.h"
 #include "pathgen/surface.h"
 #include "test_meshes.h"
 
@@ -49,11 +50,12 @@ void check_decomposition(const SurfaceAnalysis& s, const SurfaceOptions& o) {
     ++size[p];
     const auto& t = s.triangles[f];
     const PatchRecord& patch = s.patches[p];
-    // The accuracy of a patch is checked where the test ran on these positions with ε in diagonal
-    // units (I-33 tests other positions; I-34 scales ε: ToleranceUnitScalesEpsilonByTheBoxSide).
-    if (patch.accurate && !o.patches_on_unsmoothed && o.tolerance_unit == ToleranceUnit::diagonal) {
+    // The accuracy of a patch is checked where the test ran on these positions (I-33 tests other
+    // positions), against ε in the normalized frame (I-34's unit times --tolerance).
+    if (patch.accurate && !o.patches_on_unsmoothed) {
       const PatchTest test{o.face_samples, o.patch_measure, o.patch_normal_angle_deg};
-      ASSERT_LE(face_torus_distance(patch.torus, s.positions[t[0]], s.positions[t[1]], s.positions[t[2]], test), o.tolerance)
+      const double eps = o.tolerance * surface_detail::tolerance_unit_length(s.positions, o.tolerance_unit);
+      ASSERT_LE(face_torus_distance(patch.torus, s.positions[t[0]], s.positions[t[1]], s.positions[t[2]], test), eps)
           << "face " << f << " patch " << p;
     }
   }
@@ -132,7 +134,7 @@ TEST(PathgenSurfacePatches, DecompositionInvariantsHoldForEveryOption) {
   variants[8].patch_normal_angle_deg = 10.0;
   variants[8].face_samples = FaceSamples::edges4;
   variants[9].patches_on_unsmoothed = true;
-  variants[10].tolerance_unit = ToleranceUnit::box_half_extent;
+  variants[10].tolerance_unit = ToleranceUnit::diagonal;  // the specification's unit
   for (std::size_t i = 0; i < variants.size(); ++i) {
     SCOPED_TRACE("variant " + std::to_string(i));
     const SurfaceAnalysis s = analyze_surface(m, variants[i]);
@@ -216,8 +218,8 @@ TEST(PathgenSurfacePatches, ExpectedCountsOnCleanSurfacesWithoutSmoothing) {
 }
 
 TEST(PathgenSurfacePatches, CleanSurfacesStayOnePatchWithDefaultSmoothing) {
-  EXPECT_EQ(analyze_surface(icosphere(5), SurfaceOptions{}).patch_count, 1);
-  EXPECT_EQ(analyze_surface(plane(64), SurfaceOptions{}).patch_count, 1);
+  EXPECT_EQ(analyze_surface(icosphere(5), specification_units()).patch_count, 1);
+  EXPECT_EQ(analyze_surface(plane(64), specification_units()).patch_count, 1);
 }
 
 TEST(PathgenSurfacePatches, PatchesPlusOrphansDoNotIncreaseWithTheTolerance) {
@@ -241,6 +243,7 @@ TEST(PathgenSurfacePatches, ToleranceUnitScalesEpsilonByTheBoxSide) {
   SurfaceOptions half = no_smoothing(), extent = no_smoothing(), plain_half = no_smoothing(), plain_extent = no_smoothing();
   half.tolerance_unit = ToleranceUnit::box_half_extent;
   extent.tolerance_unit = ToleranceUnit::box_extent;
+  plain_half.tolerance_unit = plain_extent.tolerance_unit = ToleranceUnit::diagonal;
   plain_half.tolerance = 1e-3 * side / 2.0;
   plain_extent.tolerance = 1e-3 * side;
   const SurfaceAnalysis h = analyze_surface(m, half), e = analyze_surface(m, extent);
@@ -265,14 +268,14 @@ TEST(PathgenSurfacePatches, PatchMeasuresOfAPointOutsideTheTube) {
 }
 
 TEST(PathgenSurfacePatches, BumpySphereHasAFewPercentPatchesAndNoOrphans) {
-  const SurfaceAnalysis clean = analyze_surface(bumpy_sphere(5), SurfaceOptions{});
+  const SurfaceAnalysis clean = analyze_surface(bumpy_sphere(5), specification_units());
   const double F = static_cast<double>(clean.triangles.size());
   EXPECT_GE(clean.patch_count / F, 0.005);
   EXPECT_LE(clean.patch_count / F, 0.05);
   EXPECT_GE(clean.single_face_patches, 50);
   EXPECT_LE(clean.single_face_patches, 999);
   EXPECT_EQ(clean.orphans, 0);
-  const SurfaceAnalysis noisy = analyze_surface(bumpy_sphere(5, 0.002), SurfaceOptions{});
+  const SurfaceAnalysis noisy = analyze_surface(bumpy_sphere(5, 0.002), specification_units());
   EXPECT_GT(noisy.patch_count, clean.patch_count);
   EXPECT_LE(noisy.patch_count / F, 0.08);
   RecordProperty("bumpy_T", clean.patch_count);

@@ -280,8 +280,18 @@ inline TriangleMesh uv_sphere(double radius = 1.0, int segments = 64, int rings 
 }
 
 /// §3–§8 options with smoothing off, as most §17 checks are stated.
-inline SurfaceOptions no_smoothing() {
+/// The specification's patch stage: ε in units of the bounding-box diagonal (the default is I-34's
+/// 2.5 times tighter box-half-extent). The synthetic surfaces' expected counts are the
+/// specification's: a clean icosphere is one patch only under its ε.
+inline SurfaceOptions specification_units() {
   SurfaceOptions o;
+  o.tolerance_unit = ToleranceUnit::diagonal;
+  return o;
+}
+
+/// The specification's patch stage without smoothing.
+inline SurfaceOptions no_smoothing() {
+  SurfaceOptions o = specification_units();
   o.smoothing = SmoothingMethod::none;
   return o;
 }
