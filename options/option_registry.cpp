@@ -76,6 +76,14 @@ std::vector<Option> make_registry() {
                              "bounding box), 'pca' (principal axis of the surface) or 'auto' (the side the model rests on most "
                              "firmly, else y)",
                      .kind = Kind::up_direction}}});
+  add({.id = "quality", .flag = "--quality", .kind = Kind::choice, .choices = {"Thumb", "Low", "Medium", "High", "Highest", "AR"},
+       .ignore_case = true,
+       .help = "A Voyager scene's (.svx.json) Web3D derivative to tour, by its quality (default: the highest whose model\n"
+               "file is on disk, Highest to Thumb; AR only when named)",
+       .long_help = "Only for Voyager documents (docs/FORMATS.md#voyager-scenes): their models list derivatives of "
+                    "several qualities, each a file of its own. A quality the document lists but whose file is not "
+                    "on disk is an error naming the file.",
+       .scene_key = "quality", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks});
   add({.id = "missing-textures", .flag = "--missing-textures", .kind = Kind::choice, .choices = {"error", "grey"},
        .default_text = "error",
        .help = "A texture the model names that is missing or unreadable: error (default; the message names the file and\n"

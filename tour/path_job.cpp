@@ -23,6 +23,7 @@
 #include "tour/path_overview.h"
 #include "tour/path_plot.h"
 #include "tour/progress.h"
+#include "tour/tour.h"
 
 namespace meshtour {
 namespace {
@@ -98,7 +99,9 @@ void run_path(PathJob& a) {
 
   log.start("load");
   LoadReport load;
-  const TriangleMesh mesh = load_mesh(a.mesh, &load, LoadOptions{.check_textures = false});  // the path needs no textures
+  TriangleMesh loaded = load_mesh(a.mesh, &load, LoadOptions{.check_textures = false});  // the path needs no textures
+  if (a.scene.model_transform) transform_mesh(loaded, *a.scene.model_transform);  // a Voyager document's pose
+  const TriangleMesh& mesh = loaded;
   throw_if_interrupted();
   if (up_auto) {
     const UpChoice choice = choose_up_axis(mesh, a.mesh);
@@ -148,7 +151,7 @@ void run_path(PathJob& a) {
     // Once per mesh: the framing fits read only the hull's vertices.
     const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
     if (paper) {
-      camera_path = std::make_unique<UniformTurnPath>(std::make_unique<PaperCameraPath>(result->camera_path()));
+      camera_path = std::make_unique<UniformTurnPath>(from_opening_view(std::make_unique<PaperCameraPath>(result->camera_path()), scene, mesh));
     } else {
       SearchedPath searched = search_path(scene, mesh, hull, lens, a.quiet);
       camera_path = std::move(searched.path);
