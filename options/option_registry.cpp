@@ -77,7 +77,7 @@ std::vector<Option> make_registry() {
                              "bounding box), 'pca' (principal axis of the surface) or 'auto' (the side the model rests on most "
                              "firmly, else y)",
                      .kind = Kind::up_direction}}});
-  add({.id = "quality", .flag = "--quality", .kind = Kind::choice, .choices = {"Thumb", "Low", "Medium", "High", "Highest", "AR"},
+  add({.id = "quality", .flag = "--quality", .kind = Kind::choice, .choices = {"thumb", "low", "medium", "high", "highest", "ar"},
        .ignore_case = true,
        .help = "A Voyager scene's (.svx.json) Web3D derivative to tour, by its quality (default: the highest whose model\n"
                "file is on disk, Highest to Thumb; AR only when named)",

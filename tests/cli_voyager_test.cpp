@@ -15,6 +15,8 @@
 
 #include "helpers.h"
 
+// A namespace of its own: the unity build puts this file beside the other CLI tests.
+namespace voyager_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -157,3 +159,4 @@ TEST(VoyagerScene, OpeningViewFromBelowIsRaisedToTheFloor) {
 }
 
 }  // namespace
+}  // namespace voyager_cli_test

@@ -15,7 +15,8 @@
 #include "scenes/scene_options.h"
 #include "scenes/voyager.h"
 
-namespace meshtour {
+// A namespace of its own: the unity build puts this file beside the scene-file tests.
+namespace meshtour::voyager_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -183,4 +184,4 @@ TEST(UpDefault, MeshFilesDefaultToUpByShape) {
 }
 
 }  // namespace
-}  // namespace meshtour
+}  // namespace meshtour::voyager_test
