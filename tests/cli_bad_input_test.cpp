@@ -363,7 +363,7 @@ TEST_F(BadInputCorpus, Meshes) {
       {"billion-triangle binary STL header", "path",
        write(d / "billion.stl", std::string(80, ' ') + std::string("\x00\xca\x9a\x3b", 4) + std::string(50, '\0')), "", 2,
        {"1000000000"}},
-      {"mesh across the up axis (flat, y up)", "path", write(d / "floor.obj", plane_obj("xz")), "", 2, {"flat", "--up"}},
+      {"mesh across the up axis (flat, y up)", "path", write(d / "floor.obj", plane_obj("xz")), "--up y", 2, {"flat", "--up"}},
       {"scene with unknown key", "tour", write(d / "unknown.json", R"({"model": {"procedural": "sculpture"}, "colour": "red"})"),
        kSmall, 2, {"'colour' unknown key"}},
       {"scene with a wrong type", "tour", write(d / "type.json", R"({"model": {"procedural": "sculpture"}, "timing": {"frames": "ten"}})"),
