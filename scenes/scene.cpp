@@ -393,7 +393,9 @@ void resolve_auto_up(Scene& scene, const TriangleMesh& mesh, bool quiet) {
   scene.up = choice.up;
   scene.up_auto = false;  // decided: a second call (or a copy of the scene) keeps it
   scene.render.world_up = scene.up.vector();
-  if (!quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", scene.up.name().c_str(), choice.reason.c_str());
+  // Asked for, the choice is said; as the default, only where it is not the +y it used to be.
+  if (!quiet && (scene.up_given || scene.up != Axis{1, false}))
+    std::fprintf(stderr, "--up auto: %s (%s)\n", scene.up.name().c_str(), choice.reason.c_str());
   // Overriding a glTF file's own up changes the picture: said even with -q.
   if (!choice.warning.empty()) std::fprintf(stderr, "meshtour: warning: --up auto: %s\n", choice.warning.c_str());
 }

@@ -105,7 +105,8 @@ void resolve_voyager(Scene& scene);
 TriangleMesh load_scene_model(const Scene& scene, LoadReport* report = nullptr);
 
 /// With --up auto, sets the scene's up axis (and the ground under it) to the one the model's shape
-/// gives (mesh/up_axis.h) and, unless quiet, says which and why on stderr. Otherwise does nothing.
+/// gives (mesh/up_axis.h) and, unless quiet, says which and why on stderr (as the default, only
+/// when it is not +y). Otherwise does nothing.
 void resolve_auto_up(Scene& scene, const TriangleMesh& mesh, bool quiet);
 
 }  // namespace meshtour

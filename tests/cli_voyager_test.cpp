@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -145,6 +146,20 @@ TEST(VoyagerScene, TourIsUprightWithTheHighestDerivativeAndTheTitleAsCaption) {
                                   "--frames 2 --spp 1 --threads 1 -o " + shell_quoted(w.dir / "alpha.mov"));
   EXPECT_EQ(alpha.exit_code, 0) << alpha.output;
   EXPECT_NE(alpha.output.find("the document's title is not captioned"), std::string::npos) << alpha.output;
+}
+
+// A batch manifest's mesh may be a Voyager document: the video is named after it (figure.mp4, not
+// figure.svx.mp4) and captioned with its title.
+TEST(VoyagerScene, BatchItemsTakeDocuments) {
+  const Written w = write_scene();
+  std::ofstream(w.dir / "m.csv") << "mesh\nfigure.svx.json\n";
+  const auto r = run_meshtour("batch " + shell_quoted(w.dir / "m.csv") + " --out-dir " + shell_quoted(w.dir / "v") +
+                              " --frames 2 --width 160 --height 120 --spp 1 --progress none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(w.dir / "v" / "figure.mp4")) << r.output;
+  std::ifstream in(w.dir / "v" / "batch-summary.json");
+  const std::string summary((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(summary.find("Figure on a plinth"), std::string::npos) << summary;
 }
 
 TEST(VoyagerScene, OpeningViewFromBelowIsRaisedToTheFloor) {

@@ -108,7 +108,9 @@ void run_path(PathJob& a) {
     a.up = UpDirection{};  // the axis the model's shape gives
     a.up.axis = choice.up;
     a.options.up = a.up;
-    if (!a.quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", choice.up.name().c_str(), choice.reason.c_str());
+    // Asked for, the choice is said; as the default, only where it is not the +y it used to be.
+    if (!a.quiet && (a.scene.up_given || choice.up != Axis{1, false}))
+      std::fprintf(stderr, "--up auto: %s (%s)\n", choice.up.name().c_str(), choice.reason.c_str());
     if (!choice.warning.empty()) std::fprintf(stderr, "meshtour: warning: --up auto: %s\n", choice.warning.c_str());
   }
   const bool paper = a.mode == PathMode::paper;
