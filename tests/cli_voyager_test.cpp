@@ -148,6 +148,17 @@ TEST(VoyagerScene, TourIsUprightWithTheHighestDerivativeAndTheTitleAsCaption) {
   EXPECT_NE(alpha.output.find("the document's title is not captioned"), std::string::npos) << alpha.output;
 }
 
+// info describes the derivative a tour would load, posed: upright (+y by shape too) in centimetres.
+TEST(VoyagerScene, InfoDescribesThePosedDerivative) {
+  const Written w = write_scene();
+  const auto r = run_meshtour("info " + shell_quoted(w.document));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the High derivative"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("units mm in a cm scene"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("title \"Figure on a plinth\""), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("up axis (--up auto): +y"), std::string::npos) << r.output;
+}
+
 // A batch manifest's mesh may be a Voyager document: the video is named after it (figure.mp4, not
 // figure.svx.mp4) and captioned with its title.
 TEST(VoyagerScene, BatchItemsTakeDocuments) {
