@@ -67,7 +67,8 @@ std::vector<BatchEntry> batch_entries(const std::vector<BatchItem>& items, const
         options::Values caption_values = scene_args.values;
         if (!caption_values.contains("caption"))
           for (const char* id : {"caption-position", "caption-size", "font"}) caption_values.erase(id);
-        e.caption_args = caption_args(caption_values);
+        e.caption_args = caption_args(caption_values, e.scene->title);
+        if (e.caption.empty() && e.caption_args.caption) e.caption = e.caption_args.caption->text;
       } catch (const std::exception&) {
         e.scene.reset();
         e.settings_failure = std::current_exception();

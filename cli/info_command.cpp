@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include "mesh/mesh.h"
 #include "mesh/mesh_statistics.h"
 #include "mesh/up_axis.h"
+#include "scenes/voyager.h"
 #include "cli/scene_args.h"
 #include "options/cli_options.h"
 #include "tour/resources.h"
@@ -27,15 +29,27 @@ struct InfoArgs {
   options::Values values;  // info takes no tour settings: stays empty
 };
 
-nlohmann::json describe(const std::string& file) {
+nlohmann::json describe(const std::string& input) {
+  // A Voyager document: its highest derivative on disk, posed as the document says.
+  std::optional<VoyagerDocument> voyager;
+  if (is_voyager_document(input)) voyager = load_voyager_document(input);
+  const std::string file = voyager ? voyager->model_file.string() : input;
   const MeshFileSummary counts = check_mesh_file(file);
   LoadReport report;
   // A missing texture is reported, not fatal: info is how one finds out.
-  const TriangleMesh mesh = load_mesh(file, &report, LoadOptions{.missing_textures_grey = true});
+  TriangleMesh loaded = load_mesh(file, &report, LoadOptions{.missing_textures_grey = true});
+  if (voyager) transform_mesh(loaded, voyager->transform);
+  const TriangleMesh& mesh = loaded;
   const Bounds b = mesh.bounds();
   const MeshStatistics stats = mesh_statistics(mesh);
   nlohmann::json j;
   j["file"] = file;
+  if (voyager) {
+    const Eigen::Vector3d o = voyager->orbit_deg;
+    j["voyager"] = {{"document", input}, {"quality", voyager->quality}, {"qualities", voyager->qualities},
+                    {"units", voyager->model_units}, {"scene_units", voyager->scene_units}, {"title", voyager->title},
+                    {"orbit", {o.x(), o.y(), o.z()}}, {"orbit_given", voyager->orbit_given}};
+  }
   j["vertices"] = mesh.vertex_count();
   j["triangles"] = mesh.face_count();
   j["faces_in_file"] = counts.faces;
@@ -79,7 +93,8 @@ nlohmann::json describe(const std::string& file) {
   j["memory_estimate_bytes"]["textures_decoded"] = texture_bytes;
   j["memory_estimate_bytes"]["texture_cache"] = texture_cache;
   j["memory_estimate_bytes"]["peak"] = tour.peak + texture_cache;
-  // What --up auto would choose (mesh/up_axis.h), with why; the default stays +y.
+  // What --up auto (the default for mesh files) chooses (mesh/up_axis.h), with why; a Voyager
+  // model, already posed by its document, is toured +y.
   const UpChoice up = choose_up_axis(mesh, file);
   j["up_axis"] = {{"auto", up.up.name()}, {"confident", up.confident}, {"reason", up.reason}};
   if (!up.warning.empty()) j["up_axis"]["warning"] = up.warning;
@@ -88,6 +103,13 @@ nlohmann::json describe(const std::string& file) {
 
 void print_text(const nlohmann::json& j) {
   std::printf("%s\n", j["file"].get<std::string>().c_str());
+  if (j.contains("voyager")) {
+    const auto& v = j["voyager"];
+    std::printf("  Voyager document %s: the %s derivative (of %s), units %s in a %s scene, opening orbit %g, %g, %g; title \"%s\"\n",
+                v["document"].get<std::string>().c_str(), v["quality"].get<std::string>().c_str(), v["qualities"].dump().c_str(),
+                v["units"].get<std::string>().c_str(), v["scene_units"].get<std::string>().c_str(), v["orbit"][0].get<double>(),
+                v["orbit"][1].get<double>(), v["orbit"][2].get<double>(), v["title"].get<std::string>().c_str());
+  }
   std::printf("  %zu vertices, %zu triangles (%zu faces in the file)\n", j["vertices"].get<std::size_t>(),
               j["triangles"].get<std::size_t>(), j["faces_in_file"].get<std::size_t>());
   const auto& lo = j["bounds"]["min"];

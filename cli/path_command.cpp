@@ -19,6 +19,7 @@
 #include "mesh/mesh.h"
 #include "mesh/up_axis.h"
 #include "scenes/scene_options.h"
+#include "scenes/voyager.h"
 #include "pathgen/camera_export.h"
 #include "pathgen/debug_output.h"
 #include "pathgen/path_file.h"
@@ -29,23 +30,32 @@ namespace {
 struct PathArgs {
   PathJob job;
   options::Values values;       // the tour's settings path takes: frames, size, lens, path search
-  std::string up = "y";         // checked by the row; parsed once the path mode is known
+  std::string up;               // checked by the row; parsed once the path mode is known ("" = not given)
   int samples = PaperPathOptions{}.samples;
 };
 
 void run_path_command(PathArgs& args) {
   PathJob& job = args.job;
-  job.up_auto = is_auto_up(args.up);
-  if (!job.up_auto) {
-    job.up = UpDirection::parse(args.up);
-    if (job.mode != PathMode::paper) (void)Axis::parse(args.up);  // the other modes take a coordinate axis
-  }
   // The cameras exactly as `meshtour tour MESH --path MODE --frames N` renders them (default frame
   // size and field of view "auto"): the tour's settings applied as `tour` applies them.
   job.scene = default_scene();
   job.scene.source = job.mesh;
   job.scene.mesh_file = job.mesh;
   apply_options(job.scene, args.values);
+  job.scene.up_given = !args.up.empty();
+  if (is_voyager_document(job.mesh)) {
+    // The document's derivative, posed as it says (loaded by run_path with the scene's transform).
+    job.scene.voyager_file = job.mesh;
+    resolve_voyager(job.scene);
+    job.mesh = job.scene.mesh_file->string();
+  }
+  // Without --up the format decides, as for tour (mesh/up_axis.h); a Voyager model is +y.
+  job.up_auto = args.up.empty() ? !job.scene.voyager_file && up_by_shape_by_default(job.mesh) : is_auto_up(args.up);
+  if (!job.up_auto) {
+    const std::string up = args.up.empty() ? "y" : args.up;
+    job.up = UpDirection::parse(up);
+    if (job.mode != PathMode::paper) (void)Axis::parse(up);  // the other modes take a coordinate axis
+  }
   job.options = job.scene.path_search;
   job.options.samples = args.samples;
   run_path(job);

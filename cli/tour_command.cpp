@@ -18,6 +18,7 @@
 #include "cli/video_settings.h"
 #include "tour/tour.h"
 #include "scenes/scene.h"
+#include "scenes/voyager.h"
 #include "tracer/tracer.h"
 
 namespace meshtour::cli {
@@ -31,7 +32,9 @@ struct TourArgs {
 
 std::filesystem::path default_output(const TourArgs& a) {
   if (a.scene.input.empty()) return "meshtour-default.mp4";
-  return std::filesystem::path(a.scene.input).stem().string() + ".mp4";
+  std::string stem = std::filesystem::path(a.scene.input).stem().string();
+  if (is_voyager_document(a.scene.input)) stem.resize(stem.size() - 4);  // "bell.svx.json" -> bell.mp4
+  return stem + ".mp4";
 }
 
 void run_tour(TourArgs& args) {
@@ -42,7 +45,9 @@ void run_tour(TourArgs& args) {
   job.crf_given = args.scene.values.contains("crf");
   if (job.quiet) job.progress = ProgressMode::none;
   job.poster = poster_job(args.scene.values);
-  job.caption = caption_args(args.scene.values);
+  job.caption = caption_args(args.scene.values, scene.title);
+  if (job.caption.caption_by_default && !job.quiet)
+    std::fprintf(stderr, "meshtour: caption: \"%s\" (the document's title; --caption replaces it)\n", job.caption.caption->text.c_str());
   render_tour_video(scene, job);
 }
 

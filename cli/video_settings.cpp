@@ -16,12 +16,15 @@ PosterJob poster_job(const options::Values& values) {
   return job;
 }
 
-CaptionArgs caption_args(const options::Values& values) {
+CaptionArgs caption_args(const options::Values& values, const std::string& title) {
   CaptionArgs a;
   const auto text = values.find("caption");
-  if (text != values.end()) {
+  // A Voyager document's collection title captions its tour unless the user gave a caption.
+  const bool by_default = text == values.end() && !title.empty() && options::check_value(options::option("caption"), title).empty();
+  if (text != values.end() || by_default) {
     CaptionStyle style;
-    style.text = text->second;
+    style.text = by_default ? title : text->second;
+    a.caption_by_default = by_default;
     if (const auto it = values.find("caption-position"); it != values.end()) style.position = parse_caption_position(it->second);
     if (const auto it = values.find("caption-size"); it != values.end()) style.size = std::stoi(it->second);
     if (const auto it = values.find("font"); it != values.end()) style.font = it->second;

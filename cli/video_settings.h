@@ -15,6 +15,7 @@ PosterJob poster_job(const options::Values& values);
 
 /// --caption, --caption-position, --caption-size, --font and --title-card among `values`. A
 /// position, size or font without a caption is an InputError (it would silently do nothing).
-CaptionArgs caption_args(const options::Values& values);
+/// `title`, a scene document's title, is the caption when none is given (caption_by_default).
+CaptionArgs caption_args(const options::Values& values, const std::string& title = "");
 
 }  // namespace meshtour::cli

@@ -38,6 +38,21 @@ bool TriangleMesh::has_texture() const {
          std::any_of(materials.begin(), materials.end(), [](const MeshMaterial& m) { return m.has_texture(); });
 }
 
+void transform_mesh(TriangleMesh& mesh, const Eigen::Matrix4d& m) {
+  const Eigen::Matrix3d linear = m.topLeftCorner<3, 3>();
+  const double det = linear.determinant();
+  if (!std::isfinite(det) || std::abs(det) < 1e-300 || m.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+    throw InputError("the model's transform is singular or not affine (determinant " + std::to_string(det) + ")");
+  const Eigen::Vector3d shift = m.topRightCorner<3, 1>();
+  for (Eigen::Vector3d& p : mesh.positions) p = linear * p + shift;
+  if (det < 0.0) {
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+    // Per-corner UVs follow their corners.
+    if (mesh.corner_uvs.size() == 3 * mesh.triangles.size())
+      for (std::size_t f = 0; f < mesh.triangles.size(); ++f) std::swap(mesh.corner_uvs[3 * f + 1], mesh.corner_uvs[3 * f + 2]);
+  }
+}
+
 Bounds TriangleMesh::bounds() const {
   // The used vertices are marked first, then read in order: a byte per vertex stays in cache where
   // reading each triangle's corners' positions jumped through all of them (9 % of loading a

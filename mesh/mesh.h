@@ -75,6 +75,11 @@ struct TriangleMesh {
   Bounds bounds() const;
 };
 
+/// Moves every vertex by the affine transform `m` (a scene document's pose of the model). A
+/// transform that mirrors (negative determinant) also reverses each triangle's winding, so that
+/// faces keep facing out. \throw InputError if `m` is singular or not affine.
+void transform_mesh(TriangleMesh& mesh, const Eigen::Matrix4d& m);
+
 /// The unit normal of the plane in which every vertex some triangle uses lies (within 1e-9 of the
 /// bounding-box diagonal), or nothing if the mesh is not flat.
 std::optional<Eigen::Vector3d> flat_plane_normal(const TriangleMesh& mesh);

@@ -33,6 +33,10 @@ struct MeshFormat {
   ReadMesh (*read)(const std::filesystem::path& file, const LoadOptions& options);
   /// The up axis the format's specification prescribes (glTF: +Y), if any.
   std::optional<Axis> up;
+  /// Without --up, whether the up axis is chosen by shape (--up auto, which keeps `up` where the
+  /// format prescribes one unless the shape clearly disagrees), or is +y. The decision and the
+  /// evaluation it rests on: docs/EVALUATION.md#the-default-up-axis.
+  bool up_by_shape = false;
 };
 
 /// Every format, in the order help texts list them.

@@ -795,6 +795,11 @@ std::optional<Axis> format_up_axis(const std::filesystem::path& file) {
   return format ? format->up : std::nullopt;
 }
 
+bool up_by_shape_by_default(const std::filesystem::path& file) {
+  const mesh_formats::MeshFormat* format = mesh_formats::find(file.extension().string());
+  return format && format->up_by_shape;
+}
+
 UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& file) {
   UpChoice choice = choose_up_axis(mesh);
   const std::optional<Axis> prescribed = format_up_axis(file);

@@ -18,7 +18,8 @@
 //  * a figure with its limbs spread (a T- or A-pose) on its back or front: a slab as wide as it
 //    is tall with a mirror plane across its width, so it stands on its feet.
 // glTF files are +y by their specification, which only a strong, clearly different choice
-// overrides (with a warning). Behind `--up auto`, not the default (issue 15).
+// overrides (with a warning). Behind `--up auto` (issue 15), and the default for mesh files since
+// issue 37 (up_by_shape_by_default; docs/EVALUATION.md#the-default-up-axis).
 // Measured (tests/mesh_up_axis_test.cpp prints every side's score): on the shared meshes it finds
 // the up of the horse, kitten, bunny and armadillo in all six orientations by their rests and flat
 // bases, and of the Venus head by its sawn neck (no side rests on it: tilted 17 degrees, as rough
@@ -96,6 +97,10 @@ std::optional<Axis> format_up_axis(const std::filesystem::path& file);
 /// Then the shape wins and `warning` says that it overrode the format's up.
 /// \throw InputError if the mesh has no area.
 UpChoice choose_up_axis(const TriangleMesh& mesh, const std::filesystem::path& file);
+
+/// Whether a model read from `file` is stood up by this rule when no --up is given (the format's
+/// row in mesh/mesh_formats.cpp: every format meshtour reads); false for an unknown format.
+bool up_by_shape_by_default(const std::filesystem::path& file);
 
 /// Whether an --up value asks for this rule ("auto", any case).
 bool is_auto_up(std::string_view text);

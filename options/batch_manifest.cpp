@@ -95,7 +95,11 @@ void finish_items(std::vector<BatchItem>& items) {
   std::map<std::string, int> outputs;
   for (auto& item : items) {
     if (item.error.empty() && item.mesh.empty()) item.error = "no mesh given";
-    if (item.output.empty() && !item.mesh.empty()) item.output = item.mesh.stem().string() + ".mp4";
+    if (item.output.empty() && !item.mesh.empty()) {
+      std::string stem = item.mesh.stem().string();
+      if (lower(item.mesh.extension().string()) == ".json" && lower(stem).ends_with(".svx")) stem.resize(stem.size() - 4);  // bell.svx.json
+      item.output = stem + ".mp4";
+    }
     if (item.error.empty()) {
       const std::filesystem::path out(item.output);
       if (out.has_parent_path() || out.is_absolute()) item.error = "output '" + item.output + "' must be a plain file name (it goes into --out-dir)";

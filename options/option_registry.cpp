@@ -65,10 +65,11 @@ std::vector<Option> make_registry() {
        .help = "Length of the video in seconds (sets the frame count = seconds x fps)", .manifest_column = true,
        .commands = kRendering, .farm = kToTasks, .excludes = "frame-count"});
   add({.id = "up", .flag = "--up", .kind = Kind::choice, .choices = {"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z", "auto"},
-       .ignore_case = true, .default_text = "y",
+       .ignore_case = true, .default_text = "auto",
        .help = "The model's up axis: x, y, z, -x, -y, -z or auto (the side the model stands on: its firmest rest and\n"
                "flattest base, never across its plane of symmetry; y when no side clearly wins, and y for glTF unless\n"
-               "the shape clearly disagrees; said on stderr) (default y)",
+               "the shape clearly disagrees; said on stderr) (default auto for mesh files, y for the built-in model;\n"
+               "a Voyager scene's model is +y, stood up by its document)",
        .scene_key = "up", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks,
        .meanings = {{.commands = path,
                      .help = "Up direction of the model = axis of the bounding cylinder the camera circles (I-18): "
@@ -76,6 +77,14 @@ std::vector<Option> make_registry() {
                              "bounding box), 'pca' (principal axis of the surface) or 'auto' (the side the model rests on most "
                              "firmly, else y)",
                      .kind = Kind::up_direction}}});
+  add({.id = "quality", .flag = "--quality", .kind = Kind::choice, .choices = {"thumb", "low", "medium", "high", "highest", "ar"},
+       .ignore_case = true,
+       .help = "A Voyager scene's (.svx.json) Web3D derivative to tour, by its quality (default: the highest whose model\n"
+               "file is on disk, Highest to Thumb; AR only when named)",
+       .long_help = "Only for Voyager documents (docs/FORMATS.md#voyager-scenes): their models list derivatives of "
+                    "several qualities, each a file of its own. A quality the document lists but whose file is not "
+                    "on disk is an error naming the file.",
+       .scene_key = "quality", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks});
   add({.id = "missing-textures", .flag = "--missing-textures", .kind = Kind::choice, .choices = {"error", "grey"},
        .default_text = "error",
        .help = "A texture the model names that is missing or unreadable: error (default; the message names the file and\n"

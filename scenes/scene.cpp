@@ -17,6 +17,7 @@
 #include "core/frame_sizes.h"
 #include "core/json_reader.h"
 #include "mesh/up_axis.h"
+#include "scenes/voyager.h"
 #include "default_scene.h"
 
 namespace meshtour {
@@ -180,8 +181,10 @@ const std::map<std::string_view, SceneSetter>& scene_bindings() {
        [](S s, T t) {
          s.up_auto = is_auto_up(t);
          s.up = s.up_auto ? Axis{1, false} : Axis::parse(t);
+         s.up_given = true;
        }},
       {"missing-textures", [](S s, T t) { s.missing_textures_grey = t == "grey"; }},
+      {"quality", [](S s, T t) { s.quality = t; }},
       {"path", [](S s, T t) { s.path_mode = parse_path_mode(t); }},
       {"path-file", [](S s, T t) { s.path_file = std::filesystem::path(t); }},
       {"fov",
@@ -295,6 +298,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     if (!file.empty()) {
       std::filesystem::path p(file);
       scene.mesh_file = p.is_absolute() ? p : base_dir / p;
+      if (is_voyager_document(*scene.mesh_file)) scene.voyager_file = scene.mesh_file;
     } else if (scene.procedural != "sculpture") {
       model.fail_key("procedural", "is '" + scene.procedural + "'; the procedural models are: sculpture");
     }
@@ -328,6 +332,11 @@ Scene resolve_scene(const std::string& input, const options::Values& values, std
   Scene scene;
   if (input.empty()) {
     scene = default_scene();
+  } else if (is_voyager_document(input)) {
+    scene = default_scene();  // defaults for everything but the model, which the document gives
+    scene.source = input;
+    scene.mesh_file = input;
+    scene.voyager_file = input;
   } else if (std::filesystem::path(input).extension() == ".json") {
     scene = load_scene(input);
   } else {
@@ -339,7 +348,30 @@ Scene resolve_scene(const std::string& input, const options::Values& values, std
     if (const std::string problem = options::check_value_for_codec(options::option("crf"), crf->second, codec); !problem.empty())
       throw InputError("--crf " + problem);
   apply_options(scene, values);
+  resolve_voyager(scene);
+  // Where neither the command line nor the scene says, the format decides (mesh/up_axis.h).
+  if (!scene.up_given && !scene.voyager_file && scene.mesh_file && up_by_shape_by_default(*scene.mesh_file)) scene.up_auto = true;
   return scene;
+}
+
+void resolve_voyager(Scene& scene) {
+  if (!scene.voyager_file) return;
+  const VoyagerDocument doc = load_voyager_document(*scene.voyager_file, scene.quality);
+  scene.mesh_file = doc.model_file;
+  scene.model_transform = doc.transform;
+  // Voyager's world is Y-up: the document's rotation has already stood the model up.
+  if (!scene.up_given) {
+    scene.up = Axis{1, false};
+    scene.up_auto = false;
+    scene.render.world_up = scene.up.vector();
+  }
+  scene.opening_view = doc.view_direction();
+  scene.title = doc.title;
+  char line[160];
+  std::snprintf(line, sizeof line, " (units %s in a %s scene); frame 0 at its opening view, orbit %g, %g, %g%s",
+                doc.model_units.c_str(), doc.scene_units.c_str(), doc.orbit_deg.x(), doc.orbit_deg.y(), doc.orbit_deg.z(),
+                doc.orbit_given ? "" : " (Voyager's default: the document gives none)");
+  scene.voyager_summary = scene.voyager_file->string() + ": the " + doc.quality + " Web3D derivative, " + doc.model_file.string() + line;
 }
 
 void set_look_preset(Scene& scene, const std::string& preset) {
@@ -361,14 +393,18 @@ void resolve_auto_up(Scene& scene, const TriangleMesh& mesh, bool quiet) {
   scene.up = choice.up;
   scene.up_auto = false;  // decided: a second call (or a copy of the scene) keeps it
   scene.render.world_up = scene.up.vector();
-  if (!quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", scene.up.name().c_str(), choice.reason.c_str());
+  // Asked for, the choice is said; as the default, only where it is not the +y it used to be.
+  if (!quiet && (scene.up_given || scene.up != Axis{1, false}))
+    std::fprintf(stderr, "--up auto: %s (%s)\n", scene.up.name().c_str(), choice.reason.c_str());
   // Overriding a glTF file's own up changes the picture: said even with -q.
   if (!choice.warning.empty()) std::fprintf(stderr, "meshtour: warning: --up auto: %s\n", choice.warning.c_str());
 }
 
 TriangleMesh load_scene_model(const Scene& scene, LoadReport* report) {
-  if (scene.mesh_file) return load_mesh(*scene.mesh_file, report, LoadOptions{.missing_textures_grey = scene.missing_textures_grey});
-  return make_sculpture(scene.procedural_detail);
+  if (!scene.mesh_file) return make_sculpture(scene.procedural_detail);
+  TriangleMesh mesh = load_mesh(*scene.mesh_file, report, LoadOptions{.missing_textures_grey = scene.missing_textures_grey});
+  if (scene.model_transform) transform_mesh(mesh, *scene.model_transform);
+  return mesh;
 }
 
 }  // namespace meshtour

@@ -39,7 +39,24 @@ struct Scene {
   /// --up auto: `up` is decided by the model's shape once it is loaded (resolve_auto_up()); until
   /// then it is +y.
   bool up_auto = false;
+  /// Whether --up (or the scene file's "up") was given; if not, a mesh file's format decides
+  /// (resolve_scene: by shape for every format meshtour reads, up_by_shape_by_default) and the
+  /// built-in model is +y.
+  bool up_given = false;
   bool missing_textures_grey = false;  ///< --missing-textures grey
+
+  // A Smithsonian Voyager document (scenes/voyager.h): the tour's model is its derivative, posed
+  // as the document says; resolve_voyager() fills the fields below from it.
+  std::optional<std::filesystem::path> voyager_file;
+  std::string quality;  ///< --quality: the derivative's quality ("" = the highest on disk)
+  /// Applied to the model's vertices when it is loaded (load_scene_model): the document's node
+  /// transforms, the model's neutral pose and units, into Voyager's Y-up world.
+  std::optional<Eigen::Matrix4d> model_transform;
+  /// Where frame 0 looks from: unit direction from the model to the eye (the opening view of the
+  /// document's navigation setup), in the coordinates of the transformed model.
+  std::optional<Eigen::Vector3d> opening_view;
+  std::string title;  ///< the document's collection title: the default caption
+  std::string voyager_summary;  ///< what resolve_voyager() chose, one line for the tour's summary
 
   // Camera and timing.
   PathMode path_mode = PathMode::feature_orbit;
@@ -78,11 +95,18 @@ Scene load_scene(const std::filesystem::path& file);
 /// Parses scene JSON text; `source` names it in messages, relative paths resolve from `base_dir`.
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::filesystem::path& base_dir);
 
-/// The scene's model: loads mesh_file, or builds the procedural model.
+/// With a Voyager document (voyager_file), reads it: mesh_file becomes the chosen derivative
+/// (scene.quality), and model_transform, opening_view and title are set; up is +y (Voyager's
+/// world) unless up_given. voyager_summary says what it chose. Otherwise does nothing.
+/// \throw InputError naming the document's key.
+void resolve_voyager(Scene& scene);
+
+/// The scene's model: loads mesh_file (transformed by model_transform), or builds the procedural model.
 TriangleMesh load_scene_model(const Scene& scene, LoadReport* report = nullptr);
 
 /// With --up auto, sets the scene's up axis (and the ground under it) to the one the model's shape
-/// gives (mesh/up_axis.h) and, unless quiet, says which and why on stderr. Otherwise does nothing.
+/// gives (mesh/up_axis.h) and, unless quiet, says which and why on stderr (as the default, only
+/// when it is not +y). Otherwise does nothing.
 void resolve_auto_up(Scene& scene, const TriangleMesh& mesh, bool quiet);
 
 }  // namespace meshtour

@@ -363,7 +363,7 @@ TEST_F(BadInputCorpus, Meshes) {
       {"billion-triangle binary STL header", "path",
        write(d / "billion.stl", std::string(80, ' ') + std::string("\x00\xca\x9a\x3b", 4) + std::string(50, '\0')), "", 2,
        {"1000000000"}},
-      {"mesh across the up axis (flat, y up)", "path", write(d / "floor.obj", plane_obj("xz")), "", 2, {"flat", "--up"}},
+      {"mesh across the up axis (flat, y up)", "path", write(d / "floor.obj", plane_obj("xz")), "--up y", 2, {"flat", "--up"}},
       {"scene with unknown key", "tour", write(d / "unknown.json", R"({"model": {"procedural": "sculpture"}, "colour": "red"})"),
        kSmall, 2, {"'colour' unknown key"}},
       {"scene with a wrong type", "tour", write(d / "type.json", R"({"model": {"procedural": "sculpture"}, "timing": {"frames": "ten"}})"),
@@ -478,6 +478,35 @@ TEST_F(BadInputCorpus, HostileTextures) {
   for (std::size_t at = r.output.find("rendered untextured"); at != std::string::npos; at = r.output.find("rendered untextured", at + 1)) ++warnings;
   EXPECT_EQ(warnings, 1u) << r.output;
   EXPECT_EQ(r.output.find("libpng"), std::string::npos) << r.output;
+}
+
+// Voyager scene documents (.svx.json; scenes/voyager.h): partial and bad documents, each refused
+// naming the document and the key.
+TEST_F(BadInputCorpus, VoyagerDocuments) {
+  const fs::path d = dir_;
+  write(d / "shell.obj", sphere_obj());
+  const auto svx = [](const std::string& setup, const std::string& model) {
+    return R"({"asset": {"type": "application/si-dpo-3d.document+json", "version": "1.0"}, "scene": 0,
+      "scenes": [{"nodes": [0], "setup": 0}], "nodes": [{"model": 0}],
+      "setups": [)" + setup + R"(], "models": [)" + model + "]}";
+  };
+  const std::string setup = R"({"units": "cm", "navigation": {"orbit": {"orbit": [-20, 30, 0], "offset": [0, 0, 100]}}})";
+  const std::string model = R"({"units": "cm", "derivatives": [{"usage": "Web3D", "quality": "High", "assets": [{"uri": "shell.obj", "type": "Model"}]}]})";
+  const std::vector<Case> cases = {
+      {"Voyager orbit of two angles", "tour", write(d / "orbit.svx.json", svx(R"({"navigation": {"orbit": {"orbit": [-20, 30]}}})", model)), kSmall, 2,
+       {"'setups[0].navigation.orbit.orbit' must be an array of 3 numbers"}},
+      {"Voyager model without units", "path", write(d / "units.svx.json", svx(setup, R"({"derivatives": []})")), "", 2, {"'models[0].units' is missing"}},
+      {"Voyager derivative not on disk", "tour", write(d / "gone.svx.json", svx(setup, R"({"units": "cm", "derivatives": [{"usage": "Web3D",
+          "quality": "Highest", "assets": [{"uri": "gone.glb", "type": "Model"}]}]})")), kSmall, 2, {"no Web3D derivative's model is on disk", "gone.glb"}},
+      {"Voyager quality not listed", "tour", write(d / "quality.svx.json", svx(setup, model)), std::string(kSmall) + " --quality Thumb", 2,
+       {"no Web3D derivative of quality Thumb"}},
+      {"Voyager document with no scenes", "tour", write(d / "partial.svx.json", R"({"asset": {"type": "application/si-dpo-3d.document+json"}})"), kSmall,
+       2, {"'scenes' is missing"}},
+      {"glTF named as a Voyager document", "tour", write(d / "gltf.svx.json", R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}]})"), kSmall,
+       2, {"'asset.type' must be"}},
+      {"Voyager document that is not JSON", "path", write(d / "torn.svx.json", R"({"asset": {"type": )"), "", 2, {"not valid JSON"}},
+  };
+  for (const Case& c : cases) run(c);
 }
 
 TEST_F(BadInputCorpus, PathFiles) {

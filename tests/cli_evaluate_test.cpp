@@ -121,7 +121,9 @@ TEST(CliEvaluate, TheFeatureOrbitKeepsUpUnderEveryDefinitionOnTheRocker) {
   const fs::path dir = meshtour::test::scratch_dir();
   // The default angles (those the search uses), and others it never sees.
   for (const std::string angles : {"", " --seen-angle 80 --strict-angle 50 --stricter-angle 40 --strictest-angle 20"}) {
-    const auto r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --compare --json " + meshtour::test::shell_quoted(dir / "e.json") + angles);
+    // --up y: the rocker as stored (it has no natural up; --up auto, the default, lays it on its flank).
+    const auto r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --up y --compare --json " +
+                                meshtour::test::shell_quoted(dir / "e.json") + angles);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     std::ifstream in(dir / "e.json");
     const nlohmann::json modes = nlohmann::json::parse(in).at("modes");

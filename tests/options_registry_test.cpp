@@ -130,7 +130,8 @@ std::string scene_fingerprint(const Scene& s) {
                       {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"crease", s.render.shading.material.crease_angle_deg},
                       {"denoise", s.render.denoise}, {"tone", int(s.render.shading.tone_mapping)},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},
-                      {"file", s.path_file ? s.path_file->string() : ""}, {"grey", s.missing_textures_grey}};
+                      {"file", s.path_file ? s.path_file->string() : ""}, {"grey", s.missing_textures_grey},
+                      {"quality", s.quality}};
   const PaperPathOptions& p = s.path_search;
   const SurfaceOptions& f = p.surface;
   j["search"] = {f.tolerance, int(f.tolerance_unit), int(f.smoothing), f.smoothing_strength, int(f.curvature_fit), f.kappa_min,

@@ -16,6 +16,9 @@ namespace meshtour {
 struct CaptionArgs {
   std::optional<CaptionStyle> caption;  ///< unset: no caption
   double title_card = 0.0;              ///< seconds; 0 = none
+  /// The caption is a scene document's title, not the user's (--caption): where it cannot be
+  /// drawn (video with alpha, a frame too narrow for it) the video goes without it, saying so.
+  bool caption_by_default = false;
 
   bool any() const { return caption || title_card > 0.0; }
 };

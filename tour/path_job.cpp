@@ -23,6 +23,7 @@
 #include "tour/path_overview.h"
 #include "tour/path_plot.h"
 #include "tour/progress.h"
+#include "tour/tour.h"
 
 namespace meshtour {
 namespace {
@@ -98,14 +99,18 @@ void run_path(PathJob& a) {
 
   log.start("load");
   LoadReport load;
-  const TriangleMesh mesh = load_mesh(a.mesh, &load, LoadOptions{.check_textures = false});  // the path needs no textures
+  TriangleMesh loaded = load_mesh(a.mesh, &load, LoadOptions{.check_textures = false});  // the path needs no textures
+  if (a.scene.model_transform) transform_mesh(loaded, *a.scene.model_transform);  // a Voyager document's pose
+  const TriangleMesh& mesh = loaded;
   throw_if_interrupted();
   if (up_auto) {
     const UpChoice choice = choose_up_axis(mesh, a.mesh);
     a.up = UpDirection{};  // the axis the model's shape gives
     a.up.axis = choice.up;
     a.options.up = a.up;
-    if (!a.quiet) std::fprintf(stderr, "--up auto: %s (%s)\n", choice.up.name().c_str(), choice.reason.c_str());
+    // Asked for, the choice is said; as the default, only where it is not the +y it used to be.
+    if (!a.quiet && (a.scene.up_given || choice.up != Axis{1, false}))
+      std::fprintf(stderr, "--up auto: %s (%s)\n", choice.up.name().c_str(), choice.reason.c_str());
     if (!choice.warning.empty()) std::fprintf(stderr, "meshtour: warning: --up auto: %s\n", choice.warning.c_str());
   }
   const bool paper = a.mode == PathMode::paper;
@@ -148,7 +153,7 @@ void run_path(PathJob& a) {
     // Once per mesh: the framing fits read only the hull's vertices.
     const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
     if (paper) {
-      camera_path = std::make_unique<UniformTurnPath>(std::make_unique<PaperCameraPath>(result->camera_path()));
+      camera_path = std::make_unique<UniformTurnPath>(from_opening_view(std::make_unique<PaperCameraPath>(result->camera_path()), scene, mesh));
     } else {
       SearchedPath searched = search_path(scene, mesh, hull, lens, a.quiet);
       camera_path = std::move(searched.path);

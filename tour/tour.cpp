@@ -22,6 +22,7 @@
 #include "mesh/convex_hull.h"
 #include "pathgen/camera_export.h"
 #include "core/error.h"
+#include "pathgen/opening_view.h"
 #include "pathgen/path_file.h"
 #include "pathgen/turntable.h"
 
@@ -93,6 +94,22 @@ PathSettings path_settings(const Scene& scene, PathMode mode, const TriangleMesh
   return settings;
 }
 
+std::unique_ptr<CameraPath> from_opening_view(std::unique_ptr<CameraPath> path, const Scene& scene, const TriangleMesh& mesh) {
+  if (!scene.opening_view) return path;
+  return std::make_unique<OpeningViewPath>(std::move(path), mesh.bounds().center(), scene.up, *scene.opening_view);
+}
+
+namespace {
+
+// The turntable as made for the lens; with an opening view, turned and framed like the other paths.
+std::unique_ptr<CameraPath> turntable_for(std::unique_ptr<CameraPath> turntable, const Scene& scene, const TriangleMesh& mesh,
+                                          std::span<const Eigen::Vector3d> hull, const Lens& lens) {
+  if (!scene.opening_view) return turntable;
+  return frame_for_lens(std::make_unique<UniformTurnPath>(from_opening_view(std::move(turntable), scene, mesh)), scene, hull, lens);
+}
+
+}  // namespace
+
 SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span<const Eigen::Vector3d> hull, const Lens& lens,
                          bool quiet, std::shared_ptr<const RayScene> rays) {
   SearchedPath out;
@@ -118,7 +135,8 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
     if (!scene.auto_fov) orbit.vertical_fov_deg = scene.vertical_fov_deg;
     orbit.frames = scene.frames;
     const FeatureOrbitResult result = compute_feature_orbit(mesh, orbit);
-    out.view_scores = result.frame_scores;
+    // The scores are of the frames as searched; an opening view turns them to other views.
+    if (!scene.opening_view) out.view_scores = result.frame_scores;
     if (!quiet) {
       const ElevationCurve& e = result.geometry.elevation;
       constexpr double deg = 180.0 / 3.14159265358979323846;
@@ -137,7 +155,9 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
     record.frames = scene.frames;
     record.frame_scores = result.frame_scores;
     out.file_text = path_file_text(result.geometry, record);
-    out.path = frame_for_lens(std::make_unique<UniformTurnPath>(std::make_unique<FeatureOrbitPath>(result.camera_path())), scene, hull, lens);
+    out.path = frame_for_lens(
+        std::make_unique<UniformTurnPath>(from_opening_view(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, mesh)),
+        scene, hull, lens);
     return out;
   }
   if (scene.path_mode == PathMode::turntable) {
@@ -147,7 +167,7 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
     options.lens = lens;
     auto turntable = std::make_unique<TurntablePath>(hull, options);
     out.file_text = path_file_text(turntable->geometry(), record);
-    out.path = std::move(turntable);
+    out.path = turntable_for(std::move(turntable), scene, mesh, hull, lens);
     return out;
   }
   announce();
@@ -163,10 +183,11 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
   }
   out.file_text = path_file_text(result, record);
   if (scene.auto_fov) {
-    out.path = std::make_unique<UniformTurnPath>(std::make_unique<PaperCameraPath>(result.camera_path()));
+    out.path = std::make_unique<UniformTurnPath>(from_opening_view(std::make_unique<PaperCameraPath>(result.camera_path()), scene, mesh));
     return out;
   }
-  auto framed = std::make_unique<FramedPath>(std::make_unique<UniformTurnPath>(std::make_unique<PaperCameraPath>(result.camera_path())), hull, lens);
+  auto framed = std::make_unique<FramedPath>(
+      std::make_unique<UniformTurnPath>(from_opening_view(std::make_unique<PaperCameraPath>(result.camera_path()), scene, mesh)), hull, lens);
   if (!quiet && framed->pullback() > 0.0)
     std::fprintf(stderr, "  camera moved back by %.4g model units to keep the whole model in frame\n", framed->pullback());
   out.path = std::move(framed);
@@ -183,10 +204,10 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     const PathMode mode = parse_path_mode(file.mode);
     check_path_settings(file, path_settings(scene, mode, mesh, lens), *scene.path_file);
     if (!quiet) std::fprintf(stderr, "camera path (%s): %s\n", file.mode.c_str(), scene.path_file->string().c_str());
-    if (view_scores && file.record.frames == scene.frames) *view_scores = file.record.frame_scores;
+    if (view_scores && file.record.frames == scene.frames && !scene.opening_view) *view_scores = file.record.frame_scores;
     // The turntable was fitted to its lens when it was made; the others are framed as when searched.
-    if (mode == PathMode::turntable) return std::move(file.path);
-    return frame_for_lens(std::make_unique<UniformTurnPath>(std::move(file.path)), scene, hull, lens);
+    if (mode == PathMode::turntable) return turntable_for(std::move(file.path), scene, mesh, hull, lens);
+    return frame_for_lens(std::make_unique<UniformTurnPath>(from_opening_view(std::move(file.path), scene, mesh)), scene, hull, lens);
   }
   SearchedPath searched = search_path(scene, mesh, hull, lens, quiet, std::move(rays));
   if (view_scores) *view_scores = std::move(searched.view_scores);
@@ -287,6 +308,7 @@ PreparedTour prepare_tour(const Scene& requested, bool quiet, StageLog* log, con
                  mesh.vertex_count(), mesh.has_colors() ? " with colours" : "", bounds.lo.x(), bounds.lo.y(),
                  bounds.lo.z(), bounds.hi.x(), bounds.hi.y(), bounds.hi.z(), scene.up.name().c_str());
     for (const auto& w : report.warnings) std::fprintf(stderr, "  reader: %s\n", w.c_str());
+    if (!scene.voyager_summary.empty()) std::fprintf(stderr, "  %s\n", scene.voyager_summary.c_str());
   }
   Lens lens;
   lens.vertical_fov_deg = scene.vertical_fov_deg;
@@ -398,7 +420,16 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   video.alpha = job.alpha;
   VideoEncoder encoder(output, video);
   // The caption is measured now: one that does not fit fails before the model is even loaded.
-  CaptionedVideo captioned(encoder, video, job.caption);
+  CaptionArgs caption = job.caption;
+  std::optional<CaptionedVideo> captioned;
+  try {
+    captioned.emplace(encoder, video, caption);
+  } catch (const InputError& e) {
+    if (!caption.caption_by_default) throw;
+    if (!job.quiet) std::fprintf(stderr, "meshtour: note: the document's title is not captioned: %s\n", e.what());
+    caption.caption.reset();
+    captioned.emplace(encoder, video, caption);
+  }
   // The web copy: VP9 at its own default quality (the crf given is H.264's).
   std::optional<VideoEncoder> web_encoder;
   std::optional<CaptionedVideo> web_captioned;
@@ -408,7 +439,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
     web.codec = VideoCodec::vp9;
     web.crf.reset();
     web_encoder.emplace(job.webm, web);
-    web_captioned.emplace(*web_encoder, web, job.caption);
+    web_captioned.emplace(*web_encoder, web, caption);
   }
   check_poster_output(job.poster);
 
@@ -435,9 +466,9 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   // opens on it, so then it is rendered before the tour; else it is kept as the loop passes it.
   const int poster_k = std::min(poster_frame(best_view_frame(tour.view_scores)), scene.frames - 1);
   std::optional<Image> poster;
-  if (captioned.needs_poster()) {
+  if (captioned->needs_poster()) {
     poster = tour.render_frame(poster_k);
-    captioned.start(job.alpha ? poster->to_srgba8() : poster->to_srgb8());
+    captioned->start(job.alpha ? poster->to_srgba8() : poster->to_srgb8());
     if (web_captioned) web_captioned->start(poster->to_srgb8());
   }
 
@@ -455,11 +486,11 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
     if (k == poster_k && !job.poster.file.empty() && !poster) poster = image;
     const auto written = Clock::now();
     if (job.alpha) {
-      captioned.add(image.to_srgba8());  // straight alpha, as in the PNG frames
+      captioned->add(image.to_srgba8());  // straight alpha, as in the PNG frames
       if (web_captioned) web_captioned->add(image.to_srgb8());
     } else {
       const std::vector<std::uint8_t> rgb = image.to_srgb8();
-      captioned.add(rgb);
+      captioned->add(rgb);
       if (web_captioned) web_captioned->add(rgb);
     }
     encode_seconds += std::chrono::duration<double>(Clock::now() - written).count();
@@ -470,7 +501,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   log.report("render", render_seconds);
   log.announce("encode");
   const auto finish_start = Clock::now();
-  captioned.finish();
+  captioned->finish();
   if (web_captioned) web_captioned->finish();
   log.report("encode", encode_seconds + std::chrono::duration<double>(Clock::now() - finish_start).count());
   progress.finish();

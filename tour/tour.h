@@ -37,6 +37,11 @@ std::string_view frame_formats_name(FrameFormats formats);
 /// The file extensions, PNG first: {"png"}, {"exr"} or {"png", "exr"}.
 std::vector<std::string> frame_extensions(FrameFormats formats);
 
+/// A scene document's opening view (a Voyager document's, scenes/voyager.h) as frame 0: `path`
+/// (as searched or read from its path file, before UniformTurnPath) turned and blended to start
+/// there (pathgen/opening_view.h). Without an opening view, `path` itself.
+std::unique_ptr<CameraPath> from_opening_view(std::unique_ptr<CameraPath> path, const Scene& scene, const TriangleMesh& mesh);
+
 /// The toroidal-patch path of the scene's model (deterministic: the same for any thread count).
 PaperPathResult compute_scene_paper_path(const Scene& scene, const TriangleMesh& mesh);
 
