@@ -187,14 +187,14 @@ std::vector<Option> make_registry() {
   constexpr unsigned kVideoMakers = tour | batch | farm | encode;
   add({.id = "poster", .flag = "--poster", .kind = Kind::text,
        .type_name = "PNG",
-       .help = "Also write the poster still (PNG): the tour's best-scored frame, bit-identical to that frame when the\n"
-               "sizes agree (batch: default <video name>.poster.png beside the video; encode: from the frames directory)",
-       .long_help = "The best frame is the one the path search scores highest (`best_view_frame` of the frames manifest); "
-                    "a feature orbit's path file carries its scores; paths without (turntable, paper) use frame 0. "
+       .help = "Also write the poster still (PNG): the tour's first frame, its preferred view, bit-identical to that frame\n"
+               "when the sizes agree (batch: default <video name>.poster.png beside the video; encode: from the frames directory)",
+       .long_help = "The feature orbit (the default path) starts at the view a published model of viewpoint preference "
+                    "scores highest (docs/EVALUATION.md); the turntable starts at its front, the paper's path at its start. "
                     "In a batch manifest the column is a plain file name inside --out-dir.",
        .manifest_column = true, .commands = tour | farm | encode, .farm = encode_job});
   add({.id = "poster-size", .flag = "--poster-size", .kind = Kind::size, .lo = 16, .hi = 16384,
-       .help = "Poster size WIDTHxHEIGHT (default: the frames' size); the best frame is cropped to its aspect and resampled",
+       .help = "Poster size WIDTHxHEIGHT (default: the frames' size); the first frame is cropped to its aspect and resampled",
        .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks, .even_sides = true});
   add({.id = "caption", .flag = "--caption", .kind = Kind::text,
        .help = "Text burned into the video (UTF-8, e.g. \"Nefertiti \u2014 ÄM 21300\"); the frames stay clean. Text wider\n"

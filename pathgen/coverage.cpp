@@ -186,6 +186,10 @@ struct CoverageModel::Impl {
   std::unique_ptr<VisibilityScene> scene;
   std::vector<std::pair<std::string, double>> stage_seconds;
   std::size_t words = 0;
+  // The view preference's scale: the largest projected area and visible count over the
+  // reference views (on the outside), and which side is the outside.
+  double preference_area_max = 0.0, preference_seen_max = 0.0;
+  int outside = 0;
 };
 
 CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -270,6 +274,37 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
     }
   }
   timer.done("sample features");
+
+  // The view preference's reference views (ViewPreferenceModel::reference_views), from far enough
+  // that the long lens holds the bounding sphere: nearly the parallel projection of the area.
+  {
+    const Eigen::Vector3d center = mesh.bounds().center();
+    const double radius = 0.5 * s.scene->diagonal();
+    constexpr double kFov = 10.0;
+    const double distance = radius / std::sin(0.5 * kFov * 3.14159265358979323846 / 180.0);
+    std::vector<Eigen::Vector3d> directions;
+    for (int x = -1; x <= 1; ++x)
+      for (int y = -1; y <= 1; ++y)
+        for (int z = -1; z <= 1; ++z)
+          if (x || y || z) directions.push_back(Eigen::Vector3d(x, y, z).normalized());
+    std::array<std::uint64_t, 2> side_total{};
+    std::vector<std::array<std::uint32_t, 2>> seen(directions.size());
+    for (std::size_t k = 0; k < directions.size(); ++k) {
+      throw_if_interrupted();
+      const Eigen::Vector3d& d = directions[k];
+      const Eigen::Vector3d up = std::abs(d.y()) > 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+      const ViewCoverage v = coverage(View{Camera{center + distance * d, center, up, kFov}, 1.0});
+      for (int side = 0; side < 2; ++side) {
+        seen[k][side] = v.preference_seen[side][0] + v.preference_seen[side][1];
+        side_total[side] += seen[k][side];
+      }
+      s.preference_area_max = std::max(s.preference_area_max, s.scene->projected_area(d, ViewPreferenceModel::area_grid).area);
+    }
+    // A tie (a surface seen equally from both sides) keeps the normals' side.
+    s.outside = side_total[1] > side_total[0] ? 1 : 0;
+    for (const auto& v : seen) s.preference_seen_max = std::max(s.preference_seen_max, static_cast<double>(v[s.outside]));
+    timer.done("view preference scale");
+  }
 }
 
 CoverageModel::~CoverageModel() = default;
@@ -281,11 +316,16 @@ ClusteredMesh coverage_proxy(const TriangleMesh& mesh, const CoverageOptions& op
 ViewCoverage CoverageModel::coverage(const View& view, std::size_t stride) const {
   const Impl& s = *impl_;
   if (stride < 1 || stride > 64 || !std::has_single_bit(stride)) throw InputError("coverage: the sample stride must be a power of two up to 64");
-  // One pass at the widest angle; the stricter angles filter its cosines.
-  const double widest = *std::max_element(s.options.seen_angle_deg.begin(), s.options.seen_angle_deg.end());
+  // One pass at the widest angle; the stricter angles (and the view preference's) filter its cosines.
+  const double widest = std::max(ViewPreferenceModel::seen_angle_deg,
+                                 *std::max_element(s.options.seen_angle_deg.begin(), s.options.seen_angle_deg.end()));
   const VisibleSamples visible = s.scene->visible(view, s.samples, widest, stride);
   ViewCoverage out;
   out.stride = stride;
+  const float preference_limit = static_cast<float>(std::cos(ViewPreferenceModel::seen_angle_deg * 3.14159265358979323846 / 180.0));
+  for (std::size_t k = 0; k < visible.samples.size(); ++k)
+    if (visible.cosines[k] > preference_limit)
+      ++out.preference_seen[visible.front[k] ? 0 : 1][(visible.samples[k] / stride) % 2];
   for (int a = 0; a < kSeenAngles; ++a) {
     out.seen[a].assign(s.words, 0);
     const float limit = static_cast<float>(std::cos(s.options.seen_angle_deg[a] * 3.14159265358979323846 / 180.0));
@@ -373,6 +413,26 @@ CoverageScores CoverageModel::scores(const ViewCoverage& view) const {
   const ViewCoverage* one[] = {&view};
   return scores(one);
 }
+
+ViewPreference CoverageModel::preference(const View& view, const ViewCoverage& seen) const {
+  const Impl& s = *impl_;
+  const ProjectedArea area = s.scene->projected_area(view.camera.target - view.camera.eye, ViewPreferenceModel::area_grid);
+  // The visible ratio's scale: the reference views tested every sample, a view at stride k one
+  // in k of them (halves: one in 2k each).
+  const double scale = static_cast<double>(seen.stride);
+  const auto& outside = seen.preference_seen[s.outside];
+  const double area_max = std::max(s.preference_area_max, 1e-300), seen_max = std::max(s.preference_seen_max, 1.0);
+  constexpr double w = ViewPreferenceModel::area_weight;
+  ViewPreference out;
+  out.projected_area = area.area / area_max;
+  out.visible_ratio = scale * static_cast<double>(outside[0] + outside[1]) / seen_max;
+  out.score = w * out.projected_area + (1.0 - w) * out.visible_ratio;
+  for (int h = 0; h < 2; ++h)
+    out.half_scores[h] = w * area.halves[h] / area_max + (1.0 - w) * 2.0 * scale * static_cast<double>(outside[h]) / seen_max;
+  return out;
+}
+
+int CoverageModel::outside_side() const { return impl_->outside; }
 
 const SurfaceSamples& CoverageModel::samples() const { return impl_->samples; }
 const std::vector<std::uint8_t>& CoverageModel::features(FeatureMeasure m) const { return impl_->feature[static_cast<int>(m)]; }

@@ -17,6 +17,10 @@
 //    angles alone lost at the strict ones: pathgen/feature_orbit.cpp).
 // A definition is one measure at one angle; the objective of a set of views is the mean over the
 // eight definitions of (features seen + surface_weight × other surface seen) / features.
+//
+// Beside coverage, the module judges single views as people would pick them (view preference,
+// ViewPreferenceModel below): the first frame and the poster are the preferred view, and
+// `evaluate` reports its score next to the coverage scores. It reads the same samples and rays.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -72,11 +76,49 @@ struct CoverageOptions {
   std::string key(const FeatureDefinition& d) const;
 };
 
+/// A published model of the views people prefer, with its published weights (none fitted here):
+/// Gao, Wang & Han, "Efficient view selection by measuring proxy information", Computer
+/// Animation and Virtual Worlds 27(3-4):351-357, 2016 (as the Euclid library implements it:
+/// unclejimbo/Euclid, ViewSelection/ProxyView.h). A view's goodness is
+///   area_weight · A / A_max + (1 − area_weight) · R / R_max,
+/// A the model's projected area, R its visible ratio (the share of the surface unoccluded and
+/// facing the eye within 60°), each divided by its largest value over reference views; both are
+/// attributes of Secord et al., "Perceptual models of viewpoint preference" (ACM TOG 2011), whose
+/// own weights could not be obtained here (docs/EVALUATION.md). Gao et al. judge views by the
+/// model's bounding-box proxies; here both attributes are measured on the model itself (the
+/// samples and the rays of this module), which the proxies only stand for. No rule per kind of
+/// object; no elevation term (the model has none: the orbit's band decides the height).
+struct ViewPreferenceModel {
+  static constexpr double area_weight = 0.5;  ///< Gao et al.'s weight of the projected area term
+  static constexpr double seen_angle_deg = 60.0;  ///< "visible": facing the eye within this angle
+  /// Cells across the ray grid that measures the projected area (128² rays a view).
+  static constexpr int area_grid = 128;
+  /// The reference views whose largest A and R normalize every view's: the 26 directions from the
+  /// bounding box's centre to the corners, edges and faces of a cube around it, in the file's
+  /// axes, so the scale is the same for every path mode and frame (the paper normalizes over the
+  /// views it compares; these compare across tours too).
+  static constexpr int reference_views = 26;
+};
+
 /// What one view sees: a bitset over the samples for each seen-well angle.
 struct ViewCoverage {
   std::array<std::vector<std::uint64_t>, kSeenAngles> seen;
   /// Every stride-th sample was tested (1 = all); scores count only those samples.
   std::size_t stride = 1;
+  /// Samples seen within ViewPreferenceModel::seen_angle_deg, by the side of the surface the eye
+  /// sees ([0]: the side the normals point to, [1]: the other) and by half of the tested samples
+  /// (even and odd positions among them, as half_scores splits them).
+  std::array<std::array<std::uint32_t, 2>, 2> preference_seen{};
+};
+
+/// How much people would prefer one view (ViewPreferenceModel): its score and its attributes,
+/// normalized (1 = the best reference view's), and the score on each half of the samples and of
+/// the area grid, whose difference measures its noise.
+struct ViewPreference {
+  double score = 0.0;
+  double projected_area = 0.0;  ///< A / A_max
+  double visible_ratio = 0.0;   ///< R / R_max
+  std::array<double, 2> half_scores{};
 };
 
 /// Shares seen by a set of views under each definition (same order as feature_definitions()).
@@ -109,6 +151,13 @@ public:
   /// odd-numbered ones): two independent estimates, whose difference measures how much of a
   /// score is where the samples happen to fall (the path search's tie rule).
   std::array<CoverageScores, 2> half_scores(std::span<const ViewCoverage* const> views) const;
+  /// How much people would prefer `view` (ViewPreferenceModel); `seen` is coverage(view, stride).
+  /// Thread-safe; the same bits on any thread count.
+  ViewPreference preference(const View& view, const ViewCoverage& seen) const;
+  /// The side of the surface taken as its outside for the preference's visible ratio (0: the side
+  /// the normals point to): the side the reference views see more of, as scans are not reliably
+  /// oriented and a shell (a face scan, a mask) seen from behind shows its inside.
+  int outside_side() const;
 
   const SurfaceSamples& samples() const;
   /// 1 for each feature sample under `measure`.
