@@ -75,7 +75,7 @@ PathEvaluation PathEvaluator::evaluate(std::span<const Camera> cameras, double a
     throw_if_interrupted();
     const View view{cameras[k], aspect};
     views[k] = model.coverage(view);
-    preferences[k] = model.preference(view, views[k]);
+    preferences[k] = model.preference(view);
   });
   throw_if_interrupted();
 

@@ -1,5 +1,6 @@
 #include "pathgen/coverage.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <bit>
@@ -186,9 +187,11 @@ struct CoverageModel::Impl {
   std::unique_ptr<VisibilityScene> scene;
   std::vector<std::pair<std::string, double>> stage_seconds;
   std::size_t words = 0;
-  // The view preference's scale: the largest projected area and visible count over the
-  // reference views (on the outside), and which side is the outside.
-  double preference_area_max = 0.0, preference_seen_max = 0.0;
+  // The view preference's proxy (ViewPreferenceModel): the six directions, and the goodness of
+  // each (then of each on one half of the samples and of the area grid), with its two terms.
+  std::array<Eigen::Vector3d, 6> proxy_direction;
+  std::array<double, 6> proxy_area{}, proxy_visible{};
+  std::array<std::array<double, 6>, 2> proxy_half_goodness{};
   int outside = 0;
 };
 
@@ -275,35 +278,55 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
   }
   timer.done("sample features");
 
-  // The view preference's reference views (ViewPreferenceModel::reference_views), from far enough
-  // that the long lens holds the bounding sphere: nearly the parallel projection of the area.
+  // The view preference's proxy (ViewPreferenceModel): the principal axes of the samples (each
+  // stands for the same area), and what the model shows along each of their six directions, seen
+  // from far enough that the long lens holds the bounding sphere (nearly a parallel projection).
   {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : s.samples.points) mean += p;
+    mean /= static_cast<double>(n);
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (const Eigen::Vector3d& p : s.samples.points) covariance += (p - mean) * (p - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(covariance);
     const Eigen::Vector3d center = mesh.bounds().center();
     const double radius = 0.5 * s.scene->diagonal();
     constexpr double kFov = 10.0;
     const double distance = radius / std::sin(0.5 * kFov * 3.14159265358979323846 / 180.0);
-    std::vector<Eigen::Vector3d> directions;
-    for (int x = -1; x <= 1; ++x)
-      for (int y = -1; y <= 1; ++y)
-        for (int z = -1; z <= 1; ++z)
-          if (x || y || z) directions.push_back(Eigen::Vector3d(x, y, z).normalized());
-    std::array<std::uint64_t, 2> side_total{};
-    std::vector<std::array<std::uint32_t, 2>> seen(directions.size());
-    for (std::size_t k = 0; k < directions.size(); ++k) {
+    const double cos_limit = std::cos(ViewPreferenceModel::seen_angle_deg * 3.14159265358979323846 / 180.0);
+    // Per direction: samples seen within the angle, by side (0: the normals' side) and by half.
+    std::array<std::array<std::array<std::size_t, 2>, 2>, 6> seen{};
+    std::array<ProjectedArea, 6> area;
+    for (int i = 0; i < 6; ++i) {
       throw_if_interrupted();
-      const Eigen::Vector3d& d = directions[k];
-      const Eigen::Vector3d up = std::abs(d.y()) > 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
-      const ViewCoverage v = coverage(View{Camera{center + distance * d, center, up, kFov}, 1.0});
-      for (int side = 0; side < 2; ++side) {
-        seen[k][side] = v.preference_seen[side][0] + v.preference_seen[side][1];
-        side_total[side] += seen[k][side];
-      }
-      s.preference_area_max = std::max(s.preference_area_max, s.scene->projected_area(d, ViewPreferenceModel::area_grid).area);
+      const Eigen::Vector3d d = (i < 3 ? 1.0 : -1.0) * axes.eigenvectors().col(2 - i % 3).normalized();
+      s.proxy_direction[i] = d;
+      const Camera camera{center + distance * d, center, d.unitOrthogonal(), kFov};
+      const VisibleSamples visible = s.scene->visible(View{camera, 1.0}, s.samples, ViewPreferenceModel::seen_angle_deg);
+      for (std::size_t k = 0; k < visible.samples.size(); ++k)
+        if (visible.cosines[k] > cos_limit) ++seen[i][visible.front[k] ? 0 : 1][visible.samples[k] % 2];
+      area[i] = s.scene->projected_area(d, ViewPreferenceModel::area_grid);
     }
+    std::array<std::size_t, 2> side_total{};
+    for (const auto& by_side : seen)
+      for (int side = 0; side < 2; ++side) side_total[side] += by_side[side][0] + by_side[side][1];
     // A tie (a surface seen equally from both sides) keeps the normals' side.
     s.outside = side_total[1] > side_total[0] ? 1 : 0;
-    for (const auto& v : seen) s.preference_seen_max = std::max(s.preference_seen_max, static_cast<double>(v[s.outside]));
-    timer.done("view preference scale");
+    double area_max = 0.0, seen_max = 0.0;
+    for (int i = 0; i < 6; ++i) {
+      area_max = std::max(area_max, area[i].area);
+      seen_max = std::max(seen_max, static_cast<double>(seen[i][s.outside][0] + seen[i][s.outside][1]));
+    }
+    area_max = std::max(area_max, 1e-300);
+    seen_max = std::max(seen_max, 1.0);
+    constexpr double w = ViewPreferenceModel::area_weight;
+    for (int i = 0; i < 6; ++i) {
+      s.proxy_area[i] = area[i].area / area_max;
+      s.proxy_visible[i] = static_cast<double>(seen[i][s.outside][0] + seen[i][s.outside][1]) / seen_max;
+      // Each half: its own estimate of the area, twice its half of the samples.
+      for (int h = 0; h < 2; ++h)
+        s.proxy_half_goodness[h][i] = w * area[i].halves[h] / area_max + (1.0 - w) * 2.0 * static_cast<double>(seen[i][s.outside][h]) / seen_max;
+    }
+    timer.done("view preference proxy");
   }
 }
 
@@ -316,16 +339,11 @@ ClusteredMesh coverage_proxy(const TriangleMesh& mesh, const CoverageOptions& op
 ViewCoverage CoverageModel::coverage(const View& view, std::size_t stride) const {
   const Impl& s = *impl_;
   if (stride < 1 || stride > 64 || !std::has_single_bit(stride)) throw InputError("coverage: the sample stride must be a power of two up to 64");
-  // One pass at the widest angle; the stricter angles (and the view preference's) filter its cosines.
-  const double widest = std::max(ViewPreferenceModel::seen_angle_deg,
-                                 *std::max_element(s.options.seen_angle_deg.begin(), s.options.seen_angle_deg.end()));
+  // One pass at the widest angle; the stricter angles filter its cosines.
+  const double widest = *std::max_element(s.options.seen_angle_deg.begin(), s.options.seen_angle_deg.end());
   const VisibleSamples visible = s.scene->visible(view, s.samples, widest, stride);
   ViewCoverage out;
   out.stride = stride;
-  const float preference_limit = static_cast<float>(std::cos(ViewPreferenceModel::seen_angle_deg * 3.14159265358979323846 / 180.0));
-  for (std::size_t k = 0; k < visible.samples.size(); ++k)
-    if (visible.cosines[k] > preference_limit)
-      ++out.preference_seen[visible.front[k] ? 0 : 1][(visible.samples[k] / stride) % 2];
   for (int a = 0; a < kSeenAngles; ++a) {
     out.seen[a].assign(s.words, 0);
     const float limit = static_cast<float>(std::cos(s.options.seen_angle_deg[a] * 3.14159265358979323846 / 180.0));
@@ -414,23 +432,22 @@ CoverageScores CoverageModel::scores(const ViewCoverage& view) const {
   return scores(one);
 }
 
-ViewPreference CoverageModel::preference(const View& view, const ViewCoverage& seen) const {
+ViewPreference CoverageModel::preference(const View& view) const {
   const Impl& s = *impl_;
-  const ProjectedArea area = s.scene->projected_area(view.camera.target - view.camera.eye, ViewPreferenceModel::area_grid);
-  // The visible ratio's scale: the reference views tested every sample, a view at stride k one
-  // in k of them (halves: one in 2k each).
-  const double scale = static_cast<double>(seen.stride);
-  const auto& outside = seen.preference_seen[s.outside];
-  const double area_max = std::max(s.preference_area_max, 1e-300), seen_max = std::max(s.preference_seen_max, 1.0);
+  const Eigen::Vector3d v = (view.camera.eye - view.camera.target).normalized();
   constexpr double w = ViewPreferenceModel::area_weight;
   ViewPreference out;
-  out.projected_area = area.area / area_max;
-  out.visible_ratio = scale * static_cast<double>(outside[0] + outside[1]) / seen_max;
+  for (int i = 0; i < 6; ++i) {
+    const double c = std::max(0.0, v.dot(s.proxy_direction[i]));
+    out.projected_area += c * s.proxy_area[i];
+    out.visible_ratio += c * s.proxy_visible[i];
+    for (int h = 0; h < 2; ++h) out.half_scores[h] += c * s.proxy_half_goodness[h][i];
+  }
   out.score = w * out.projected_area + (1.0 - w) * out.visible_ratio;
-  for (int h = 0; h < 2; ++h)
-    out.half_scores[h] = w * area.halves[h] / area_max + (1.0 - w) * 2.0 * scale * static_cast<double>(outside[h]) / seen_max;
   return out;
 }
+
+std::array<Eigen::Vector3d, 6> CoverageModel::preference_directions() const { return impl_->proxy_direction; }
 
 int CoverageModel::outside_side() const { return impl_->outside; }
 

@@ -356,22 +356,16 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   // along the chosen path (dolly included), among views at a fixed 5-degree step from the front,
   // so that the same shape gives the same start however it is tessellated: the loop's phase is
   // turned so that it starts there. Views within the noise of the best (measured as for the
-  // curves, on two halves of the samples and of the area grid) are equally good, and the one
-  // nearest the front wins.
+  // curves, on two halves of the samples and of the area grid the model's proxy is measured on)
+  // are equally good, and the one nearest the front wins.
   constexpr int kStarts = 72;
   {
     FeatureOrbitGeometry at = g;
     at.start = 0.0;  // pose(a) is azimuth fraction a
     const FeatureOrbitPath unturned(at);
+    const auto start_view = [&](int j) { return view_at(unturned.pose(static_cast<double>(j) / kStarts).eye); };
     std::vector<ViewPreference> preference(kStarts);
-    std::vector<double> objective(kStarts);
-    tbb::parallel_for(0, kStarts, [&](int j) {
-      throw_if_interrupted();
-      const View view = view_at(unturned.pose(static_cast<double>(j) / kStarts).eye);
-      const ViewCoverage seen = coverage.coverage(view);
-      preference[j] = coverage.preference(view, seen);
-      objective[j] = coverage.scores(seen).objective;
-    });
+    for (int j = 0; j < kStarts; ++j) preference[j] = coverage.preference(start_view(j));
     int best = 0;
     for (int j = 0; j < kStarts; ++j)
       if (preference[j].score > preference[best].score) best = j;
@@ -392,7 +386,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
         if (from_front(j) < from_front(start) || (from_front(j) == from_front(start) && j < start)) start = j;
       }
     g.start = static_cast<double>(start) / kStarts;
-    result.start_score = objective[start];
+    result.start_score = coverage.scores(coverage.coverage(start_view(start))).objective;
     result.start_preference = preference[start];
   }
   if (options.frames > 0) {
@@ -406,7 +400,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
       const View view = view_at(frame_pose(path, k, options.frames).eye);
       const ViewCoverage seen = coverage.coverage(view);
       result.frame_scores[k] = coverage.scores(seen).objective;
-      result.frame_preferences[k] = coverage.preference(view, seen).score;
+      result.frame_preferences[k] = coverage.preference(view).score;
     });
   }
   result.geometry = std::move(g);
