@@ -111,6 +111,12 @@ std::vector<Option> make_registry() {
   add({.id = "elevation", .flag = "--elevation", .kind = Kind::number, .lo = -80, .hi = 80, .default_text = "18",
        .help = "Turntable: camera elevation above the model's centre, degrees (default 18)",
        .scene_key = "camera.elevation", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks});
+  add({.id = "first-view", .flag = "--first-view", .kind = Kind::choice, .choices = {"preferred", "best-covering"},
+       .default_text = "preferred",
+       .help = "Feature orbit: the view its loop starts at (frame 0, the poster): preferred (default; the view a published\n"
+               "model of viewpoint preference scores highest, docs/EVALUATION.md) or best-covering (the view that sees\n"
+               "the most feature area, the rule before)",
+       .scene_key = "camera.first_view", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks});
   // ---- Look and samples
   add({.id = "preset", .flag = "--preset", .kind = Kind::choice, .choices = {"studio", "plain"},
        .help = "Look: studio (key, fill and rim lights, soft shadows, ambient occlusion, shadow-catching ground, "

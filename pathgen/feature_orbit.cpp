@@ -352,12 +352,13 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   std::tie(result.angular_speed, result.angular_acceleration) = loop_angular_extremes([&](double a) { return g.direction(a); }, g.up);
 
   // The first view (the poster, and the thumbnail of every player and catalogue page): the view
-  // people would prefer (CoverageModel::preference, a published model of viewpoint preference)
-  // along the chosen path (dolly included), among views at a fixed 5-degree step from the front,
-  // so that the same shape gives the same start however it is tessellated: the loop's phase is
-  // turned so that it starts there. Views within the noise of the best (measured as for the
-  // curves, on two halves of the samples and of the area grid the model's proxy is measured on)
-  // are equally good, and the one nearest the front wins.
+  // people would prefer (CoverageModel::preference, a published model of viewpoint preference),
+  // or with OrbitStart::best_covering the view that covers most (the objective), along the chosen
+  // path (dolly included), among views at a fixed 5-degree step from the front, so that the same
+  // shape gives the same start however it is tessellated: the loop's phase is turned so that it
+  // starts there. Views within the noise of the best (measured as for the curves, on two halves
+  // of the samples, and of the area grid the preference's proxy is measured on) are equally good,
+  // and the one nearest the front wins.
   constexpr int kStarts = 72;
   {
     FeatureOrbitGeometry at = g;
@@ -365,14 +366,29 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     const FeatureOrbitPath unturned(at);
     const auto start_view = [&](int j) { return view_at(unturned.pose(static_cast<double>(j) / kStarts).eye); };
     std::vector<ViewPreference> preference(kStarts);
-    for (int j = 0; j < kStarts; ++j) preference[j] = coverage.preference(start_view(j));
+    std::vector<double> score(kStarts);
+    std::vector<std::array<double, 2>> half(kStarts);
+    for (int j = 0; j < kStarts; ++j) {
+      preference[j] = coverage.preference(start_view(j));
+      score[j] = preference[j].score;
+      half[j] = preference[j].half_scores;
+    }
+    if (options.start == OrbitStart::best_covering) {
+      tbb::parallel_for(0, kStarts, [&](int j) {
+        throw_if_interrupted();
+        const ViewCoverage seen = coverage.coverage(start_view(j));
+        const ViewCoverage* one[] = {&seen};
+        score[j] = coverage.scores(one).objective;
+        const std::array<CoverageScores, 2> halves = coverage.half_scores(one);
+        half[j] = {halves[0].objective, halves[1].objective};
+      });
+    }
     int best = 0;
     for (int j = 0; j < kStarts; ++j)
-      if (preference[j].score > preference[best].score) best = j;
+      if (score[j] > score[best]) best = j;
     double variance = 0.0;
     for (int j = 0; j < kStarts; ++j) {
-      const std::array<double, 2>& h = preference[j].half_scores;
-      const double disagreement = (h[0] - preference[best].half_scores[0]) - (h[1] - preference[best].half_scores[1]);
+      const double disagreement = (half[j][0] - half[best][0]) - (half[j][1] - half[best][1]);
       variance += 0.25 * disagreement * disagreement;
     }
     result.start_noise = std::sqrt(variance / (kStarts - 1));
@@ -381,7 +397,7 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     result.starts_tied = 0;
     const auto from_front = [&](int j) { return std::min(j, kStarts - j); };
     for (int j = 0; j < kStarts; ++j)
-      if (preference[j].score >= preference[best].score - result.start_tie_band) {
+      if (score[j] >= score[best] - result.start_tie_band) {
         ++result.starts_tied;
         if (from_front(j) < from_front(start) || (from_front(j) == from_front(start) && j < start)) start = j;
       }

@@ -38,6 +38,12 @@
 
 namespace meshtour {
 
+/// Which view the loop starts at (its frame 0, the poster).
+enum class OrbitStart {
+  preferred,      ///< the view people would prefer (pathgen/coverage.h, ViewPreferenceModel)
+  best_covering,  ///< the view whose coverage objective is highest (the rule before issue 37)
+};
+
 struct FeatureOrbitOptions {
   CoverageOptions coverage;  ///< what views are judged by (features, samples; w(f) at §3–§8 defaults)
   Axis up{1, false};
@@ -85,6 +91,8 @@ struct FeatureOrbitOptions {
   /// this elevation with this lens (the tour's defaults).
   double turntable_elevation_deg = 18.0, turntable_fov_deg = 35.0;
   double reference_slack = 0.005;
+  /// The first view: the preferred one, or the best-covering one (`--first-view`).
+  OrbitStart start = OrbitStart::preferred;
   /// When > 0, the score of each frame of a loop of this many frames is reported (frame_scores).
   int frames = 0;
   /// The lens the distances are planned for (the tour fits its fov to them). A long lens, as

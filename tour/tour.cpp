@@ -83,6 +83,7 @@ PathSettings path_settings(const Scene& scene, PathMode mode, const TriangleMesh
       settings.emplace_back("fov", fov);
       // The frame scores the file records are for this frame count.
       settings.emplace_back("frames", std::to_string(scene.frames));
+      settings.emplace_back("first-view", std::string(orbit_start_name(scene.orbit_start)));
       break;
     case PathMode::turntable:
       settings.emplace_back("elevation", setting_text(scene.elevation_deg));
@@ -117,15 +118,17 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
     // (FeatureOrbitOptions::vertical_fov_deg), and choose_fov() fits the tour's fov to it.
     if (!scene.auto_fov) orbit.vertical_fov_deg = scene.vertical_fov_deg;
     orbit.frames = scene.frames;
+    orbit.start = scene.orbit_start;
     const FeatureOrbitResult result = compute_feature_orbit(mesh, orbit);
     out.view_scores = result.frame_scores;
     if (!quiet) {
       const ElevationCurve& e = result.geometry.elevation;
       constexpr double deg = 180.0 / 3.14159265358979323846;
       std::fprintf(stderr, "camera path (feature orbit): elevation %.1f%+.1f cos(2pi(t-%.2f))%+.1f cos(4pi(t-%.2f)) degrees, "
-                   "starting at the preferred view (%.0f degrees around, preference %.3f); its views see %.1f %% of the "
+                   "starting at the %s view (%.0f degrees around, preference %.3f); its views see %.1f %% of the "
                    "feature area (objective %.3f over patch density and saliency at four angles)\n", e.base * deg, e.swing * deg,
-                   e.swing_phase, e.ripple * deg, e.ripple_phase, 360.0 * result.geometry.start, result.start_preference.score,
+                   e.swing_phase, e.ripple * deg, e.ripple_phase, std::string(orbit_start_name(scene.orbit_start)).c_str(),
+                   360.0 * result.geometry.start, result.start_preference.score,
                    100.0 * result.feature_share_seen, result.scores.objective);
       // Where the scores could not tell candidates apart (within twice their measured noise), the
       // fixed rule chose: the plainest curve nearest the band's middle, the start nearest the front.

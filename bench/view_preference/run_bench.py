@@ -10,14 +10,15 @@ rendering), takes frame 0's eye direction about its target in the labels' conven
 "convention": azimuth from the turntable's front F counter-clockwise seen from the up axis U,
 elevation above the plane through the target), and prints per model the chosen and the labelled
 view, the angle between the two directions (the nearer of azimuth_deg and mirror_azimuth_deg),
-pass or fail at 30 degrees, and the pass rate over the models measured; beside it, for comparison,
-the same angle for the best-covering frame (the poster before the view preference).
+pass or fail at 30 degrees, and the pass rate over the models measured. `--first-view best-covering`
+measures the rule before the view preference (the view that covers most) the same way.
 
 The models: the six shared meshes in ../shared/meshes (beside the repository) and the files that
 fetch_models.sh writes into a directory (default ./view-preference-models). Each file's SHA-256 is
 checked against labels.json; a model whose file is missing or differs is listed and not counted.
 
 Usage: bench/view_preference/run_bench.py [--models DIR] [--shared DIR] [--meshtour BIN]
+                                          [--first-view preferred|best-covering]
                                           [--threads N] [--only NAME,...] [--json OUT]
 Not used by CI (it needs the models and a Release build; a few minutes on two cores).
 """
@@ -110,6 +111,7 @@ def main():
     ap.add_argument("--models", default="view-preference-models", help="directory fetch_models.sh wrote")
     ap.add_argument("--shared", default=os.path.join(ROOT, "..", "shared", "meshes"), help="the shared meshes")
     ap.add_argument("--meshtour", default=os.path.join(ROOT, "build-test", "cli", "meshtour"))
+    ap.add_argument("--first-view", default="preferred", choices=["preferred", "best-covering"])
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--only", default="", help="comma-separated model names")
     ap.add_argument("--json", default="", help="also write the rows as JSON")
@@ -134,7 +136,8 @@ def main():
                 skipped.append((m["name"], "SHA-256 differs from labels.json: " + path))
                 continue
             frames = os.path.join(tmp, m["name"] + ".csv")
-            cmd = [args.meshtour, "path", path, "--path", "feature-orbit", "--up", m["up"], "--threads", str(args.threads),
+            cmd = [args.meshtour, "path", path, "--path", "feature-orbit", "--up", m["up"], "--first-view", args.first_view,
+                   "--threads", str(args.threads),
                    "-o", os.path.join(tmp, m["name"] + ".path.json"), "--camera-frames", frames]
             run = subprocess.run(cmd, capture_output=True, text=True)
             if run.returncode != 0:
@@ -152,23 +155,16 @@ def main():
 
             d, distance = measured(cameras[0])
             az, el = angles(d, m["up"])
-            # For comparison, the poster before the view preference: the best-covering frame (the
-            # path file's frame scores; the manifest's best_view_frame).
-            scores = json.load(open(os.path.join(tmp, m["name"] + ".path.json")))["frame_scores"]
-            best = max(range(len(scores)), key=lambda k: (scores[k], -k))
-            _, coverage_distance = measured(cameras[best])
             tie = re.search(r"(\d+) starts within", run.stderr)
             rows.append({"name": m["name"], "up": m["up"], "chosen_azimuth": round(az, 1), "chosen_elevation": round(el, 1),
                          "label_azimuth": m["azimuth_deg"], "label_mirror": m.get("mirror_azimuth_deg"),
                          "label_elevation": m["elevation_deg"], "confidence": m["confidence"],
                          "distance": round(distance, 1), "pass": distance <= PASS_DEG,
-                         "best_covering_frame": best, "best_covering_distance": round(coverage_distance, 1),
                          "starts_tied": int(tie.group(1)) if tie else None})
             r = rows[-1]
             label = f'{r["label_azimuth"]}' + (f'({r["label_mirror"]})' if r["label_mirror"] is not None else "")
             print(f'{r["name"]:<20} {r["up"]:>3}  chosen az {az:6.1f} el {el:5.1f}   label az {label:>9} el {r["label_elevation"]:>3}'
-                  f'   {distance:6.1f} deg  {"pass" if r["pass"] else "FAIL"}   best-covering frame {best:3d}: {coverage_distance:5.1f} deg'
-                  f'  ({r["confidence"]}'
+                  f'   {distance:6.1f} deg  {"pass" if r["pass"] else "FAIL"}  ({r["confidence"]}'
                   f'{", tie rule: " + str(r["starts_tied"]) + " starts" if r["starts_tied"] and r["starts_tied"] > 1 else ""})',
                   flush=True)
     for name, why in skipped:
@@ -177,8 +173,6 @@ def main():
     if rows:
         print(f"\n{passed} of {len(rows)} within {PASS_DEG:g} degrees of the label: {100.0 * passed / len(rows):.1f} %"
               f" ({len(skipped)} of {len(rows) + len(skipped)} labelled models not measured)")
-        before = sum(r["best_covering_distance"] <= PASS_DEG for r in rows)
-        print(f"the best-covering frame (the poster before the view preference): {before} of {len(rows)}")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"rows": rows, "skipped": skipped, "passed": passed, "measured": len(rows)}, f, indent=1)
