@@ -70,14 +70,19 @@ PathEvaluation PathEvaluator::evaluate(std::span<const Camera> cameras, double a
   const Impl& s = *impl_;
   const CoverageModel& model = *s.coverage;
   std::vector<ViewCoverage> views(cameras.size());
+  std::vector<ViewPreference> preferences(cameras.size());
   tbb::parallel_for(std::size_t{0}, cameras.size(), [&](std::size_t k) {
     throw_if_interrupted();
-    views[k] = model.coverage(View{cameras[k], aspect});
+    const View view{cameras[k], aspect};
+    views[k] = model.coverage(view);
+    preferences[k] = model.preference(view);
   });
   throw_if_interrupted();
 
   PathEvaluation out;
   out.frames = static_cast<int>(cameras.size());
+  out.preference = preferences.front();
+  for (const ViewPreference& p : preferences) out.frame_preferences.push_back(p.score);
   std::vector<const ViewCoverage*> all(views.size());
   for (std::size_t k = 0; k < views.size(); ++k) {
     all[k] = &views[k];
@@ -197,6 +202,11 @@ std::string evaluation_json(const std::vector<std::pair<std::string, PathEvaluat
     };
     m["objective"] = e.objective;
     m["frame_scores"] = e.frame_scores;
+    // The poster's (frame 0's) view preference, beside the coverage scores.
+    m["preference"] = {{"score", e.preference.score},
+                       {"projected_area", e.preference.projected_area},
+                       {"visible_ratio", e.preference.visible_ratio}};
+    m["frame_preferences"] = e.frame_preferences;
     nlohmann::ordered_json& definitions = m["definitions"];
     definitions = nlohmann::ordered_json::object();
     for (int d = 0; d < kFeatureDefinitions; ++d) {

@@ -48,6 +48,11 @@ struct PathEvaluation {
   std::array<DefinitionFigures, kFeatureDefinitions> by_definition{};
   double objective = 0.0;            ///< the feature orbit's objective for the whole tour
   std::vector<double> frame_scores;  ///< the same objective for each frame alone
+  /// How much people would prefer frame 0, the poster (pathgen/coverage.h, ViewPreferenceModel),
+  /// and the preference score of every frame: beside the coverage, which cannot tell a front from
+  /// a back.
+  ViewPreference preference;
+  std::vector<double> frame_preferences;
   double camera_max_angular_speed = 0.0;         ///< of the eye's direction from the model centre
   /// Change of the angular velocity of that direction's frame (up = the camera's up), see
   /// pathgen/motion.h: a constant-rate orbit has none, a jerk or a sudden climb has.
@@ -96,8 +101,9 @@ int count_out_of_frame(std::span<const Camera> cameras, const std::vector<Eigen:
 double narrowest_edge_margin(std::span<const Camera> cameras, const std::vector<Eigen::Vector3d>& points, double aspect);
 
 /// The JSON document of `meshtour evaluate --json`: {"modes": {"<mode>": {"feature_coverage": ...,
-/// ..., "objective": ..., "frame_scores": [...], "definitions": {"<key>": {...}, ...}}, ...}} in
-/// the order given; the keys of the definitions come from `options`.
+/// ..., "objective": ..., "frame_scores": [...], "preference": {"score": ..., "projected_area": ...,
+/// "visible_ratio": ...}, "frame_preferences": [...], "definitions": {"<key>": {...}, ...}}, ...}}
+/// in the order given; the keys of the definitions come from `options`.
 std::string evaluation_json(const std::vector<std::pair<std::string, PathEvaluation>>& modes, const CoverageOptions& options);
 
 }  // namespace meshtour

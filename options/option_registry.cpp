@@ -120,6 +120,12 @@ std::vector<Option> make_registry() {
   add({.id = "elevation", .flag = "--elevation", .kind = Kind::number, .lo = -80, .hi = 80, .default_text = "18",
        .help = "Turntable: camera elevation above the model's centre, degrees (default 18)",
        .scene_key = "camera.elevation", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks});
+  add({.id = "first-view", .flag = "--first-view", .kind = Kind::choice, .choices = {"preferred", "best-covering"},
+       .default_text = "best-covering",
+       .help = "Feature orbit: the view its loop starts at (frame 0, the poster): best-covering (default; the view that\n"
+               "sees the most feature area) or preferred (the view a published model of viewpoint preference, Gao et al.\n"
+               "2016, scores highest; nearer people's choice on fewer labelled scans: docs/EVALUATION.md)",
+       .scene_key = "camera.first_view", .manifest_column = true, .commands = kRendering | path | evaluate, .farm = kToTasks});
   // ---- Look and samples
   add({.id = "preset", .flag = "--preset", .kind = Kind::choice, .choices = {"studio", "plain"},
        .help = "Look: studio (key, fill and rim lights, soft shadows, ambient occlusion, shadow-catching ground, "
@@ -196,14 +202,14 @@ std::vector<Option> make_registry() {
   constexpr unsigned kVideoMakers = tour | batch | farm | encode;
   add({.id = "poster", .flag = "--poster", .kind = Kind::text,
        .type_name = "PNG",
-       .help = "Also write the poster still (PNG): the tour's best-scored frame, bit-identical to that frame when the\n"
-               "sizes agree (batch: default <video name>.poster.png beside the video; encode: from the frames directory)",
-       .long_help = "The best frame is the one the path search scores highest (`best_view_frame` of the frames manifest); "
-                    "a feature orbit's path file carries its scores; paths without (turntable, paper) use frame 0. "
+       .help = "Also write the poster still (PNG): the tour's first frame, its preferred view, bit-identical to that frame\n"
+               "when the sizes agree (batch: default <video name>.poster.png beside the video; encode: from the frames directory)",
+       .long_help = "The feature orbit (the default path) starts at the view a published model of viewpoint preference "
+                    "scores highest (docs/EVALUATION.md); the turntable starts at its front, the paper's path at its start. "
                     "In a batch manifest the column is a plain file name inside --out-dir.",
        .manifest_column = true, .commands = tour | farm | encode, .farm = encode_job});
   add({.id = "poster-size", .flag = "--poster-size", .kind = Kind::size, .lo = 16, .hi = 16384,
-       .help = "Poster size WIDTHxHEIGHT (default: the frames' size); the best frame is cropped to its aspect and resampled",
+       .help = "Poster size WIDTHxHEIGHT (default: the frames' size); the first frame is cropped to its aspect and resampled",
        .manifest_column = true, .commands = kVideoMakers, .farm = encode_job | batch_tasks, .even_sides = true});
   add({.id = "caption", .flag = "--caption", .kind = Kind::text,
        .help = "Text burned into the video (UTF-8, e.g. \"Nefertiti \u2014 ÄM 21300\"); the frames stay clean. Text wider\n"

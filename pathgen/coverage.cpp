@@ -1,5 +1,6 @@
 #include "pathgen/coverage.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <bit>
@@ -193,6 +194,12 @@ struct CoverageModel::Impl {
   std::unique_ptr<VisibilityScene> scene;
   std::vector<std::pair<std::string, double>> stage_seconds;
   std::size_t words = 0;
+  // The view preference's proxy (ViewPreferenceModel): the six directions, and the goodness of
+  // each (then of each on one half of the samples and of the area grid), with its two terms.
+  std::array<Eigen::Vector3d, 6> proxy_direction;
+  std::array<double, 6> proxy_area{}, proxy_visible{};
+  std::array<std::array<double, 6>, 2> proxy_half_goodness{};
+  int outside = 0;
 };
 
 CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -277,6 +284,57 @@ CoverageModel::CoverageModel(const TriangleMesh& mesh, const CoverageOptions& op
     }
   }
   timer.done("sample features");
+
+  // The view preference's proxy (ViewPreferenceModel): the principal axes of the samples (each
+  // stands for the same area), and what the model shows along each of their six directions, seen
+  // from far enough that the long lens holds the bounding sphere (nearly a parallel projection).
+  {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : s.samples.points) mean += p;
+    mean /= static_cast<double>(n);
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (const Eigen::Vector3d& p : s.samples.points) covariance += (p - mean) * (p - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(covariance);
+    const Eigen::Vector3d center = mesh.bounds().center();
+    const double radius = 0.5 * s.scene->diagonal();
+    constexpr double kFov = 10.0;
+    const double distance = radius / std::sin(0.5 * kFov * 3.14159265358979323846 / 180.0);
+    const double cos_limit = std::cos(ViewPreferenceModel::seen_angle_deg * 3.14159265358979323846 / 180.0);
+    // Per direction: samples seen within the angle, by side (0: the normals' side) and by half.
+    std::array<std::array<std::array<std::size_t, 2>, 2>, 6> seen{};
+    std::array<ProjectedArea, 6> area;
+    for (int i = 0; i < 6; ++i) {
+      throw_if_interrupted();
+      const Eigen::Vector3d d = (i < 3 ? 1.0 : -1.0) * axes.eigenvectors().col(2 - i % 3).normalized();
+      s.proxy_direction[i] = d;
+      const Camera camera{center + distance * d, center, d.unitOrthogonal(), kFov};
+      const VisibleSamples visible = s.scene->visible(View{camera, 1.0}, s.samples, ViewPreferenceModel::seen_angle_deg);
+      for (std::size_t k = 0; k < visible.samples.size(); ++k)
+        if (visible.cosines[k] > cos_limit) ++seen[i][visible.front[k] ? 0 : 1][visible.samples[k] % 2];
+      area[i] = s.scene->projected_area(d, ViewPreferenceModel::area_grid);
+    }
+    std::array<std::size_t, 2> side_total{};
+    for (const auto& by_side : seen)
+      for (int side = 0; side < 2; ++side) side_total[side] += by_side[side][0] + by_side[side][1];
+    // A tie (a surface seen equally from both sides) keeps the normals' side.
+    s.outside = side_total[1] > side_total[0] ? 1 : 0;
+    double area_max = 0.0, seen_max = 0.0;
+    for (int i = 0; i < 6; ++i) {
+      area_max = std::max(area_max, area[i].area);
+      seen_max = std::max(seen_max, static_cast<double>(seen[i][s.outside][0] + seen[i][s.outside][1]));
+    }
+    area_max = std::max(area_max, 1e-300);
+    seen_max = std::max(seen_max, 1.0);
+    constexpr double w = ViewPreferenceModel::area_weight;
+    for (int i = 0; i < 6; ++i) {
+      s.proxy_area[i] = area[i].area / area_max;
+      s.proxy_visible[i] = static_cast<double>(seen[i][s.outside][0] + seen[i][s.outside][1]) / seen_max;
+      // Each half: its own estimate of the area, twice its half of the samples.
+      for (int h = 0; h < 2; ++h)
+        s.proxy_half_goodness[h][i] = w * area[i].halves[h] / area_max + (1.0 - w) * 2.0 * static_cast<double>(seen[i][s.outside][h]) / seen_max;
+    }
+    timer.done("view preference proxy");
+  }
 }
 
 CoverageModel::~CoverageModel() = default;
@@ -380,6 +438,25 @@ CoverageScores CoverageModel::scores(const ViewCoverage& view) const {
   const ViewCoverage* one[] = {&view};
   return scores(one);
 }
+
+ViewPreference CoverageModel::preference(const View& view) const {
+  const Impl& s = *impl_;
+  const Eigen::Vector3d v = (view.camera.eye - view.camera.target).normalized();
+  constexpr double w = ViewPreferenceModel::area_weight;
+  ViewPreference out;
+  for (int i = 0; i < 6; ++i) {
+    const double c = std::max(0.0, v.dot(s.proxy_direction[i]));
+    out.projected_area += c * s.proxy_area[i];
+    out.visible_ratio += c * s.proxy_visible[i];
+    for (int h = 0; h < 2; ++h) out.half_scores[h] += c * s.proxy_half_goodness[h][i];
+  }
+  out.score = w * out.projected_area + (1.0 - w) * out.visible_ratio;
+  return out;
+}
+
+std::array<Eigen::Vector3d, 6> CoverageModel::preference_directions() const { return impl_->proxy_direction; }
+
+int CoverageModel::outside_side() const { return impl_->outside; }
 
 const SurfaceSamples& CoverageModel::samples() const { return impl_->samples; }
 const std::vector<std::uint8_t>& CoverageModel::features(FeatureMeasure m) const { return impl_->feature[static_cast<int>(m)]; }

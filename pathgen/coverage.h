@@ -17,6 +17,10 @@
 //    angles alone lost at the strict ones: pathgen/feature_orbit.cpp).
 // A definition is one measure at one angle; the objective of a set of views is the mean over the
 // eight definitions of (features seen + surface_weight × other surface seen) / features.
+//
+// Beside coverage, the module judges single views as people would pick them (view preference,
+// ViewPreferenceModel below): with --first-view preferred the first frame and the poster are the
+// preferred view, and `evaluate` reports its score next to the coverage scores. It reads the same samples and rays.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -72,11 +76,47 @@ struct CoverageOptions {
   std::string key(const FeatureDefinition& d) const;
 };
 
+/// A published model of the views people prefer, with its published weights (none fitted here):
+/// Gao, Wang & Han, "Efficient view selection by measuring proxy information", Computer
+/// Animation and Virtual Worlds 27(3-4):351-357, 2016, as the Euclid library implements it
+/// (unclejimbo/Euclid, include/Euclid/ViewSelection/ProxyView.h, whose default weight is 0.5).
+/// The model's oriented bounding box (its principal axes) stands for it: along each of the six
+/// directions ±a_i the model shows a projected area A_i and a visible ratio R_i (the share of its
+/// surface facing that way within 60°), each divided by its largest value over the six, and a view
+/// from direction v (from the model's centre to the eye) scores
+///   sum over i of (area_weight · A_i / A_max + (1 − area_weight) · R_i / R_max) · max(0, v · a_i),
+/// so a view that sees two good sides at once (a three-quarter view) can outscore either side.
+/// Both attributes are among those of Secord et al., "Perceptual models of viewpoint preference"
+/// (ACM TOG 30(5), 2011), whose own table of weights could not be obtained here
+/// (docs/EVALUATION.md). Measured here as this module measures what a view sees, so that neither
+/// the tessellation nor the thread count changes it: the axes are those of the area-weighted
+/// surface samples (not of the vertices), A_i is counted by parallel rays through the shared
+/// RayScene, R_i on the samples with occlusion rays (Euclid counts faces by their normals alone),
+/// on the side of the surface the eye sees from outside (CoverageModel::outside_side). No rule per
+/// kind of object; no elevation term (the model has none: the orbit's band decides the height).
+struct ViewPreferenceModel {
+  static constexpr double area_weight = 0.5;  ///< Gao et al.'s weight of the projected area term
+  static constexpr double seen_angle_deg = 60.0;  ///< "visible": facing the direction within this angle
+  /// Cells across the ray grid that measures a projected area (Euclid renders 256² pixels).
+  static constexpr int area_grid = 256;
+};
+
 /// What one view sees: a bitset over the samples for each seen-well angle.
 struct ViewCoverage {
   std::array<std::vector<std::uint64_t>, kSeenAngles> seen;
   /// Every stride-th sample was tested (1 = all); scores count only those samples.
   std::size_t stride = 1;
+};
+
+/// How much people would prefer one view (ViewPreferenceModel): its score, its two terms (the
+/// sums over the six directions of A_i / A_max and of R_i / R_max, weighted as the score weighs
+/// them: 1 for a view straight along the best direction), and the score measured on each half of
+/// the samples and of the area grid alone, whose difference measures its noise.
+struct ViewPreference {
+  double score = 0.0;
+  double projected_area = 0.0;
+  double visible_ratio = 0.0;
+  std::array<double, 2> half_scores{};
 };
 
 /// Shares seen by a set of views under each definition (same order as feature_definitions()).
@@ -109,6 +149,15 @@ public:
   /// odd-numbered ones): two independent estimates, whose difference measures how much of a
   /// score is where the samples happen to fall (the path search's tie rule).
   std::array<CoverageScores, 2> half_scores(std::span<const ViewCoverage* const> views) const;
+  /// How much people would prefer `view` (ViewPreferenceModel): a function of the direction from
+  /// its target to its eye. Thread-safe; the same bits on any thread count.
+  ViewPreference preference(const View& view) const;
+  /// The six directions ±a_i of the view preference's proxy (unit, from the model's centre).
+  std::array<Eigen::Vector3d, 6> preference_directions() const;
+  /// The side of the surface taken as its outside for the view preference's visible ratio (0: the
+  /// side the normals point to): the side the six directions' views see more of, as scans are not
+  /// reliably oriented and a shell (a face scan, a mask) seen from behind shows its inside.
+  int outside_side() const;
 
   const SurfaceSamples& samples() const;
   /// 1 for each feature sample under `measure`.

@@ -351,30 +351,41 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
   if (options.dolly) plan_dolly(points, options, g);
   std::tie(result.angular_speed, result.angular_acceleration) = loop_angular_extremes([&](double a) { return g.direction(a); }, g.up);
 
-  // The first view: the best single view along the chosen path (dolly included), among views
-  // at a fixed 5-degree step from the front, so that the same shape gives the same start however
-  // it is tessellated. Views within the noise of the best (measured as for the curves, on the two
-  // halves of the samples) are equally good, and the one nearest the front wins.
+  // The first view (the poster, and the thumbnail of every player and catalogue page): the view
+  // people would prefer (CoverageModel::preference, a published model of viewpoint preference),
+  // or with OrbitStart::best_covering the view that covers most (the objective), along the chosen
+  // path (dolly included), among views at a fixed 5-degree step from the front, so that the same
+  // shape gives the same start however it is tessellated: the loop's phase is turned so that it
+  // starts there. Views within the noise of the best (measured as for the curves, on two halves
+  // of the samples, and of the area grid the preference's proxy is measured on) are equally good,
+  // and the one nearest the front wins.
   constexpr int kStarts = 72;
   {
     FeatureOrbitGeometry at = g;
     at.start = 0.0;  // pose(a) is azimuth fraction a
     const FeatureOrbitPath unturned(at);
-    std::vector<ViewCoverage> views(kStarts);
-    tbb::parallel_for(0, kStarts, [&](int j) {
-      throw_if_interrupted();
-      views[j] = coverage.coverage(view_at(unturned.pose(static_cast<double>(j) / kStarts).eye));
-    });
-    std::vector<double> objective(kStarts);
+    const auto start_view = [&](int j) { return view_at(unturned.pose(static_cast<double>(j) / kStarts).eye); };
+    std::vector<ViewPreference> preference(kStarts);
+    std::vector<double> score(kStarts);
     std::vector<std::array<double, 2>> half(kStarts);
-    int best = 0;
     for (int j = 0; j < kStarts; ++j) {
-      const ViewCoverage* one[] = {&views[j]};
-      objective[j] = coverage.scores(one).objective;
-      const std::array<CoverageScores, 2> halves = coverage.half_scores(one);
-      half[j] = {halves[0].objective, halves[1].objective};
-      if (objective[j] > objective[best]) best = j;
+      preference[j] = coverage.preference(start_view(j));
+      score[j] = preference[j].score;
+      half[j] = preference[j].half_scores;
     }
+    if (options.start == OrbitStart::best_covering) {
+      tbb::parallel_for(0, kStarts, [&](int j) {
+        throw_if_interrupted();
+        const ViewCoverage seen = coverage.coverage(start_view(j));
+        const ViewCoverage* one[] = {&seen};
+        score[j] = coverage.scores(one).objective;
+        const std::array<CoverageScores, 2> halves = coverage.half_scores(one);
+        half[j] = {halves[0].objective, halves[1].objective};
+      });
+    }
+    int best = 0;
+    for (int j = 0; j < kStarts; ++j)
+      if (score[j] > score[best]) best = j;
     double variance = 0.0;
     for (int j = 0; j < kStarts; ++j) {
       const double disagreement = (half[j][0] - half[best][0]) - (half[j][1] - half[best][1]);
@@ -386,21 +397,26 @@ FeatureOrbitResult compute_feature_orbit(const TriangleMesh& mesh, const Coverag
     result.starts_tied = 0;
     const auto from_front = [&](int j) { return std::min(j, kStarts - j); };
     for (int j = 0; j < kStarts; ++j)
-      if (objective[j] >= objective[best] - result.start_tie_band) {
+      if (score[j] >= score[best] - result.start_tie_band) {
         ++result.starts_tied;
         if (from_front(j) < from_front(start) || (from_front(j) == from_front(start) && j < start)) start = j;
       }
     g.start = static_cast<double>(start) / kStarts;
-    result.start_score = objective[start];
+    result.start_score = coverage.scores(coverage.coverage(start_view(start))).objective;
+    result.start_preference = preference[start];
   }
   if (options.frames > 0) {
     // The frames as the tour takes them: evenly spaced in the view's turn (UniformTurnPath,
     // whose t = 0 is the orbit's, so frame 0 is the start chosen above).
     const UniformTurnPath path(std::make_unique<FeatureOrbitPath>(g));
     result.frame_scores.assign(static_cast<std::size_t>(options.frames), 0.0);
+    result.frame_preferences.assign(static_cast<std::size_t>(options.frames), 0.0);
     tbb::parallel_for(0, options.frames, [&](int k) {
       throw_if_interrupted();
-      result.frame_scores[k] = coverage.scores(coverage.coverage(view_at(frame_pose(path, k, options.frames).eye))).objective;
+      const View view = view_at(frame_pose(path, k, options.frames).eye);
+      const ViewCoverage seen = coverage.coverage(view);
+      result.frame_scores[k] = coverage.scores(seen).objective;
+      result.frame_preferences[k] = coverage.preference(view).score;
     });
   }
   result.geometry = std::move(g);

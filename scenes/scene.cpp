@@ -193,6 +193,7 @@ const std::map<std::string_view, SceneSetter>& scene_bindings() {
          if (!s.auto_fov) s.vertical_fov_deg = real(t);
        }},
       {"elevation", [](S s, T t) { s.elevation_deg = real(t); }},
+      {"first-view", [](S s, T t) { s.orbit_start = parse_orbit_start(t); }},
       {"preset", [](S s, T t) { set_look_preset(s, t); }},
       {"crease-angle", [](S s, T t) { set_crease_angle(s.render.shading, t); }},
       {"spp", [](S s, T t) { s.render.samples_per_pixel = whole(t); }},
@@ -270,6 +271,16 @@ PathMode parse_path_mode(std::string_view text) {
   for (const PathMode m : {PathMode::feature_orbit, PathMode::paper, PathMode::turntable})
     if (path_mode_name(m) == text) return m;
   throw InputError("unknown path mode '" + std::string(text) + "'; use feature-orbit, paper or turntable");
+}
+
+std::string_view orbit_start_name(OrbitStart start) {
+  return start == OrbitStart::best_covering ? "best-covering" : "preferred";
+}
+
+OrbitStart parse_orbit_start(std::string_view text) {
+  for (const OrbitStart s : {OrbitStart::preferred, OrbitStart::best_covering})
+    if (orbit_start_name(s) == text) return s;
+  throw InputError("unknown first view '" + std::string(text) + "'; use preferred or best-covering");
 }
 
 bool is_scene_setting(const options::Option& o) { return scene_bindings().contains(o.id); }

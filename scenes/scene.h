@@ -12,6 +12,7 @@
 
 #include "core/axis.h"
 #include "mesh/mesh.h"
+#include "pathgen/feature_orbit.h"
 #include "pathgen/paper_path.h"
 #include "tracer/tracer.h"
 
@@ -27,6 +28,10 @@ enum class PathMode {
 std::string_view path_mode_name(PathMode mode);
 /// The inverse of path_mode_name. \throw InputError for anything else.
 PathMode parse_path_mode(std::string_view text);
+/// "preferred" or "best-covering": the --first-view value.
+std::string_view orbit_start_name(OrbitStart start);
+/// The inverse of orbit_start_name. \throw InputError for anything else.
+OrbitStart parse_orbit_start(std::string_view text);
 
 /// Everything a tour needs besides the output name.
 struct Scene {
@@ -67,6 +72,7 @@ struct Scene {
   /// radius instead.
   bool auto_fov = true;
   double elevation_deg = 15.0;  ///< turntable only
+  OrbitStart orbit_start = OrbitStart::preferred;  ///< feature orbit only: its first view
   int fps = 30;
   int frames = 120;
 

@@ -44,7 +44,8 @@ meshtour::test::CommandResult validate_gltf(const fs::path& file) {
 TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
   const fs::path dir = meshtour::test::scratch_dir();
   const fs::path mesh = small_mesh(dir);
-  const auto r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --compare --frames 24 --samples 32768 --json " + meshtour::test::shell_quoted(dir / "e.json"));
+  const auto r = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --compare --frames 24 --samples 32768 --first-view preferred --json " +
+                              meshtour::test::shell_quoted(dir / "e.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* mode : {"turntable ", "paper ", "feature-orbit "}) EXPECT_NE(r.output.find(mode), std::string::npos) << r.output;
   std::ifstream in(dir / "e.json");
@@ -53,7 +54,9 @@ TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
   ASSERT_EQ(doc["modes"].size(), 3u);
   for (const char* mode : {"turntable", "paper", "feature-orbit"}) {
     const auto& m = doc["modes"].at(mode);
-    EXPECT_EQ(m.size(), 13u) << mode;  // 10 figures, objective, frame_scores, definitions
+    EXPECT_EQ(m.size(), 15u) << mode;  // 10 figures, objective, frame_scores, preference, frame_preferences, definitions
+    ASSERT_EQ(m.at("frame_preferences").size(), 24u) << mode;
+    EXPECT_EQ(m["preference"]["score"], m["frame_preferences"][0]) << mode;  // the poster's, frame 0's
     EXPECT_GE(m.at("min_edge_margin").get<double>(), 0.05) << mode;  // action-safe framing
     EXPECT_EQ(m.at("frames_below_floor").get<int>(), 0) << mode;
     ASSERT_EQ(m.at("frame_scores").size(), 24u) << mode;
@@ -76,11 +79,11 @@ TEST(CliEvaluate, CompareWritesOneTableAndTheJsonShape) {
     EXPECT_LT(m.at("camera_max_angular_speed").get<double>(), 0.4);
     EXPECT_EQ(m.at("frames_out_of_frame").get<int>(), 0) << mode;
   }
-  // The feature orbit starts at its best view: frame 0 scores highest (the search's objective,
-  // measured here by evaluate on the tour's own cameras).
-  const auto& scores = doc["modes"]["feature-orbit"]["frame_scores"];
-  for (std::size_t k = 1; k < scores.size(); ++k)
-    EXPECT_GE(scores[0].get<double>(), scores[k].get<double>() - 1e-3) << "frame " << k;
+  // With --first-view preferred the feature orbit starts at its preferred view: frame 0's preference is the highest, or within
+  // the tie band and the frames' spacing of it (measured here by evaluate on the tour's own cameras).
+  const auto& preferences = doc["modes"]["feature-orbit"]["frame_preferences"];
+  for (std::size_t k = 1; k < preferences.size(); ++k)
+    EXPECT_GE(preferences[0].get<double>(), preferences[k].get<double>() - 0.02) << "frame " << k;
   // The path modes see the same mesh: a fixed evaluation gives the same numbers again.
   const auto again = run_meshtour("evaluate " + meshtour::test::shell_quoted(mesh) + " --path turntable --frames 24 --samples 32768 -q --json " + meshtour::test::shell_quoted(dir / "t.json"));
   ASSERT_EQ(again.exit_code, 0) << again.output;

@@ -185,6 +185,10 @@ TEST(EvaluateMetrics, JsonHasExactlyTheDocumentedShape) {
   a.by_definition[3].feature_coverage = 0.25;
   a.objective = 0.9;
   a.frame_scores = {0.5, 0.25};
+  a.preference.score = 0.75;
+  a.preference.projected_area = 0.5;
+  a.preference.visible_ratio = 1.0;
+  a.frame_preferences = {0.75, 0.5};
   const nlohmann::json doc = nlohmann::json::parse(evaluation_json({{"turntable", a}, {"paper", PathEvaluation{}}}, CoverageOptions{}));
   ASSERT_EQ(doc.size(), 1u);
   ASSERT_TRUE(doc.at("modes").is_object());
@@ -195,10 +199,12 @@ TEST(EvaluateMetrics, JsonHasExactlyTheDocumentedShape) {
                                          "frames_below_floor"};
   for (const char* mode : {"turntable", "paper"}) {
     const auto& m = doc["modes"].at(mode);
-    EXPECT_EQ(m.size(), keys.size() + 3);  // + objective, frame_scores, definitions
+    EXPECT_EQ(m.size(), keys.size() + 5);  // + objective, frame_scores, preference, frame_preferences, definitions
     for (const auto& k : keys) EXPECT_TRUE(m.contains(k) && m[k].is_number()) << mode << " " << k;
     EXPECT_TRUE(m.at("objective").is_number());
     EXPECT_TRUE(m.at("frame_scores").is_array());
+    EXPECT_TRUE(m.at("frame_preferences").is_array());
+    for (const char* k : {"score", "projected_area", "visible_ratio"}) EXPECT_TRUE(m.at("preference").at(k).is_number()) << k;
     const auto& d = m.at("definitions");
     ASSERT_EQ(d.size(), 8u);
     for (const char* key : {"patch-density-75deg", "saliency-75deg", "patch-density-60deg", "saliency-60deg", "patch-density-45deg",
@@ -210,6 +216,9 @@ TEST(EvaluateMetrics, JsonHasExactlyTheDocumentedShape) {
   }
   EXPECT_EQ(doc["modes"]["turntable"]["definitions"]["saliency-60deg"]["feature_coverage"].get<double>(), 0.25);
   EXPECT_EQ(doc["modes"]["turntable"]["frame_scores"][1].get<double>(), 0.25);
+  EXPECT_EQ(doc["modes"]["turntable"]["preference"]["score"].get<double>(), 0.75);
+  EXPECT_EQ(doc["modes"]["turntable"]["preference"]["visible_ratio"].get<double>(), 1.0);
+  EXPECT_EQ(doc["modes"]["turntable"]["frame_preferences"][1].get<double>(), 0.5);
   const auto& t = doc["modes"]["turntable"];
   EXPECT_EQ(t["feature_coverage"].get<double>(), 0.5);
   EXPECT_EQ(t["feature_median_frames"].get<double>(), 7.5);

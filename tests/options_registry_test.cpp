@@ -126,7 +126,7 @@ nlohmann::json scene_with(const Option& o, const std::string& text) {
 std::string scene_fingerprint(const Scene& s) {
   nlohmann::json j = {{"w", s.render.width}, {"h", s.render.height}, {"fps", s.fps}, {"frames", s.frames},
                       {"up", s.up_auto ? std::string("auto") : s.up.name()}, {"path", std::string(path_mode_name(s.path_mode))}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
-                      {"elev", s.elevation_deg}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
+                      {"elev", s.elevation_deg}, {"first", std::string(orbit_start_name(s.orbit_start))}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
                       {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"crease", s.render.shading.material.crease_angle_deg},
                       {"denoise", s.render.denoise}, {"tone", int(s.render.shading.tone_mapping)},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},

@@ -74,16 +74,14 @@ bool near(const Rgb& a, const Rgb& b, int tolerance = 3) {
   return true;
 }
 
-TEST(TourPoster, TheBestScoredFrameElseTheFirst) {
-  // best_view_frame: the first of equal maxima, -1 without scores; poster_frame: 0 for -1.
+TEST(TourPoster, IsTheFirstFrameAndTheManifestKeepsTheBestCoveringOne) {
+  // best_view_frame (the manifest's, informative): the first of equal maxima, -1 without scores.
   EXPECT_EQ(best_view_frame({}), -1);
   EXPECT_EQ(best_view_frame({0.1, 0.7, 0.3}), 1);
   EXPECT_EQ(best_view_frame({0.2, 0.9, 0.5, 0.9}), 1);
   EXPECT_EQ(best_view_frame({5.0}), 0);
-  EXPECT_EQ(poster_frame(best_view_frame({})), 0);
-  EXPECT_EQ(poster_frame(best_view_frame({0.1, 0.2, 0.8, 0.4})), 2);
-  EXPECT_EQ(poster_frame(-1), 0);
-  EXPECT_EQ(poster_frame(17), 17);
+  // The poster is frame 0, the preferred view, whatever covers most.
+  EXPECT_EQ(kPosterFrame, 0);
 }
 
 TEST(TourPoster, OutputIsCheckedBeforeAnyWork) {

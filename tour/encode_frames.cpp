@@ -37,7 +37,7 @@ struct EncodePlan {
   std::string extension;  // "png" or "exr"
   int fps = 30;
   int width = 0, height = 0;  // 0: take it from the first frame (no manifest)
-  int poster = 0;             // the frame the poster and the title card show
+  int poster = kPosterFrame;  // the frame the poster and the title card show
 };
 
 std::string lowercase(std::string s) {
@@ -77,7 +77,6 @@ EncodePlan make_plan(const EncodeJob& a) {
     plan.fps = a.fps.value_or(info.fps);
     plan.width = info.width;
     plan.height = info.height;
-    plan.poster = poster_frame(info.best_view_frame);
     const auto has = [&](const std::string& f) {
       return std::find(info.image_formats.begin(), info.image_formats.end(), f) != info.image_formats.end();
     };

@@ -21,7 +21,7 @@ struct EncodeJob {
   std::optional<std::string> input_format;  ///< "png" or "exr": the frame files to read
   std::optional<ToneMapping> tone_mapping;  ///< EXR frames; unset: from their header
   std::optional<double> exposure;
-  PosterJob poster;    ///< the best frame (the manifest's best_view_frame, else 0) as a PNG
+  PosterJob poster;    ///< frame 0 (the loop's first view, --first-view) as a PNG
   CaptionArgs caption;  ///< burned into the video; the frames stay as they are
   /// Keep the frames' alpha (straight) in the video: prores, vp9 or ffv1; the frames must have
   /// alpha. Unset: frames with alpha are shown over black.

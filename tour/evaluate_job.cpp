@@ -47,7 +47,7 @@ void print_definitions(const std::vector<std::pair<std::string, PathEvaluation>>
     std::snprintf(cell, sizeof cell, " %20s", options.key(d).c_str());
     out << cell;
   }
-  out << "  objective  best frame\n";
+  out << "  objective  best frame  poster preference  preferred frame\n";
   for (const auto& [mode, e] : rows) {
     std::snprintf(cell, sizeof cell, "%-14s", mode.c_str());
     out << cell;
@@ -56,7 +56,9 @@ void print_definitions(const std::vector<std::pair<std::string, PathEvaluation>>
       out << cell;
     }
     const auto best = std::max_element(e.frame_scores.begin(), e.frame_scores.end());
-    std::snprintf(cell, sizeof cell, "  %9.4f  %10d\n", e.objective, static_cast<int>(best - e.frame_scores.begin()));
+    const auto preferred = std::max_element(e.frame_preferences.begin(), e.frame_preferences.end());
+    std::snprintf(cell, sizeof cell, "  %9.4f  %10d  %17.3f  %15d\n", e.objective, static_cast<int>(best - e.frame_scores.begin()),
+                  e.preference.score, static_cast<int>(preferred - e.frame_preferences.begin()));
     out << cell;
   }
 }
@@ -100,8 +102,8 @@ void run_evaluate(EvaluateJob& a) {
   const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.positions);
   for (const auto& [mode, path_mode] : modes) {
     scene.path_mode = path_mode;
-    // With the frames' scores asked for, the feature orbit turns its loop so that its best frame
-    // comes first, as `tour` does: the cameras measured are the ones the tour renders.
+    // With the frames' scores asked for, the feature orbit turns its loop so that its preferred
+    // view comes first, as `tour` does: the cameras measured are the ones the tour renders.
     std::vector<double> view_scores;
     const auto path = make_path(scene, mesh, hull, lens, true, &view_scores, rays);
     const double fov = choose_fov(scene, *path, mesh, hull, lens, true);

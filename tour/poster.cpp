@@ -70,8 +70,6 @@ void check_poster_output(const PosterJob& job) {
     throw IoError("--poster " + job.file.string() + ": the folder " + dir.string() + " does not exist; create it first");
 }
 
-int poster_frame(int best_view_frame) { return std::max(0, best_view_frame); }
-
 void write_poster(const Image& image, const PosterJob& job) {
   if (job.file.empty()) return;
   if (!job.size || (job.size->width == image.width && job.size->height == image.height)) {

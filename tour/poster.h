@@ -1,6 +1,7 @@
 #pragma once
-// The poster still of a tour: its best-scored frame (the one the path search rates highest; its
-// index is the frames manifest's best_view_frame), written as a PNG. At the frames' size it is the
+// The poster still of a tour: its first frame, which is the view people would prefer (the feature
+// orbit turns its loop to start at it: pathgen/coverage.h, ViewPreferenceModel; the turntable
+// starts at its front, the paper's path at its start), written as a PNG. At the frames' size it is the
 // frame's own PNG, byte for byte, whether `tour` writes it from the rendered image or `encode`
 // from a frames directory; at another --poster-size the frame is cropped to that aspect (centred)
 // and resampled (Lanczos, one thread: the same bytes everywhere). Written atomically.
@@ -30,8 +31,10 @@ void check_poster_name(const std::filesystem::path& file);
 /// Refuses (before any work) a poster whose folder does not exist or is not writable.
 void check_poster_output(const PosterJob& job);
 
-/// The frame the poster shows: `best_view_frame` when the path search scored the views, else 0.
-int poster_frame(int best_view_frame);
+/// The frame the poster (and the title card) shows: the first, the view the path starts at (the
+/// feature orbit's --first-view, a Voyager scene's opening view), so the poster is what a player's
+/// thumbnail shows. The manifest's best_view_frame (the best-covering frame of all) is information.
+constexpr int kPosterFrame = 0;
 
 /// Writes the rendered frame `image` as the poster (write_image at the frames' size).
 void write_poster(const Image& image, const PosterJob& job);

@@ -84,6 +84,7 @@ PathSettings path_settings(const Scene& scene, PathMode mode, const TriangleMesh
       settings.emplace_back("fov", fov);
       // The frame scores the file records are for this frame count.
       settings.emplace_back("frames", std::to_string(scene.frames));
+      settings.emplace_back("first-view", std::string(orbit_start_name(scene.orbit_start)));
       break;
     case PathMode::turntable:
       settings.emplace_back("elevation", setting_text(scene.elevation_deg));
@@ -134,6 +135,7 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
     // (FeatureOrbitOptions::vertical_fov_deg), and choose_fov() fits the tour's fov to it.
     if (!scene.auto_fov) orbit.vertical_fov_deg = scene.vertical_fov_deg;
     orbit.frames = scene.frames;
+    orbit.start = scene.orbit_start;
     const FeatureOrbitResult result = compute_feature_orbit(mesh, orbit);
     // The scores are of the frames as searched; an opening view turns them to other views.
     if (!scene.opening_view) out.view_scores = result.frame_scores;
@@ -141,9 +143,10 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
       const ElevationCurve& e = result.geometry.elevation;
       constexpr double deg = 180.0 / 3.14159265358979323846;
       std::fprintf(stderr, "camera path (feature orbit): elevation %.1f%+.1f cos(2pi(t-%.2f))%+.1f cos(4pi(t-%.2f)) degrees, "
-                   "starting at the best view (%.0f degrees around); its views see %.1f %% of the feature area "
-                   "(objective %.3f over patch density and saliency at four angles)\n", e.base * deg, e.swing * deg,
-                   e.swing_phase, e.ripple * deg, e.ripple_phase, 360.0 * result.geometry.start,
+                   "starting at the %s view (%.0f degrees around, preference %.3f); its views see %.1f %% of the "
+                   "feature area (objective %.3f over patch density and saliency at four angles)\n", e.base * deg, e.swing * deg,
+                   e.swing_phase, e.ripple * deg, e.ripple_phase, std::string(orbit_start_name(scene.orbit_start)).c_str(),
+                   360.0 * result.geometry.start, result.start_preference.score,
                    100.0 * result.feature_share_seen, result.scores.objective);
       // Where the scores could not tell candidates apart (within twice their measured noise), the
       // fixed rule chose: the plainest curve nearest the band's middle, the start nearest the front.
@@ -462,9 +465,9 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
     if (!job.camera_frames.empty()) write_camera_frames(cameras, job.camera_frames);
   }
 
-  // The poster: the best-scored frame (frame 0 when the path has no view scores). The title card
-  // opens on it, so then it is rendered before the tour; else it is kept as the loop passes it.
-  const int poster_k = std::min(poster_frame(best_view_frame(tour.view_scores)), scene.frames - 1);
+  // The poster: frame 0, the preferred view. The title card opens on it, so then it is rendered
+  // before the tour; else it is kept as the loop passes it.
+  const int poster_k = kPosterFrame;
   std::optional<Image> poster;
   if (captioned->needs_poster()) {
     poster = tour.render_frame(poster_k);
@@ -509,7 +512,7 @@ TourVideoResult render_tour_video(const Scene& scene, const TourVideoJob& job) {
   if (poster && !job.poster.file.empty()) {
     log.announce("poster");
     write_poster(*poster, job.poster);
-    if (!job.quiet) std::fprintf(stderr, "wrote %s (poster: frame %d, the best-scored view)\n", job.poster.file.string().c_str(), poster_k);
+    if (!job.quiet) std::fprintf(stderr, "wrote %s (poster: frame %d, the preferred view)\n", job.poster.file.string().c_str(), poster_k);
   }
   if (!job.quiet) std::fprintf(stderr, "wrote %s (%d frames, %dx%d, %d fps)\n", output.string().c_str(), scene.frames,
                                scene.render.width, scene.render.height, scene.fps);

@@ -125,8 +125,8 @@ int thread_count(int requested, bool quiet);
 FrameDirInfo frame_dir_info(const Scene& scene, const std::vector<std::string>& formats,
                             const std::vector<double>& view_scores = {});
 
-/// The best-scored frame of `view_scores` (the first of equal maxima, as the path search picks its
-/// start), or -1 when there are none: the frames manifest's best_view_frame and the poster.
+/// The best-covering frame of `view_scores` (the first of equal maxima), or -1 when there are
+/// none: the frames manifest's best_view_frame (the poster is frame 0, the loop's first view).
 int best_view_frame(const std::vector<double>& view_scores);
 
 /// The one frame loop: renders `frames` of the tour in order, checking for an interrupt before

@@ -20,6 +20,27 @@ namespace {
 // Samples are tested in blocks of this many: one task, one result list, concatenated in order.
 constexpr std::size_t kBlock = 2048;
 
+// Whether anything of the model lies on the segment from + t·along, t in (tnear, tfar), in scene
+// coordinates (relative to RayScene::origin()).
+bool blocked(const RayScene& scene, RTCIntersectContext& context, const Eigen::Vector3f& from, const Eigen::Vector3f& along,
+             float tnear, float tfar) {
+  RTCRay ray;
+  ray.org_x = from.x();
+  ray.org_y = from.y();
+  ray.org_z = from.z();
+  ray.dir_x = along.x();
+  ray.dir_y = along.y();
+  ray.dir_z = along.z();
+  ray.tnear = tnear;
+  ray.tfar = tfar;
+  ray.time = 0.0f;
+  ray.mask = RayScene::kModelMask;
+  ray.id = 0;
+  ray.flags = 0;
+  rtcOccluded1(scene.scene(), &context, &ray);
+  return ray.tfar < 0.0f;  // Embree sets tfar to -inf when something is in the way
+}
+
 }  // namespace
 
 SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count) {
@@ -137,23 +158,10 @@ VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& 
       if (!(cosine > cos_limit) || !(distance > 2.0 * clearance)) continue;
       const Eigen::Vector3f from = (samples.points[i] - s.origin()).cast<float>();
       const Eigen::Vector3f towards_eye = (-d / distance).cast<float>();
-      RTCRay ray;
-      ray.org_x = from.x();
-      ray.org_y = from.y();
-      ray.org_z = from.z();
-      ray.dir_x = towards_eye.x();
-      ray.dir_y = towards_eye.y();
-      ray.dir_z = towards_eye.z();
-      ray.tnear = clearance;
-      ray.tfar = static_cast<float>(distance);
-      ray.time = 0.0f;
-      ray.mask = RayScene::kModelMask;
-      ray.id = 0;
-      ray.flags = 0;
-      rtcOccluded1(s.scene(), &context, &ray);
-      if (ray.tfar < 0.0f) continue;  // Embree sets tfar to -inf when something is in the way
+      if (blocked(s, context, from, towards_eye, clearance, static_cast<float>(distance))) continue;
       out.samples.push_back(static_cast<std::uint32_t>(i));
       out.cosines.push_back(static_cast<float>(cosine));
+      out.front.push_back(samples.normals[i].dot(d) < 0.0 ? 1 : 0);  // d runs from the eye to the sample
     }
   });
   if (stopped) throw_if_interrupted();
@@ -162,11 +170,56 @@ VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& 
   for (const auto& p : parts) total += p.samples.size();
   all.samples.reserve(total);
   all.cosines.reserve(total);
+  all.front.reserve(total);
   for (const auto& p : parts) {
     all.samples.insert(all.samples.end(), p.samples.begin(), p.samples.end());
     all.cosines.insert(all.cosines.end(), p.cosines.begin(), p.cosines.end());
+    all.front.insert(all.front.end(), p.front.begin(), p.front.end());
   }
   return all;
+}
+
+ProjectedArea VisibilityScene::projected_area(const Eigen::Vector3d& direction, int resolution) const {
+  if (!(direction.norm() > 0.0)) throw InputError("the projected area needs a direction to look along");
+  if (resolution < 2 || resolution > 4096) throw InputError("the projected area's grid must be 2 to 4096 cells across");
+  const RayScene& s = *impl_->rays;
+  const Eigen::Vector3d forward = direction.normalized();
+  const Eigen::Vector3d right = forward.unitOrthogonal(), up = right.cross(forward);
+  // The bounding box's centre and half its diagonal: a sphere that holds the model.
+  const double radius = 0.5 * s.diagonal(), cell = 2.0 * radius / resolution;
+  // Counts per grid row and colour, summed in row order: the same total on any thread count.
+  std::vector<std::array<std::uint32_t, 2>> rows(static_cast<std::size_t>(resolution));
+  std::atomic<bool> stopped{false};
+  tbb::parallel_for(0, resolution, [&](int j) {
+    if (stopped.load(std::memory_order_relaxed) || interrupt_requested()) {
+      stopped = true;
+      return;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    const double y = -radius + (j + 0.5) * cell;
+    for (int i = 0; i < resolution; ++i) {
+      const double x = -radius + (i + 0.5) * cell;
+      // Scene coordinates are relative to origin(), the sphere's centre; the ray starts outside it.
+      const Eigen::Vector3f from = (x * right + y * up - 2.0 * radius * forward).cast<float>();
+      if (blocked(s, context, from, forward.cast<float>(), 0.0f, static_cast<float>(4.0 * radius)))
+        ++rows[static_cast<std::size_t>(j)][static_cast<std::size_t>((i + j) % 2)];
+    }
+  });
+  if (stopped) throw_if_interrupted();
+  std::array<std::uint64_t, 2> hits{};
+  for (const auto& row : rows) {
+    hits[0] += row[0];
+    hits[1] += row[1];
+  }
+  const double cell_area = cell * cell;
+  // The two colours hold the same number of cells (within one for an odd resolution).
+  const std::size_t cells = static_cast<std::size_t>(resolution) * resolution;
+  const std::array<double, 2> colour_cells{static_cast<double>((cells + 1) / 2), static_cast<double>(cells / 2)};
+  ProjectedArea out;
+  out.area = static_cast<double>(hits[0] + hits[1]) * cell_area;
+  for (int c = 0; c < 2; ++c) out.halves[c] = static_cast<double>(hits[c]) * cell_area * static_cast<double>(cells) / colour_cells[c];
+  return out;
 }
 
 }  // namespace meshtour

@@ -8,6 +8,7 @@
 // its occlusion rays against the mesh's RayScene (mesh/ray_scene.h), which a tour shares with the
 // tracer: one BVH per job.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -45,10 +46,21 @@ struct View {
 /// The samples a view sees: inside the frame, not hidden by the surface, and facing the camera
 /// within `seen_angle_deg` (the angle between the surface normal and the direction to the eye;
 /// either side of the surface counts, as scans are not reliably oriented). `cosines` holds
-/// |cos| of that angle for each sample listed, so a stricter angle is a filter on the result.
+/// |cos| of that angle for each sample listed, so a stricter angle is a filter on the result, and
+/// `front` which side the eye sees: 1 where it is the side the face's normal points to.
 struct VisibleSamples {
   std::vector<std::uint32_t> samples;  ///< ascending
   std::vector<float> cosines;
+  std::vector<std::uint8_t> front;
+};
+
+/// The model's outline seen along one direction, in parallel projection: its area (model units²)
+/// counted on a square grid of rays, and the same count on each half of the grid's cells (the
+/// two colours of a checkerboard, each scaled to the whole), whose difference measures how much
+/// of the area is where the grid happens to fall.
+struct ProjectedArea {
+  double area = 0.0;
+  std::array<double, 2> halves{};
 };
 
 /// The surface as Embree sees it, built once and asked for any number of views. Thread-safe for
@@ -69,6 +81,12 @@ public:
   /// in area, that subset is itself an even sampling of the surface, for a quicker estimate.
   VisibleSamples visible(const View& view, const SurfaceSamples& samples, double seen_angle_deg,
                          std::size_t stride = 1) const;
+
+  /// The model's outline seen along `direction` (need not be unit), in parallel projection: one
+  /// ray per cell of a `resolution`² grid over the square that holds the bounding sphere across
+  /// that direction. Independent of the eye's distance and of the tessellation (a point sampling
+  /// of the outline). \throw InputError for a zero direction or a resolution outside 2..4096.
+  ProjectedArea projected_area(const Eigen::Vector3d& direction, int resolution) const;
 
   /// Diagonal of the bounding box of the scene (model units).
   double diagonal() const;
