@@ -72,7 +72,7 @@ struct Scene {
   /// radius instead.
   bool auto_fov = true;
   double elevation_deg = 15.0;  ///< turntable only
-  OrbitStart orbit_start = OrbitStart::preferred;  ///< feature orbit only: its first view
+  OrbitStart orbit_start = FeatureOrbitOptions{}.start;  ///< feature orbit only: its first view (--first-view)
   int fps = 30;
   int frames = 120;
 
