@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Does the same shape get the same tour? (issue 37, docs/EVALUATION.md "The same tour for the same shape")
+"""Does the same shape get the same tour? (issue 37; results in docs/EVALUATION.md, "The same tour for the same shape")
 
 Runs `meshtour path --path feature-orbit` (the tour's default path) with the default settings (or the
 ones given after --) on a base mesh and on
