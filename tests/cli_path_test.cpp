@@ -351,4 +351,29 @@ TEST(CliPath, HelpTeachesDefaultsAndInterpretations) {
     EXPECT_NE(result.output.find(text), std::string::npos) << text;
 }
 
+TEST(CliPath, MemoryEstimateIsTheModesOwn) {
+  // `path` estimates what the chosen mode holds, as `tour` does: the paper path's stages (about
+  // 1.8 kB a face), or the coverage model and the ray-tracing scene of the feature orbit. It once
+  // estimated the paper's stages for every mode and refused the 17.8M-face bunny's orbit (38 GiB
+  // estimated) that a whole tour runs in 2.9 GB.
+  const fs::path dir = meshtour::test::scratch_dir();
+  meshtour::save_mesh(meshtour::test_meshes::icosphere(5), dir / "ball.ply");
+  const auto estimate_of = [&](const std::string& mode) {
+    const auto r = run_meshtour("path " + meshtour::test::shell_quoted(dir / "ball.ply") + " --up y --path " + mode + " -q --max-memory 1M -o " +
+                                meshtour::test::shell_quoted(dir / (mode + ".json")));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("needs an estimated"), std::string::npos) << r.output;
+    return r.output;
+  };
+  const std::string paper = estimate_of("paper"), orbit = estimate_of("feature-orbit"), turntable = estimate_of("turntable");
+  // The parts are listed as "(runtime …, mesh …, <part> …)".
+  EXPECT_EQ(paper.find("ray-tracing scene"), std::string::npos) << paper;
+  EXPECT_NE(paper.find(", camera path "), std::string::npos) << paper;
+  EXPECT_NE(orbit.find(", ray-tracing scene "), std::string::npos) << orbit;
+  EXPECT_NE(orbit.find(", camera path "), std::string::npos) << orbit;
+  EXPECT_EQ(turntable.find(", camera path "), std::string::npos) << turntable;
+  EXPECT_EQ(turntable.find("ray-tracing scene"), std::string::npos) << turntable;
+  EXPECT_NE(paper, orbit);
+}
+
 }  // namespace

@@ -93,8 +93,11 @@ void run_path(PathJob& a) {
   StageLog log(a.resources.verbose);
   log.start("check");
   const MeshFileSummary counts = check_mesh_file(a.mesh);
+  // The feature orbit searches against the model's ray-tracing scene, as in a tour.
+  std::vector<MemoryPart> held;
+  if (a.mode == PathMode::feature_orbit) held.push_back({"ray-tracing scene", estimate_ray_scene_bytes(counts.triangles(), counts.vertices)});
   const MemoryEstimate estimate =
-      estimate_job_memory(counts.triangles(), counts.vertices, {}, MemoryPart{"camera path", estimate_path_bytes(counts.triangles())}, {});
+      estimate_job_memory(counts.triangles(), counts.vertices, held, path_search_memory(a.mode, counts.triangles(), counts.vertices), {});
   check_memory(estimate, memory_budget(a.resources), "the camera path of " + a.mesh);
 
   log.start("load");

@@ -242,6 +242,11 @@ Image PreparedTour::render_frame(int k) const {
   return renderer->render(Camera::at(pose, fov), static_cast<std::uint64_t>(k));
 }
 
+std::optional<MemoryPart> path_search_memory(PathMode mode, std::size_t triangles, std::size_t vertices) {
+  if (mode == PathMode::turntable) return std::nullopt;
+  return MemoryPart{"camera path", mode == PathMode::paper ? estimate_path_bytes(triangles) : estimate_coverage_bytes(triangles, vertices)};
+}
+
 TourMemoryCheck check_tour_memory(const Scene& scene, const ResourceArgs& resources) {
   std::size_t triangles = 0, vertices = 0;
   if (scene.mesh_file) {
@@ -254,10 +259,8 @@ TourMemoryCheck check_tour_memory(const Scene& scene, const ResourceArgs& resour
   }
   const auto& layers = scene.render.layers;
   const int extra_layers = int(layers.albedo) + int(layers.normal) + int(layers.depth);
-  const bool path_stages = !scene.path_file && scene.path_mode != PathMode::turntable;
   std::optional<MemoryPart> path;
-  if (path_stages)
-    path = MemoryPart{"camera path", scene.path_mode == PathMode::paper ? estimate_path_bytes(triangles) : estimate_coverage_bytes(triangles, vertices)};
+  if (!scene.path_file) path = path_search_memory(scene.path_mode, triangles, vertices);
   const MemoryEstimate e = estimate_job_memory(
       triangles, vertices, {{"ray-tracing scene", estimate_ray_scene_bytes(triangles, vertices)}}, path,
       {{"shading data", estimate_shading_bytes(triangles)},

@@ -102,6 +102,11 @@ struct TourMemoryCheck {
   MemoryBudget budget;
 };
 
+/// The camera path's own structures while `mode` searches it (the paper path's stages, or the
+/// coverage model of the other modes), for the memory estimates of `tour` and `path`. The
+/// turntable searches nothing; callers that read a path file skip this part too.
+std::optional<MemoryPart> path_search_memory(PathMode mode, std::size_t triangles, std::size_t vertices);
+
 /// Refuses (InputError) a tour of `scene` whose estimated memory exceeds the budget, before
 /// anything big is allocated: the model's counts come from its file's structure (or the
 /// procedural model's size), the rest from the options. Textures are not known yet: give the
