@@ -102,11 +102,18 @@ std::unique_ptr<CameraPath> from_opening_view(std::unique_ptr<CameraPath> path, 
 
 namespace {
 
+// A searched or read path as the tour moves along it: turned to the opening view (if any), at an
+// even turning rate, framed for the lens.
+std::unique_ptr<CameraPath> turned_and_framed(std::unique_ptr<CameraPath> path, const Scene& scene, const TriangleMesh& mesh,
+                                              std::span<const Eigen::Vector3d> hull, const Lens& lens) {
+  return frame_for_lens(std::make_unique<UniformTurnPath>(from_opening_view(std::move(path), scene, mesh)), scene, hull, lens);
+}
+
 // The turntable as made for the lens; with an opening view, turned and framed like the other paths.
 std::unique_ptr<CameraPath> turntable_for(std::unique_ptr<CameraPath> turntable, const Scene& scene, const TriangleMesh& mesh,
                                           std::span<const Eigen::Vector3d> hull, const Lens& lens) {
   if (!scene.opening_view) return turntable;
-  return frame_for_lens(std::make_unique<UniformTurnPath>(from_opening_view(std::move(turntable), scene, mesh)), scene, hull, lens);
+  return turned_and_framed(std::move(turntable), scene, mesh, hull, lens);
 }
 
 }  // namespace
@@ -158,9 +165,7 @@ SearchedPath search_path(const Scene& scene, const TriangleMesh& mesh, std::span
     record.frames = scene.frames;
     record.frame_scores = result.frame_scores;
     out.file_text = path_file_text(result.geometry, record);
-    out.path = frame_for_lens(
-        std::make_unique<UniformTurnPath>(from_opening_view(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, mesh)),
-        scene, hull, lens);
+    out.path = turned_and_framed(std::make_unique<FeatureOrbitPath>(result.camera_path()), scene, mesh, hull, lens);
     return out;
   }
   if (scene.path_mode == PathMode::turntable) {
@@ -210,7 +215,7 @@ std::unique_ptr<CameraPath> make_path(const Scene& scene, const TriangleMesh& me
     if (view_scores && file.record.frames == scene.frames && !scene.opening_view) *view_scores = file.record.frame_scores;
     // The turntable was fitted to its lens when it was made; the others are framed as when searched.
     if (mode == PathMode::turntable) return turntable_for(std::move(file.path), scene, mesh, hull, lens);
-    return frame_for_lens(std::make_unique<UniformTurnPath>(from_opening_view(std::move(file.path), scene, mesh)), scene, hull, lens);
+    return turned_and_framed(std::move(file.path), scene, mesh, hull, lens);
   }
   SearchedPath searched = search_path(scene, mesh, hull, lens, quiet, std::move(rays));
   if (view_scores) *view_scores = std::move(searched.view_scores);
