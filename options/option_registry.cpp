@@ -13,6 +13,7 @@
 #include "jobs/frame_range.h"
 #include "mesh/up_axis.h"
 #include "pathgen/cylinder.h"
+#include "tracer/tracer.h"
 
 // Each row names only the fields it sets (designated initializers); the others keep the defaults
 // of their declarations, which is what GCC's -Wmissing-field-initializers would complain about.
@@ -340,11 +341,13 @@ std::vector<Option> make_registry() {
        .commands = evaluate});
   add({.id = "input-format", .flag = "--input-format", .kind = Kind::choice, .choices = {"png", "exr"},
        .help = "Frame files to read: png or exr (default: png when present)", .commands = encode});
-  add({.id = "tone-mapping", .flag = "--tone-mapping", .kind = Kind::choice, .choices = {"filmic", "clamp"},
+  add({.id = "tone-mapping", .flag = "--tone-mapping", .kind = Kind::choice, .choices = tone_mapping_names(),
        .default_text = "filmic",
-       .help = "Tone curve of PNG frames and the video: filmic or clamp (EXR frames stay linear and record it in their header)",
+       .help = "Tone curve of PNG frames and the video: filmic (ACES fit: rolls highlights off, deepens shadows),\n"
+               "clamp (none: over 1 clips) or pbr-neutral (Khronos PBR Neutral, as model-viewer and f3d: colours\n"
+               "under 0.8 shown as they are, only highlights compressed). EXR frames stay linear and record it",
        .scene_key = "look.tone_mapping", .commands = encode,
-       .meanings = {{.commands = encode, .help = "EXR frames: filmic or clamp (default: from the EXR header, else filmic)",
+       .meanings = {{.commands = encode, .help = "EXR frames: filmic, clamp or pbr-neutral (default: from the EXR header, else filmic)",
                      .default_text = "from the EXR header"}}});
   // ---- The toroidal-patch path (docs/METHOD.md); the feature orbit uses the patch options too.
   const unsigned kPathCommands = kRendering | path | evaluate;

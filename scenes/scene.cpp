@@ -285,7 +285,10 @@ OrbitStart parse_orbit_start(std::string_view text) {
 
 bool is_scene_setting(const options::Option& o) { return scene_bindings().contains(o.id); }
 
-ToneMapping parse_tone_mapping(const std::string& text) { return text == "clamp" ? ToneMapping::clamp : ToneMapping::filmic; }
+ToneMapping parse_tone_mapping(const std::string& text) {
+  // The row has checked the text against tone_mapping_names().
+  return tone_mapping_from_name(text).value_or(ToneMapping::filmic);
+}
 
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::filesystem::path& base_dir) {
   const json doc = parse_json_document(json_text, source);

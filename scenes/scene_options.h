@@ -29,7 +29,7 @@ void apply_option(Scene& scene, const options::Option& option, const std::string
 void apply_options(Scene& scene, const options::Values& values);
 /// Whether the row is a setting of the tour, bound to a field of Scene.
 bool is_scene_setting(const options::Option& option);
-/// The value of the tone-mapping row ("filmic" or "clamp", checked): the scene's look and
+/// The value of the tone-mapping row (one of tone_mapping_names(), checked): the scene's look and
 /// encode's EXR frames read it alike.
 ToneMapping parse_tone_mapping(const std::string& text);
 

@@ -361,7 +361,7 @@ class Faults:
         e.update({"MESHTOUR_FAULT_DISK_FULL": self.flag, "MESHTOUR_FAULT_KILL": ",".join(plan),
                   "MESHTOUR_FAULT_KILL_DELAY_MS": str(rng.choice([0, 5, 40])),
                   "MESHTOUR_FAULT_GRACE_MS": str(rng.choice([0, 300, 1500])),
-                  "MESHTOUR_FAULT_P_WRITE": "%g" % (0.01 if faults["write"] < need else 0.0),
+                  "MESHTOUR_FAULT_P_WRITE": "%g" % (0.03 if faults["write"] < need else 0.0),
                   "MESHTOUR_FAULT_P_FSYNC": "%g" % (0.03 if faults["fsync"] < need else 0.002),
                   "MESHTOUR_FAULT_P_RENAME": "%g" % (0.03 if faults["rename"] < need else 0.002)})
         return e

@@ -509,6 +509,40 @@ TEST(Images, FilmicCurveForDisplayOnly) {
   EXPECT_FLOAT_EQ(brighter, img.display(1.0f));
 }
 
+// Khronos PBR Neutral, checked against values worked out by hand from its published formula.
+TEST(Images, PbrNeutralFollowsTheKhronosFormula) {
+  const auto near = [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return (a - b).cwiseAbs().maxCoeff() < 1e-5f; };
+  // Above the toe a colour loses exactly 0.04 (the offset), and under 0.76 nothing else.
+  EXPECT_TRUE(near(pbr_neutral({0.5f, 0.5f, 0.5f}), {0.46f, 0.46f, 0.46f}));
+  EXPECT_TRUE(near(pbr_neutral({0.1f, 0.3f, 0.7f}), {0.06f, 0.26f, 0.66f}));
+  // In the toe the offset is x - 6.25 x^2 of the smallest channel x = 0.02: 0.0175.
+  EXPECT_TRUE(near(pbr_neutral({0.02f, 0.3f, 0.6f}), {0.0025f, 0.2825f, 0.5825f}));
+  // A highlight of 2: peak 1.96 compressed to 1 - 0.24^2 / 1.44 = 0.96; a grey stays grey.
+  EXPECT_TRUE(near(pbr_neutral({2.0f, 2.0f, 2.0f}), {0.96f, 0.96f, 0.96f}));
+  // A saturated highlight is desaturated towards white: g = 1 - 1 / (0.15 (peak - new peak) + 1).
+  const Eigen::Vector3f hot = pbr_neutral({3.0f, 1.0f, 0.5f});
+  const float peak = 2.96f, new_peak = 1.0f - 0.0576f / (peak + 0.24f - 0.76f), g = 1.0f - 1.0f / (0.15f * (peak - new_peak) + 1.0f);
+  const Eigen::Vector3f expected = (1.0f - g) * Eigen::Vector3f(2.96f, 0.96f, 0.46f) * (new_peak / peak) + Eigen::Vector3f::Constant(g * new_peak);
+  EXPECT_TRUE(near(hot, expected)) << hot.transpose() << " vs " << expected.transpose();
+  EXPECT_NEAR(hot.maxCoeff(), new_peak, 1e-5f);
+  // Monotonic in grey and never above 1.
+  float last = -1.0f;
+  for (float x = 0.0f; x < 100.0f; x = x * 1.1f + 0.01f) {
+    const float y = pbr_neutral(Eigen::Vector3f::Constant(x)).x();
+    EXPECT_GE(y, last) << x;
+    EXPECT_LE(y, 1.0f) << x;
+    last = y;
+  }
+  // As a display transform: a mid colour is shown as its own sRGB value, to within the offset.
+  Image img;
+  img.tone_mapping = ToneMapping::pbr_neutral;
+  const Eigen::Vector3f shown = img.display(Eigen::Vector3f(0.2f, 0.4f, 0.6f));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(shown[c], linear_to_srgb(0.2f * (c + 1) - 0.04f), 1e-5f);
+  for (const ToneMapping t : {ToneMapping::clamp, ToneMapping::filmic, ToneMapping::pbr_neutral})
+    EXPECT_EQ(tone_mapping_from_name(tone_mapping_name(t)), t);
+  EXPECT_FALSE(tone_mapping_from_name("aces").has_value());
+}
+
 TEST(Images, TransparentPngHasStraightAlpha) {
   Image img;
   img.width = 2;

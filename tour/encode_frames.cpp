@@ -243,8 +243,9 @@ std::vector<std::uint8_t> read_frame(const fs::path& file, const EncodePlan& pla
       image.rgba[p * 4 + 3] = a >= 0 ? src[a] : 1.0f;
     }
     image.exposure = display.exposure.value_or(spec.get_float_attribute("meshtour:exposure", 0.0f));
+    // A header written by another version may name a curve this one does not have: filmic then.
     const std::string tone = spec.get_string_attribute("meshtour:toneMapping", "filmic");
-    image.tone_mapping = display.tone_mapping.value_or(tone == "clamp" ? ToneMapping::clamp : ToneMapping::filmic);
+    image.tone_mapping = display.tone_mapping.value_or(tone_mapping_from_name(tone).value_or(ToneMapping::filmic));
     return image.to_srgb8();
   }
 

@@ -1,4 +1,4 @@
-// Frames out: the display transform (exposure, filmic curve, sRGB) and PNG/EXR writing.
+// Frames out: the display transform (exposure, tone curve, sRGB) and PNG/EXR writing.
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
@@ -28,21 +28,66 @@ float filmic(float x) {
   return std::clamp(x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
 }
 
+constexpr std::pair<ToneMapping, std::string_view> kToneMappingNames[] = {
+    {ToneMapping::filmic, "filmic"}, {ToneMapping::clamp, "clamp"}, {ToneMapping::pbr_neutral, "pbr-neutral"}};
+
 std::uint8_t to8(float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 
 }  // namespace
 
-float Image::display(float linear) const {
-  const float exposed = linear * std::exp2(exposure);
-  const float mapped = tone_mapping == ToneMapping::filmic ? filmic(exposed) : std::clamp(exposed, 0.0f, 1.0f);
-  return linear_to_srgb(mapped);
+std::string_view tone_mapping_name(ToneMapping t) {
+  for (const auto& [curve, name] : kToneMappingNames)
+    if (curve == t) return name;
+  return "filmic";
+}
+
+std::optional<ToneMapping> tone_mapping_from_name(std::string_view name) {
+  for (const auto& [curve, spelled] : kToneMappingNames)
+    if (spelled == name) return curve;
+  return std::nullopt;
+}
+
+std::vector<std::string_view> tone_mapping_names() {
+  std::vector<std::string_view> names;
+  for (const auto& entry : kToneMappingNames) names.push_back(entry.second);
+  return names;
+}
+
+// Khronos PBR Neutral (github.com/KhronosGroup/ToneMapping, PBR_Neutral): a toe that takes at most
+// 0.04 off (the offset a dielectric's Fresnel adds), values whose largest channel stays under
+// 0.76 unchanged, and above that the peak compressed towards 1 and the colour desaturated by the
+// share the peak lost.
+Eigen::Vector3f pbr_neutral(Eigen::Vector3f c) {
+  constexpr float kStartCompression = 0.8f - 0.04f, kDesaturation = 0.15f;
+  const float x = c.minCoeff();
+  const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
+  c.array() -= offset;
+  const float peak = c.maxCoeff();
+  if (peak < kStartCompression) return c;
+  constexpr float d = 1.0f - kStartCompression;
+  const float new_peak = 1.0f - d * d / (peak + d - kStartCompression);
+  c *= new_peak / peak;
+  const float g = 1.0f - 1.0f / (kDesaturation * (peak - new_peak) + 1.0f);
+  return (1.0f - g) * c + Eigen::Vector3f::Constant(g * new_peak);
+}
+
+Eigen::Vector3f Image::display(const Eigen::Vector3f& linear) const {
+  const Eigen::Vector3f exposed = linear.cwiseMax(0.0f) * std::exp2(exposure);
+  Eigen::Vector3f mapped = exposed;  // clamp: the curve is the clamp below alone
+  if (tone_mapping == ToneMapping::filmic) mapped = {filmic(exposed.x()), filmic(exposed.y()), filmic(exposed.z())};
+  if (tone_mapping == ToneMapping::pbr_neutral) mapped = pbr_neutral(exposed);
+  mapped = mapped.cwiseMax(0.0f).cwiseMin(1.0f);
+  return {linear_to_srgb(mapped.x()), linear_to_srgb(mapped.y()), linear_to_srgb(mapped.z())};
 }
 
 std::vector<std::uint8_t> Image::to_srgb8() const {
   const std::vector<float>& rgba = display_rgba();
   std::vector<std::uint8_t> out(static_cast<std::size_t>(width) * height * 3);
   for (std::size_t p = 0, n = static_cast<std::size_t>(width) * height; p < n; ++p)
-    for (int k = 0; k < 3; ++k) out[p * 3 + k] = to8(display(rgba[p * 4 + k]));
+  {
+    const Eigen::Vector3f shown = display(Eigen::Vector3f(rgba[p * 4], rgba[p * 4 + 1], rgba[p * 4 + 2]));
+    for (int k = 0; k < 3; ++k) out[p * 3 + k] = to8(shown[k]);
+  }
   return out;
 }
 
@@ -52,10 +97,9 @@ std::vector<std::uint8_t> Image::to_srgba8() const {
   for (std::size_t p = 0, n = static_cast<std::size_t>(width) * height; p < n; ++p) {
     const float a = std::clamp(rgba[p * 4 + 3], 0.0f, 1.0f);
     // PNG alpha is straight: undo the premultiplication before the (non-linear) display curve.
-    for (int k = 0; k < 3; ++k) {
-      const float c = transparent ? (a > 0.0f ? rgba[p * 4 + k] / a : 0.0f) : rgba[p * 4 + k];
-      out[p * 4 + k] = to8(display(c));
-    }
+    const Eigen::Vector3f stored(rgba[p * 4], rgba[p * 4 + 1], rgba[p * 4 + 2]);
+    const Eigen::Vector3f shown = display(!transparent ? stored : a > 0.0f ? Eigen::Vector3f(stored / a) : Eigen::Vector3f::Zero());
+    for (int k = 0; k < 3; ++k) out[p * 4 + k] = to8(shown[k]);
     out[p * 4 + 3] = to8(a);
   }
   return out;
@@ -113,7 +157,7 @@ void write_image(const Image& image, const std::filesystem::path& file) {
   // The display transform of the PNG frames and the video, so that 'meshtour encode' turns
   // these linear frames into the same 8-bit pixels.
   spec.attribute("meshtour:exposure", image.exposure);
-  spec.attribute("meshtour:toneMapping", image.tone_mapping == ToneMapping::filmic ? "filmic" : "clamp");
+  spec.attribute("meshtour:toneMapping", std::string(tone_mapping_name(image.tone_mapping)));
   // No OpenImageIO timestamp (capDate): an empty DateTime suppresses it.
   spec.attribute("DateTime", "");
   std::vector<float> pixels(npix * channels);

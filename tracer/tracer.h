@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <span>
 #include <vector>
 
@@ -44,7 +46,19 @@ struct Material {
 };
 
 enum class BackgroundKind { gradient, transparent };
-enum class ToneMapping { clamp, filmic };
+/// The display tone curve (PNG frames, the video; EXR stays linear). clamp: none, values over 1
+/// clip; filmic: Narkowicz's ACES fit, per channel; pbr_neutral: Khronos PBR Neutral (2024), per
+/// pixel, which keeps base colours under 0.8 as they are (up to a 0.04 toe) and compresses only
+/// highlights, desaturating them towards white: a material's colour shows as the file gives it.
+enum class ToneMapping { clamp, filmic, pbr_neutral };
+/// "clamp", "filmic", "pbr-neutral": the option's and the EXR header's spelling.
+std::string_view tone_mapping_name(ToneMapping t);
+/// The curve of that name, or nothing for another text.
+std::optional<ToneMapping> tone_mapping_from_name(std::string_view name);
+/// Every curve's name (static storage), the option's choices: {"filmic", "clamp", "pbr-neutral"}.
+std::vector<std::string_view> tone_mapping_names();
+/// Khronos PBR Neutral of one linear RGB value (the published reference formula).
+Eigen::Vector3f pbr_neutral(Eigen::Vector3f linear);
 
 /// How a frame looks: lights, shadows, ambient occlusion, ground, background, exposure.
 /// Presets: `look_preset("studio")` and `look_preset("plain")`.
@@ -134,8 +148,10 @@ struct Image {
 
   /// What display outputs (PNG, video) show: the denoised frame when there is one, else rgba.
   const std::vector<float>& display_rgba() const { return denoised.empty() ? rgba : denoised; }
-  /// The display value of one linear channel: exposure, tone curve, sRGB encoding, in [0,1].
-  float display(float linear) const;
+  /// The display value of one linear RGB value: exposure, tone curve, sRGB encoding, in [0,1].
+  Eigen::Vector3f display(const Eigen::Vector3f& linear) const;
+  /// The display value of a grey of this linear value (each channel of it, for the per-channel curves).
+  float display(float linear) const { return display(Eigen::Vector3f::Constant(linear)).x(); }
   /// 8-bit sRGB-encoded RGB, rows top to bottom: what PNG frames and the video receive. A
   /// transparent image is shown over black here (premultiplied).
   std::vector<std::uint8_t> to_srgb8() const;
@@ -199,7 +215,7 @@ double fit_vertical_fov(const std::vector<Camera>& cameras, std::span<const Eige
 /// raw frame) plus the denoised frame as the layer `denoised.R/G/B/A` when there is one and the
 /// image's extra layers (Z as float),
 /// with the camera and render settings in the header, and the display transform of the PNG
-/// (meshtour:exposure, meshtour:toneMapping "filmic" or "clamp") for turning it into video.
+/// (meshtour:exposure, meshtour:toneMapping: tone_mapping_name()) for turning it into video.
 /// The file is written under a temporary name and renamed, so it is either complete or absent.
 /// \throw InputError for an unknown extension, IoError if the file cannot be written.
 void write_image(const Image& image, const std::filesystem::path& file);
