@@ -6,7 +6,7 @@ and checked against a clean run.
   scripts/soak.py --meshtour build/cli/meshtour [--short | --items N] [--work DIR] [--seed S]
                   [--farm auto|yes|no] [--farm-items N] [--shared DIR] [--keep] [--resume]
 
---short is the CI form (32 items, 3 faults of each kind, about 4 minutes); the default is the long form (500 items,
+--short is the CI form (32 items, 2 faults of each kind within 40 rounds, about 2 minutes); the default is the long form (500 items,
 at least 50 faults of each kind). What it does:
  1. Makes the items in WORK/inputs: generated meshes in every format (PLY ascii/binary, OBJ, STL,
     OFF), textured OBJ and GLB, a few shared meshes (../shared/meshes, when present), and bad ones:
@@ -639,9 +639,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
                                      epilog="\n".join(__doc__.split("\n")[1:]))
     parser.add_argument("--meshtour", required=True, help="the meshtour executable")
-    parser.add_argument("--short", action="store_true", help="the CI form: 32 items, 3 faults of each kind")
+    parser.add_argument("--short", action="store_true", help="the CI form: 32 items, 2 faults of each kind within 40 rounds")
     parser.add_argument("--items", type=int, help="manifest items (default 500, --short 32)")
-    parser.add_argument("--faults", type=int, help="faults of each kind and kills in each stage (default 50, --short 3)")
+    parser.add_argument("--faults", type=int, help="faults of each kind and kills in each stage (default 50, --short 2)")
     parser.add_argument("--work", default=None, help="working folder (default: a new one in /tmp, removed on success)")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--farm", choices=["auto", "yes", "no"], default="auto",
@@ -653,8 +653,8 @@ def main():
                         help="continue a soak stopped in --work: its clean run is kept, the faulty runs go on from their counts")
     args = parser.parse_args()
     args.items = args.items or (32 if args.short else 500)
-    args.faults = args.faults or (3 if args.short else 50)
-    args.max_rounds = 80 if args.short else 3000
+    args.faults = args.faults or (2 if args.short else 50)
+    args.max_rounds = 40 if args.short else 3000
     args.farm_rounds = 2 if args.short else 6
     args.farm_items = min(args.farm_items or (10 if args.short else args.items), args.items)
     args.meshtour = os.path.abspath(args.meshtour)
