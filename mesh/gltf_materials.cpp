@@ -1,5 +1,6 @@
 // glTF materials as meshtour uses them: the base colour factor and texture (embedded, in a data
-// URI or an external file), its sampler's wrap modes, coordinate set and KHR_texture_transform.
+// URI or an external file), its sampler's wrap modes and filters, coordinate set and
+// KHR_texture_transform.
 #include <cctype>
 #include <cmath>
 #include <memory>
@@ -14,6 +15,19 @@ TextureWrap wrap_of(int mode) {
   if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::clamp;
   if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::mirror;
   return TextureWrap::repeat;
+}
+
+// A sampler's magFilter and minFilter (absent: linear, mipmapped linear; an unknown value too).
+void set_filters(MeshMaterial& m, const tinygltf::Sampler& sampler) {
+  m.mag_filter = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? TextureFilter::nearest : TextureFilter::linear;
+  switch (sampler.minFilter) {
+    case TINYGLTF_TEXTURE_FILTER_NEAREST: m.min_filter = TextureFilter::nearest, m.mip_filter = MipFilter::none; break;
+    case TINYGLTF_TEXTURE_FILTER_LINEAR: m.min_filter = TextureFilter::linear, m.mip_filter = MipFilter::none; break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST: m.min_filter = TextureFilter::nearest, m.mip_filter = MipFilter::nearest_level; break;
+    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: m.min_filter = TextureFilter::linear, m.mip_filter = MipFilter::nearest_level; break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: m.min_filter = TextureFilter::nearest, m.mip_filter = MipFilter::linear; break;
+    default: m.min_filter = TextureFilter::linear, m.mip_filter = MipFilter::linear; break;
+  }
 }
 
 // The bytes of base64 text (RFC 4648; padding optional). \throw InputError on another character.
@@ -127,6 +141,7 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
     const tinygltf::Sampler& sampler = model.samplers[static_cast<std::size_t>(texture.sampler)];
     use.material.wrap_s = wrap_of(sampler.wrapS);
     use.material.wrap_t = wrap_of(sampler.wrapT);
+    set_filters(use.material, sampler);
   }
   use.uv_set = std::max(0, base.tex_coord);
   if (base.transform && base.transform->IsObject()) {

@@ -21,10 +21,17 @@ struct Bounds {
   double diagonal() const { return (hi - lo).norm(); }
 };
 
-/// How a texture lookup outside [0,1] is resolved (glTF sampler wrapS/wrapT, OBJ `-clamp on`).
-/// image_default: the image file's own wrap metadata, black outside if it has none; what OBJ
-/// without -clamp has always used here (the golden images depend on it).
-enum class TextureWrap { repeat, clamp, mirror, image_default };
+/// How a texture lookup outside [0,1] is resolved: glTF sampler wrapS/wrapT; OBJ and PLY repeat,
+/// as MTL says (and Blender does), unless `-clamp on`.
+enum class TextureWrap { repeat, clamp, mirror };
+
+/// How texels become a colour (glTF sampler magFilter, and minFilter's first part): linear =
+/// bilinear between the four nearest texels, nearest = the texel under the point.
+enum class TextureFilter { linear, nearest };
+/// How minification uses the mipmap (glTF minFilter's second part): none = the full-resolution
+/// image alone (glTF NEAREST, LINEAR: aliasing as asked), nearest_level = the one level whose
+/// texels match the footprint, linear = between the two nearest levels (trilinear; the default).
+enum class MipFilter { none, nearest_level, linear };
 
 /// A surface's colour as the file gives it: a factor and an optional texture. UV transforms (OBJ
 /// `-o`/`-s`, glTF KHR_texture_transform) are applied to the triangles' corner_uvs by the loader.
@@ -39,6 +46,9 @@ struct MeshMaterial {
   /// The embedded image's encoded bytes (PNG, JPEG), or null: the texture is read from the file.
   std::shared_ptr<const std::vector<unsigned char>> texture_bytes;
   TextureWrap wrap_s = TextureWrap::repeat, wrap_t = TextureWrap::repeat;
+  TextureFilter mag_filter = TextureFilter::linear;  ///< a texel larger than the sample's footprint
+  TextureFilter min_filter = TextureFilter::linear;  ///< a footprint larger than a texel
+  MipFilter mip_filter = MipFilter::linear;
   /// Whether vertex colours multiply the texture (glTF COLOR_0); otherwise a texture replaces them.
   bool texture_times_vertex_colors = false;
   bool has_texture() const { return !texture_file.empty(); }

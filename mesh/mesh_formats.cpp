@@ -80,7 +80,6 @@ TriangleMesh ply_mesh(const std::filesystem::path& file, ply_detail::PlyContents
     std::replace(name.begin(), name.end(), '\\', '/');
     const std::filesystem::path image(name);
     material.texture_file = image.is_absolute() ? image : file.parent_path() / image;
-    material.wrap_s = material.wrap_t = TextureWrap::image_default;  // as OBJ
     mesh.materials.push_back(material);
   }
   mesh.positions = std::move(contents.positions);

@@ -77,7 +77,7 @@ bool read_mtl(const std::filesystem::path& mtl_file, ObjContents& faces, std::ma
       const std::filesystem::path texture = portable_path(map.file);
       MeshMaterial& m = faces.materials[static_cast<std::size_t>(current)];
       m.texture_file = texture.is_absolute() ? texture : mtl_file.parent_path() / texture;
-      m.wrap_s = m.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::image_default;
+      m.wrap_s = m.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
       faces.uv_transforms[static_cast<std::size_t>(current)] = map.uv_transform;
     }
   }

@@ -100,10 +100,22 @@ OIIO::TextureOpt::Wrap wrap_mode(TextureWrap wrap) {
   switch (wrap) {
     case TextureWrap::clamp: return OIIO::TextureOpt::WrapClamp;
     case TextureWrap::mirror: return OIIO::TextureOpt::WrapMirror;
-    case TextureWrap::image_default: return OIIO::TextureOpt::WrapDefault;
     case TextureWrap::repeat: break;
   }
   return OIIO::TextureOpt::WrapPeriodic;
+}
+
+OIIO::TextureOpt::InterpMode interp_mode(TextureFilter filter) {
+  return filter == TextureFilter::nearest ? OIIO::TextureOpt::InterpClosest : OIIO::TextureOpt::InterpBilinear;
+}
+
+OIIO::TextureOpt::MipMode mip_mode(MipFilter filter) {
+  switch (filter) {
+    case MipFilter::none: return OIIO::TextureOpt::MipModeNoMIP;
+    case MipFilter::nearest_level: return OIIO::TextureOpt::MipModeOneLevel;
+    case MipFilter::linear: break;
+  }
+  return OIIO::TextureOpt::MipModeTrilinear;
 }
 
 // One Surface per mesh material, with a texture handle per textured material (one texture system
@@ -118,6 +130,9 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
     surface.texture_times_vertex_colors = m.texture_times_vertex_colors;
     surface.wrap_s = wrap_mode(m.wrap_s);
     surface.wrap_t = wrap_mode(m.wrap_t);
+    surface.mag_interp = interp_mode(m.mag_filter);
+    surface.min_interp = interp_mode(m.min_filter);
+    surface.mip = mip_mode(m.mip_filter);
     if (textured && m.has_texture()) {
       if (!s.textures) {
         s.textures.reset(OIIO::TextureSystem::create(/*shared=*/false));
@@ -153,6 +168,9 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
       int channels = 3;
       s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("channels"), OIIO::TypeInt, &channels);
       surface.texture_grey = channels <= 2;
+      int resolution[2] = {1, 1};
+      s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("resolution"), OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), resolution);
+      surface.texels_across = static_cast<float>(std::max({resolution[0], resolution[1], 1}));
       surface.texture_srgb = !float_data && !OIIO::Strutil::iequals(color_space.string(), "linear");
     }
     s.surfaces.push_back(surface);

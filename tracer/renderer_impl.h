@@ -111,6 +111,11 @@ struct Renderer::Impl {
     bool texture_grey = false;  // a 1- or 2-channel (grey, grey + alpha) texture: its first channel is grey
     bool texture_srgb = false;  // the texture's values are sRGB-encoded: decoded to linear after the lookup
     OIIO::TextureOpt::Wrap wrap_s = OIIO::TextureOpt::WrapPeriodic, wrap_t = OIIO::TextureOpt::WrapPeriodic;
+    // The format's filters (MeshMaterial): the magnification one where a sample's footprint is
+    // under a texel of the largest side, the minification one and the mipmap mode elsewhere.
+    OIIO::TextureOpt::InterpMode mag_interp = OIIO::TextureOpt::InterpBilinear, min_interp = OIIO::TextureOpt::InterpBilinear;
+    OIIO::TextureOpt::MipMode mip = OIIO::TextureOpt::MipModeTrilinear;
+    float texels_across = 1.0f;  // the texture's larger side in texels
   };
   std::vector<Surface> surfaces;              // empty: the look's material everywhere
   std::vector<std::uint32_t> triangle_surface;  // per triangle; empty = surface 0

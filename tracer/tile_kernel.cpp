@@ -538,6 +538,9 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
         OIIO::TextureOpt opt;
         opt.swrap = surface.wrap_s;
         opt.twrap = surface.wrap_t;
+        const bool magnified = width_uv * surface.texels_across <= 1.0f;
+        opt.interpmode = magnified ? surface.mag_interp : surface.min_interp;
+        opt.mipmode = magnified ? OIIO::TextureOpt::MipModeNoMIP : surface.mip;
         float rgb[3] = {0, 0, 0};
         // OBJ's v runs upwards; OpenImageIO's t runs down the image.
         if (r.textures->texture(surface.texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv,
