@@ -72,9 +72,16 @@ nlohmann::json describe(const std::string& input) {
     nlohmann::json jm = {{"name", material.name}, {"triangles", per_material[m]}};
     if (material.base_color) jm["base_color"] = {material.base_color->x(), material.base_color->y(), material.base_color->z()};
     if (material.has_texture()) {
-      jm["texture"] = material.texture_bytes ? "(embedded) " + material.texture_file.filename().string() : material.texture_file.string();
+      jm["texture"] = material.texture.bytes ? "(embedded) " + material.texture.file.filename().string() : material.texture.file.string();
       const TextureSize size = probe_texture(material);
       jm["texture_size"] = {size.width, size.height, size.channels};
+    }
+    if (material.normal_texture.present()) {
+      const MeshTexture& map = material.normal_texture;
+      jm["normal_texture"] = map.bytes ? "(embedded) " + map.file.filename().string() : map.file.string();
+      const TextureSize size = probe_texture(map, material.name);
+      jm["normal_texture_size"] = {size.width, size.height, size.channels};
+      jm["normal_scale"] = material.normal_scale;
     }
     j["materials"].push_back(jm);
   }

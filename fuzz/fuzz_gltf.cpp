@@ -31,6 +31,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       for (auto v : t)
         if (v >= mesh.positions.size()) __builtin_trap();
     if (!mesh.corner_uvs.empty() && mesh.corner_uvs.size() != 3 * mesh.triangles.size()) __builtin_trap();
+    if (!mesh.corner_normals.empty() && mesh.corner_normals.size() != 3 * mesh.triangles.size()) __builtin_trap();
+    if (!mesh.corner_tangents.empty() && mesh.corner_tangents.size() != 3 * mesh.triangles.size()) __builtin_trap();
     if (!mesh.triangle_materials.empty() && mesh.triangle_materials.size() != mesh.triangles.size()) __builtin_trap();
     for (auto m : mesh.triangle_materials)
       if (m >= mesh.materials.size()) __builtin_trap();

@@ -39,6 +39,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const auto& p : mesh.positions)
       if (!p.allFinite()) __builtin_trap();
     if (!mesh.corner_uvs.empty() && mesh.corner_uvs.size() != 3 * mesh.triangles.size()) __builtin_trap();
+    if (!mesh.corner_normals.empty() && mesh.corner_normals.size() != 3 * mesh.triangles.size()) __builtin_trap();
+    if (!mesh.corner_tangents.empty() && mesh.corner_tangents.size() != 3 * mesh.triangles.size()) __builtin_trap();
   } catch (const meshtour::Error&) {
   }
   return 0;

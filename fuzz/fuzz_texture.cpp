@@ -16,10 +16,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const char* const names[] = {"texture.png", "texture.jpg", "texture.exr", "texture.tif"};
   meshtour::MeshMaterial material;
   material.name = "fuzz";
-  material.texture_file = names[data[0] % 4];
-  material.texture_bytes = std::make_shared<const std::vector<unsigned char>>(data + 1, data + size);
+  material.texture.file = names[data[0] % 4];
+  material.texture.bytes = std::make_shared<const std::vector<unsigned char>>(data + 1, data + size);
   try {
-    meshtour::verify_texture(material);
+    meshtour::verify_texture(material.texture, material.name);
   } catch (const meshtour::IoError&) {
   }
   return 0;

@@ -376,7 +376,7 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
   std::vector<std::optional<MaterialUse>> uses(model.materials.size());
   std::optional<std::uint32_t> default_material;  // for primitives without one: the look's colour
   std::vector<std::uint32_t> material_index(model.materials.size(), std::numeric_limits<std::uint32_t>::max());
-  bool any_colors = false, any_uvs = false;
+  bool any_colors = false, any_uvs = false, any_normals = false, any_tangents = false;
   std::vector<bool> vertex_has_color;
   std::size_t skipped = 0;
 
@@ -396,6 +396,10 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
       if (uv_set >= 0)
         if (const auto t = attribute("TEXCOORD_" + std::to_string(uv_set)); t != prim.attributes.end())
           data.uvs = reader.read(t->second, "TEXCOORD_" + std::to_string(uv_set) + " of " + where.substr(name.size() + 2));
+      if (const auto n = attribute("NORMAL"); n != prim.attributes.end())
+        data.normals = reader.read(n->second, "NORMAL of " + where.substr(name.size() + 2));
+      if (const auto t = attribute("TANGENT"); t != prim.attributes.end())
+        data.tangents = reader.read(t->second, "TANGENT of " + where.substr(name.size() + 2));
       if (prim.indices >= 0) data.indices = reader.read_indices(prim.indices, "the indices of " + where.substr(name.size() + 2));
       for (int set = 0; skinned; ++set) {
         const auto j = attribute("JOINTS_" + std::to_string(set)), w = attribute("WEIGHTS_" + std::to_string(set));
@@ -411,6 +415,11 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
     const std::size_t count = data.positions.size();
     if (!data.colors.empty() && data.colors.size() != count) throw InputError(where + ": COLOR_0 and POSITION differ in count");
     if (!data.uvs.empty() && data.uvs.size() != count) throw InputError(where + ": TEXCOORD and POSITION differ in count");
+    if (!data.normals.empty() && data.normals.size() != count) throw InputError(where + ": NORMAL and POSITION differ in count");
+    if (!data.tangents.empty() && data.tangents.size() != count) throw InputError(where + ": TANGENT and POSITION differ in count");
+    // Tangents without normals mean nothing (the specification: "When tangents are not specified,
+    // client implementations SHOULD calculate tangents"; they are relative to NORMAL).
+    if (data.normals.empty()) data.tangents.clear();
     for (const auto i : data.indices)
       if (i >= count) throw InputError(where + ": an index (" + std::to_string(i) + ") names a vertex it does not have (" +
                                        std::to_string(count) + ")");
@@ -452,7 +461,7 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
       if (prim.material >= 0) {
         auto& use = uses[static_cast<std::size_t>(prim.material)];
         if (!use) {
-          use = material_use(model, prim.material, file, name);
+          use = material_use(model, prim.material, file, name, warnings);
           material_index[static_cast<std::size_t>(prim.material)] = static_cast<std::uint32_t>(mesh.materials.size());
           mesh.materials.push_back(use->material);
         }
@@ -499,6 +508,39 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
         }
       }
       const std::vector<std::array<std::uint32_t, 3>> triangles = triangles_of(data.indices, count, mode);
+      // The file's normals and tangents, in world space (normals by the inverse transpose, both
+      // renormalised; a mirroring node turns the bitangent: w flips), per corner below.
+      std::vector<Eigen::Vector3f> normals;
+      std::vector<Eigen::Vector4f> tangents;
+      if (!data.normals.empty()) {
+        normals.reserve(count);
+        for (std::size_t i = 0; i < count; ++i) {
+          const Matrix& m = skinned.empty() ? world : skinned[i];
+          const Eigen::Matrix3d normal_matrix = m.topLeftCorner<3, 3>().inverse().transpose();
+          const auto& v = data.normals[i];
+          const Eigen::Vector3d n = normal_matrix * Eigen::Vector3d(v[0], v[1], v[2]);
+          normals.push_back(n.squaredNorm() > 0 && std::isfinite(n.squaredNorm()) ? Eigen::Vector3f(n.normalized().cast<float>())
+                                                                                 : Eigen::Vector3f::Zero());
+          if (data.tangents.empty()) continue;
+          const auto& tv = data.tangents[i];
+          const Eigen::Vector3d t = m.topLeftCorner<3, 3>() * Eigen::Vector3d(tv[0], tv[1], tv[2]);
+          const float w = (tv[3] < 0 ? -1.0f : 1.0f) * (m.topLeftCorner<3, 3>().determinant() < 0 ? -1.0f : 1.0f);
+          tangents.push_back(t.squaredNorm() > 0 && std::isfinite(t.squaredNorm())
+                                 ? Eigen::Vector4f(static_cast<float>(t.normalized().x()), static_cast<float>(t.normalized().y()),
+                                                   static_cast<float>(t.normalized().z()), w)
+                                 : Eigen::Vector4f::Zero());
+        }
+      }
+      if (!normals.empty() && !any_normals) {
+        any_normals = true;
+        mesh.corner_normals.resize(3 * mesh.triangles.size(), Eigen::Vector3f::Zero());
+      }
+      if (!tangents.empty() && !any_tangents) {
+        any_tangents = true;
+        mesh.corner_tangents.resize(3 * mesh.triangles.size(), Eigen::Vector4f::Zero());
+      }
+      if (any_normals) grow_for(mesh.corner_normals, 3 * triangles.size());
+      if (any_tangents) grow_for(mesh.corner_tangents, 3 * triangles.size());
       // Corner coordinates are kept only once some primitive has them (zeros for those before and
       // after that have none): a scan without UVs does not hold 3 of them per triangle.
       if (!data.uvs.empty() && !any_uvs) {
@@ -512,6 +554,10 @@ TriangleMesh load_gltf(const std::filesystem::path& file, std::vector<std::strin
         if (vertex_mirrored.empty() ? mirrored : vertex_mirrored[t[0]]) std::swap(t[1], t[2]);
         mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
         mesh.triangle_materials.push_back(material);
+        for (const auto corner : t) {
+          if (any_normals) mesh.corner_normals.push_back(normals.empty() ? Eigen::Vector3f::Zero() : normals[corner]);
+          if (any_tangents) mesh.corner_tangents.push_back(tangents.empty() ? Eigen::Vector4f::Zero() : tangents[corner]);
+        }
         if (!any_uvs) continue;
         for (const auto corner : t) {
           Eigen::Vector2f uv = Eigen::Vector2f::Zero();

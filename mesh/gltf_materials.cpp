@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string_view>
 
 #include "mesh/gltf_parts.h"
@@ -18,7 +19,7 @@ TextureWrap wrap_of(int mode) {
 }
 
 // A sampler's magFilter and minFilter (absent: linear, mipmapped linear; an unknown value too).
-void set_filters(MeshMaterial& m, const tinygltf::Sampler& sampler) {
+void set_filters(MeshTexture& m, const tinygltf::Sampler& sampler) {
   m.mag_filter = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? TextureFilter::nearest : TextureFilter::linear;
   switch (sampler.minFilter) {
     case TINYGLTF_TEXTURE_FILTER_NEAREST: m.min_filter = TextureFilter::nearest, m.mip_filter = MipFilter::none; break;
@@ -109,21 +110,43 @@ std::string percent_decoded(const std::string& uri) {
   return out;
 }
 
-MaterialUse material_use(const tinygltf::Model& model, int index, const std::filesystem::path& file, const std::string& name) {
-  MaterialUse use;
-  use.material.texture_times_vertex_colors = true;
-  const tinygltf::Material& m = model.materials[static_cast<std::size_t>(index)];
-  use.material.name = m.name.empty() ? "material " + std::to_string(index) : m.name;
-  const BaseColor base = base_color_of(m);
-  const auto& factor = base.factor;
-  use.material.base_color = factor.size() >= 3 ? Eigen::Vector3f(static_cast<float>(factor[0]), static_cast<float>(factor[1]),
-                                                                 static_cast<float>(factor[2]))
-                                               : Eigen::Vector3f::Ones();
-  if (base.index < 0) return use;
-  const std::string where = name + ": material '" + use.material.name + "'";
-  if (base.index >= static_cast<int>(model.textures.size()))
-    throw InputError(where + " names texture " + std::to_string(base.index) + ", which does not exist");
-  const tinygltf::Texture& texture = model.textures[static_cast<std::size_t>(base.index)];
+namespace {
+
+// A texture reference's coordinate set and KHR_texture_transform, as a 2x3 matrix on (u, v, 1).
+struct TextureCoordinates {
+  int set = 0;
+  Eigen::Matrix<double, 2, 3> transform = Eigen::Matrix<double, 2, 3>::Identity();
+  bool operator==(const TextureCoordinates&) const = default;
+};
+
+TextureCoordinates coordinates_of(int tex_coord, const tinygltf::Value* transform) {
+  TextureCoordinates out;
+  out.set = std::max(0, tex_coord);
+  if (!transform || !transform->IsObject()) return out;
+  const tinygltf::Value& t = *transform;
+  const auto pair = [&](const char* key, double fallback) {
+    std::array<double, 2> v{fallback, fallback};
+    if (t.Has(key) && t.Get(key).IsArray() && t.Get(key).ArrayLen() >= 2)
+      for (int k = 0; k < 2; ++k)
+        if (t.Get(key).Get(k).IsNumber()) v[static_cast<std::size_t>(k)] = t.Get(key).Get(k).GetNumberAsDouble();
+    return v;
+  };
+  const auto offset = pair("offset", 0.0), scale = pair("scale", 1.0);
+  const double rotation = t.Has("rotation") && t.Get("rotation").IsNumber() ? t.Get("rotation").GetNumberAsDouble() : 0.0;
+  if (t.Has("texCoord") && t.Get("texCoord").IsNumber()) out.set = std::max(0, t.Get("texCoord").GetNumberAsInt());
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  // The extension's matrix: translation * rotation * scale.
+  out.transform << c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1];
+  return out;
+}
+
+// The image and sampler of texture `index` (`what`: "texture" or "normal texture", for messages).
+MeshTexture texture_of(const tinygltf::Model& model, int index, const std::filesystem::path& file, const std::string& where,
+                       const std::string& what) {
+  MeshTexture out;
+  if (index >= static_cast<int>(model.textures.size()))
+    throw InputError(where + " names " + what + " " + std::to_string(index) + ", which does not exist");
+  const tinygltf::Texture& texture = model.textures[static_cast<std::size_t>(index)];
   // EXT_texture_webp names a WebP image in place of (or as well as) the core PNG/JPEG source;
   // a reader that decodes WebP (OpenImageIO does) uses it.
   int source = texture.source;
@@ -131,34 +154,17 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
                                                                    it->second.Has("source") && it->second.Get("source").IsNumber())
     source = it->second.Get("source").GetNumberAsInt();
   if (source < 0 && texture.extensions.count("KHR_texture_basisu"))
-    throw InputError(where + " has only a KTX2 / Basis Universal image (KHR_texture_basisu, texture " + std::to_string(base.index) +
+    throw InputError(where + " has only a KTX2 / Basis Universal image (KHR_texture_basisu, texture " + std::to_string(index) +
                      "), which meshtour does not decode; export the model with PNG or JPEG textures");
   if (source < 0 || source >= static_cast<int>(model.images.size()))
-    throw InputError(where + " has a texture whose image does not exist (texture " + std::to_string(base.index) + ")");
+    throw InputError(where + " has a " + what + " whose image does not exist (texture " + std::to_string(index) + ")");
   if (texture.sampler >= static_cast<int>(model.samplers.size()))
-    throw InputError(where + " has a texture whose sampler does not exist (texture " + std::to_string(base.index) + ")");
+    throw InputError(where + " has a " + what + " whose sampler does not exist (texture " + std::to_string(index) + ")");
   if (texture.sampler >= 0) {
     const tinygltf::Sampler& sampler = model.samplers[static_cast<std::size_t>(texture.sampler)];
-    use.material.wrap_s = wrap_of(sampler.wrapS);
-    use.material.wrap_t = wrap_of(sampler.wrapT);
-    set_filters(use.material, sampler);
-  }
-  use.uv_set = std::max(0, base.tex_coord);
-  if (base.transform && base.transform->IsObject()) {
-    const tinygltf::Value& t = *base.transform;
-    const auto pair = [&](const char* key, double fallback) {
-      std::array<double, 2> v{fallback, fallback};
-      if (t.Has(key) && t.Get(key).IsArray() && t.Get(key).ArrayLen() >= 2)
-        for (int k = 0; k < 2; ++k)
-          if (t.Get(key).Get(k).IsNumber()) v[static_cast<std::size_t>(k)] = t.Get(key).Get(k).GetNumberAsDouble();
-      return v;
-    };
-    const auto offset = pair("offset", 0.0), scale = pair("scale", 1.0);
-    const double rotation = t.Has("rotation") && t.Get("rotation").IsNumber() ? t.Get("rotation").GetNumberAsDouble() : 0.0;
-    if (t.Has("texCoord") && t.Get("texCoord").IsNumber()) use.uv_set = std::max(0, t.Get("texCoord").GetNumberAsInt());
-    const double c = std::cos(rotation), s = std::sin(rotation);
-    // The extension's matrix: translation * rotation * scale.
-    use.uv_transform << c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1];
+    out.wrap_s = wrap_of(sampler.wrapS);
+    out.wrap_t = wrap_of(sampler.wrapT);
+    set_filters(out, sampler);
   }
   const tinygltf::Image& image = model.images[static_cast<std::size_t>(source)];
   // tinygltf decodes the data URIs of PNG and JPEG images; a WebP one arrives as its text.
@@ -173,28 +179,66 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
   }
   if (!image.uri.empty() && image.image.empty() && data_uri_mime.empty()) {  // an external file
     const std::filesystem::path relative(percent_decoded(image.uri));
-    use.material.texture_file = relative.is_absolute() ? relative : file.parent_path() / relative;
-  } else {
-    std::vector<unsigned char> bytes = data_uri_mime.empty() ? image.image : std::move(data_uri_bytes);
-    const std::string& mime = data_uri_mime.empty() ? image.mimeType : data_uri_mime;
-    if (image.bufferView >= 0) {  // checked here, not by tinygltf (keep_encoded_image)
-      if (static_cast<std::size_t>(image.bufferView) >= model.bufferViews.size())
-        throw InputError(where + ": its image " + std::to_string(source) + " names a buffer view that does not exist");
-      const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(image.bufferView)];
-      if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
-        throw InputError(where + ": its image " + std::to_string(source) + " names a buffer that does not exist");
-      const std::vector<unsigned char>& buffer = model.buffers[static_cast<std::size_t>(view.buffer)].data;
-      if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
-        throw InputError(where + ": its image " + std::to_string(source) + " lies outside its buffer (truncated file?)");
-      bytes.assign(buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
-                   buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength));
+    out.file = relative.is_absolute() ? relative : file.parent_path() / relative;
+    return out;
+  }
+  std::vector<unsigned char> bytes = data_uri_mime.empty() ? image.image : std::move(data_uri_bytes);
+  const std::string& mime = data_uri_mime.empty() ? image.mimeType : data_uri_mime;
+  if (image.bufferView >= 0) {  // checked here, not by tinygltf (keep_encoded_image)
+    if (static_cast<std::size_t>(image.bufferView) >= model.bufferViews.size())
+      throw InputError(where + ": its image " + std::to_string(source) + " names a buffer view that does not exist");
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(image.bufferView)];
+    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
+      throw InputError(where + ": its image " + std::to_string(source) + " names a buffer that does not exist");
+    const std::vector<unsigned char>& buffer = model.buffers[static_cast<std::size_t>(view.buffer)].data;
+    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+      throw InputError(where + ": its image " + std::to_string(source) + " lies outside its buffer (truncated file?)");
+    bytes.assign(buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
+                 buffer.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength));
+  }
+  if (bytes.empty()) throw InputError(where + ": its image " + std::to_string(source) + " has no data");
+  const std::string ext = mime == "image/jpeg" ? ".jpg" : mime == "image/png" ? ".png" : mime == "image/webp" ? ".webp" : "";
+  out.file = file.string() + "#image" + std::to_string(source) + ext;
+  out.bytes = std::make_shared<const std::vector<unsigned char>>(std::move(bytes));
+  return out;
+}
+
+}  // namespace
+
+MaterialUse material_use(const tinygltf::Model& model, int index, const std::filesystem::path& file, const std::string& name,
+                         std::vector<std::string>& warnings) {
+  MaterialUse use;
+  use.material.texture_times_vertex_colors = true;
+  const tinygltf::Material& m = model.materials[static_cast<std::size_t>(index)];
+  use.material.name = m.name.empty() ? "material " + std::to_string(index) : m.name;
+  const BaseColor base = base_color_of(m);
+  const auto& factor = base.factor;
+  use.material.base_color = factor.size() >= 3 ? Eigen::Vector3f(static_cast<float>(factor[0]), static_cast<float>(factor[1]),
+                                                                 static_cast<float>(factor[2]))
+                                               : Eigen::Vector3f::Ones();
+  const std::string where = name + ": material '" + use.material.name + "'";
+  std::optional<TextureCoordinates> coordinates;
+  if (base.index >= 0) {
+    use.material.texture = texture_of(model, base.index, file, where, "texture");
+    coordinates = coordinates_of(base.tex_coord, base.transform);
+  }
+  if (const tinygltf::NormalTextureInfo& normal = m.normalTexture; normal.index >= 0) {
+    const auto it = normal.extensions.find("KHR_texture_transform");
+    const TextureCoordinates own = coordinates_of(normal.texCoord, it != normal.extensions.end() ? &it->second : nullptr);
+    // The triangles carry one set of coordinates: the base colour's. Scans, photogrammetry and the
+    // sample models share them between the maps; a file that does not is told so.
+    if (coordinates && !(*coordinates == own)) {
+      warnings.push_back(where + ": its normal texture reads other texture coordinates (set or KHR_texture_transform) than its "
+                                 "base colour, which meshtour does not do; the normal texture is not used");
+    } else {
+      use.material.normal_texture = texture_of(model, normal.index, file, where, "normal texture");
+      use.material.normal_scale = static_cast<float>(normal.scale);
+      coordinates = own;
     }
-    if (bytes.empty()) throw InputError(where + ": its image " + std::to_string(source) + " has no data");
-    const std::string ext = mime == "image/jpeg" ? ".jpg" : mime == "image/png" ? ".png"
-                            : mime == "image/webp" ? ".webp"
-                                                             : "";
-    use.material.texture_file = file.string() + "#image" + std::to_string(source) + ext;
-    use.material.texture_bytes = std::make_shared<const std::vector<unsigned char>>(std::move(bytes));
+  }
+  if (coordinates) {
+    use.uv_set = coordinates->set;
+    use.uv_transform = coordinates->transform;
   }
   return use;
 }

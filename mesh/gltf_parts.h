@@ -71,13 +71,14 @@ void walk_default_scene(int node_count, const std::vector<int>* scene_roots, con
 // One primitive's data before it joins the mesh.
 struct PrimitiveData {
   std::vector<std::array<double, 4>> positions, colors, uvs;
+  std::vector<std::array<double, 4>> normals, tangents;  // NORMAL, TANGENT (xyz, w), or empty
   std::vector<std::uint32_t> indices;  // as the primitive lists them (mode applies), or empty
   // A skinned primitive's JOINTS_n and WEIGHTS_n, one pair per set n.
   std::vector<std::pair<std::vector<std::array<double, 4>>, std::vector<std::array<double, 4>>>> skin_sets;
 };
 
 // A glTF material as meshtour uses it, with the texture coordinate set and UV transform its
-// base colour texture names.
+// maps read (the base colour's, which the normal texture shares).
 struct MaterialUse {
   MeshMaterial material;
   int uv_set = -1;  // -1: untextured
@@ -96,6 +97,9 @@ PrimitiveData decode_draco(const tinygltf::Model& model, const tinygltf::Value& 
 
 // gltf_materials.cpp
 std::string percent_decoded(const std::string& uri);
-MaterialUse material_use(const tinygltf::Model& model, int index, const std::filesystem::path& file, const std::string& name);
+/// Its base colour and normal texture, with the one coordinate set and UV transform the triangles
+/// get; a normal texture on other coordinates is not used, and `warnings` says so.
+MaterialUse material_use(const tinygltf::Model& model, int index, const std::filesystem::path& file, const std::string& name,
+                         std::vector<std::string>& warnings);
 
 }  // namespace meshtour::gltf_detail

@@ -35,7 +35,7 @@ using LoaderMesh = OpenMesh::TriMesh_ArrayKernelT<LoaderTraits>;
 
 bool TriangleMesh::has_texture() const {
   return corner_uvs.size() == 3 * triangles.size() && !triangles.empty() &&
-         std::any_of(materials.begin(), materials.end(), [](const MeshMaterial& m) { return m.has_texture(); });
+         std::any_of(materials.begin(), materials.end(), [](const MeshMaterial& m) { return !m.maps().empty(); });
 }
 
 void transform_mesh(TriangleMesh& mesh, const Eigen::Matrix4d& m) {
@@ -45,11 +45,26 @@ void transform_mesh(TriangleMesh& mesh, const Eigen::Matrix4d& m) {
     throw InputError("the model's transform is singular or not affine (determinant " + std::to_string(det) + ")");
   const Eigen::Vector3d shift = m.topRightCorner<3, 1>();
   for (Eigen::Vector3d& p : mesh.positions) p = linear * p + shift;
+  // The file's normals turn by the inverse transpose, its tangents with the surface; a mirror
+  // turns the bitangent cross(n, t) the other way, so w flips.
+  const Eigen::Matrix3f normal_matrix = linear.inverse().transpose().cast<float>(), tangent_matrix = linear.cast<float>();
+  for (Eigen::Vector3f& n : mesh.corner_normals)
+    if (n.squaredNorm() > 0.0f) n = (normal_matrix * n).normalized();
+  for (Eigen::Vector4f& t : mesh.corner_tangents)
+    if (t.head<3>().squaredNorm() > 0.0f) {
+      const Eigen::Vector3f turned = (tangent_matrix * Eigen::Vector3f(t.x(), t.y(), t.z())).normalized();
+      t = {turned.x(), turned.y(), turned.z(), det < 0.0 ? -t.w() : t.w()};
+    }
   if (det < 0.0) {
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
-    // Per-corner UVs follow their corners.
-    if (mesh.corner_uvs.size() == 3 * mesh.triangles.size())
-      for (std::size_t f = 0; f < mesh.triangles.size(); ++f) std::swap(mesh.corner_uvs[3 * f + 1], mesh.corner_uvs[3 * f + 2]);
+    // Per-corner attributes follow their corners.
+    const auto follow = [&](auto& corners) {
+      if (corners.size() == 3 * mesh.triangles.size())
+        for (std::size_t f = 0; f < mesh.triangles.size(); ++f) std::swap(corners[3 * f + 1], corners[3 * f + 2]);
+    };
+    follow(mesh.corner_uvs);
+    follow(mesh.corner_normals);
+    follow(mesh.corner_tangents);
   }
 }
 

@@ -33,25 +33,45 @@ enum class TextureFilter { linear, nearest };
 /// texels match the footprint, linear = between the two nearest levels (trilinear; the default).
 enum class MipFilter { none, nearest_level, linear };
 
-/// A surface's colour as the file gives it: a factor and an optional texture. UV transforms (OBJ
-/// `-o`/`-s`, glTF KHR_texture_transform) are applied to the triangles' corner_uvs by the loader.
+/// One image map of a material and how it is looked up.
+struct MeshTexture {
+  /// The image, resolved relative to the file that names it, or empty (no map). For an embedded
+  /// image (glTF data URI or buffer view) a name unique within the model.
+  std::filesystem::path file;
+  /// The embedded image's encoded bytes (PNG, JPEG, WebP), or null: the image is read from `file`.
+  std::shared_ptr<const std::vector<unsigned char>> bytes;
+  TextureWrap wrap_s = TextureWrap::repeat, wrap_t = TextureWrap::repeat;
+  TextureFilter mag_filter = TextureFilter::linear;  ///< a texel larger than the sample's footprint
+  TextureFilter min_filter = TextureFilter::linear;  ///< a footprint larger than a texel
+  MipFilter mip_filter = MipFilter::linear;
+  bool present() const { return !file.empty(); }
+};
+
+/// A surface as the file gives it: a colour (factor and optional texture) and an optional normal
+/// map. UV transforms (OBJ `-o`/`-s`, glTF KHR_texture_transform) are applied to the triangles'
+/// corner_uvs by the loader, so every map of a material reads the same coordinates.
 struct MeshMaterial {
   std::string name;  ///< as the file names it (OBJ newmtl, glTF material name or "material <i>")
   /// Linear RGB multiplying the texture or the vertex colours; without a texture and vertex
   /// colours it is the surface's colour. Nothing = the look's base colour (untextured) or 1.
   std::optional<Eigen::Vector3f> base_color;
-  /// The diffuse colour texture, resolved relative to the file that names it, or empty. For
-  /// an embedded image (glTF data URI or buffer view) a name unique within the model.
-  std::filesystem::path texture_file;
-  /// The embedded image's encoded bytes (PNG, JPEG), or null: the texture is read from the file.
-  std::shared_ptr<const std::vector<unsigned char>> texture_bytes;
-  TextureWrap wrap_s = TextureWrap::repeat, wrap_t = TextureWrap::repeat;
-  TextureFilter mag_filter = TextureFilter::linear;  ///< a texel larger than the sample's footprint
-  TextureFilter min_filter = TextureFilter::linear;  ///< a footprint larger than a texel
-  MipFilter mip_filter = MipFilter::linear;
+  /// The base (diffuse) colour texture: sRGB-encoded unless the image is float or says linear.
+  MeshTexture texture;
+  /// A tangent-space normal map (glTF normalTexture, OBJ `norm`): linear RGB = (x, y, z) * 0.5 +
+  /// 0.5, +x along increasing u, +y along increasing v (OBJ's v, up the image), +z the surface
+  /// normal; x and y are multiplied by `normal_scale`.
+  MeshTexture normal_texture;
+  float normal_scale = 1.0f;
   /// Whether vertex colours multiply the texture (glTF COLOR_0); otherwise a texture replaces them.
   bool texture_times_vertex_colors = false;
-  bool has_texture() const { return !texture_file.empty(); }
+  bool has_texture() const { return texture.present(); }
+  /// The maps the material has (for checks and memory estimates).
+  std::vector<const MeshTexture*> maps() const {
+    std::vector<const MeshTexture*> out;
+    for (const MeshTexture* t : {&texture, &normal_texture})
+      if (t->present()) out.push_back(t);
+    return out;
+  }
 };
 
 /// A triangle soup with shared vertices, as loaded from a file or made procedurally.
@@ -69,11 +89,18 @@ struct TriangleMesh {
   std::vector<MeshMaterial> materials;
   /// Index into `materials` per triangle; empty = every triangle uses material 0 (if any).
   std::vector<std::uint32_t> triangle_materials;
+  /// The file's shading normals per triangle corner (3 per triangle, like corner_uvs; glTF
+  /// NORMAL), unit length, or empty: the renderer computes smooth normals with creases. A zero
+  /// vector: this corner has none (a primitive without NORMAL beside ones with it).
+  std::vector<Eigen::Vector3f> corner_normals;
+  /// The file's tangents per triangle corner (glTF TANGENT: xyz unit, w = +1 or -1, the bitangent
+  /// being cross(normal, tangent) * w), or empty: generated where a normal map needs them.
+  std::vector<Eigen::Vector4f> corner_tangents;
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t face_count() const { return triangles.size(); }
   bool has_colors() const { return !colors.empty() && colors.size() == positions.size(); }
-  /// Whether some material has a texture and every triangle corner has texture coordinates.
+  /// Whether some material has a map (colour or normal) and every triangle corner has texture coordinates.
   bool has_texture() const;
   /// The material of triangle `t` (nullptr if the mesh has no materials).
   const MeshMaterial* material_of(std::size_t t) const {
@@ -121,7 +148,9 @@ struct TextureSize {
 
 /// Opens a material's texture (file or embedded bytes) and reads its header.
 /// 	hrow IoError naming the texture and the material if it is missing or not a readable image.
-TextureSize probe_texture(const MeshMaterial& material);
+TextureSize probe_texture(const MeshTexture& map, const std::string& material_name);
+/// The same for the material's base colour texture.
+inline TextureSize probe_texture(const MeshMaterial& material) { return probe_texture(material.texture, material.name); }
 
 /// What a mesh file announces, found by check_mesh_file() without building the mesh.
 struct MeshFileSummary {

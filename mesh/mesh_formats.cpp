@@ -79,7 +79,7 @@ TriangleMesh ply_mesh(const std::filesystem::path& file, ply_detail::PlyContents
     std::string name = contents.texture_file;
     std::replace(name.begin(), name.end(), '\\', '/');
     const std::filesystem::path image(name);
-    material.texture_file = image.is_absolute() ? image : file.parent_path() / image;
+    material.texture.file = image.is_absolute() ? image : file.parent_path() / image;
     mesh.materials.push_back(material);
   }
   mesh.positions = std::move(contents.positions);

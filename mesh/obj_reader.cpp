@@ -76,9 +76,20 @@ bool read_mtl(const std::filesystem::path& mtl_file, ObjContents& faces, std::ma
       if (map.file.empty()) continue;
       const std::filesystem::path texture = portable_path(map.file);
       MeshMaterial& m = faces.materials[static_cast<std::size_t>(current)];
-      m.texture_file = texture.is_absolute() ? texture : mtl_file.parent_path() / texture;
-      m.wrap_s = m.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
+      m.texture.file = texture.is_absolute() ? texture : mtl_file.parent_path() / texture;
+      m.texture.wrap_s = m.texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
       faces.uv_transforms[static_cast<std::size_t>(current)] = map.uv_transform;
+    } else if (key == "norm" && current >= 0 && !rest.empty()) {
+      // A tangent-space normal map (the `norm` statement of tinyobjloader and the exporters that
+      // write it), on the colour map's coordinates. map_Bump is a height map in the MTL
+      // specification and is not read as a normal map.
+      const MapStatement map = parse_map_statement(rest);
+      if (map.file.empty()) continue;
+      const std::filesystem::path texture = portable_path(map.file);
+      MeshMaterial& m = faces.materials[static_cast<std::size_t>(current)];
+      m.normal_texture.file = texture.is_absolute() ? texture : mtl_file.parent_path() / texture;
+      m.normal_texture.wrap_s = m.normal_texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
+      m.normal_scale = map.bump_multiplier;
     }
   }
   return true;
@@ -109,6 +120,7 @@ MapStatement parse_map_statement(const std::string& argument) {
     const auto it = fixed.find(option);
     const int count = it == fixed.end() ? 0 : it->second;  // unknown option: taken as a flag
     if (option == "-clamp" && i < tokens.size()) map.clamp = tokens[i] == "on";
+    if (option == "-bm" && i < tokens.size() && is_number(tokens[i])) map.bump_multiplier = std::strtof(tokens[i].c_str(), nullptr);
     i = std::min(tokens.size(), i + static_cast<std::size_t>(count));
   }
   // The file name is the rest of the line from the first word that is not an option, so that

@@ -60,6 +60,7 @@ struct MapStatement {
   std::string file;
   bool clamp = false;
   std::array<float, 4> uv_transform{1, 1, 0, 0};  // scale u, v; offset u, v
+  float bump_multiplier = 1.0f;                   // -bm: a normal map's scale
 };
 MapStatement parse_map_statement(const std::string& argument);
 

@@ -255,31 +255,40 @@ std::unique_ptr<OIIO::ImageInput> open_checked(const std::string& file, const st
 
 }  // namespace
 
-TextureSize probe_texture(const MeshMaterial& material) {
-  const std::string file = material.texture_file.string();
-  const std::string what = file + ": the texture of material '" + material.name + "'" + (material.texture_bytes ? " (embedded)" : "");
+namespace {
+
+// What a message calls a map: "FILE: the texture of material 'NAME'" (+ " (embedded)").
+std::string map_description(const MeshTexture& map, const std::string& material_name, const char* kind) {
+  return map.file.string() + ": the " + kind + " of material '" + material_name + "'" + (map.bytes ? " (embedded)" : "");
+}
+
+}  // namespace
+
+TextureSize probe_texture(const MeshTexture& map, const std::string& material_name) {
+  const std::string file = map.file.string();
+  const std::string what = map_description(map, material_name, "texture");
   std::error_code ec;
-  if (!material.texture_bytes && !std::filesystem::is_regular_file(material.texture_file, ec)) throw IoError(what + " does not exist");
+  if (!map.bytes && !std::filesystem::is_regular_file(map.file, ec)) throw IoError(what + " does not exist");
   std::unique_ptr<ImageBytesReader> memory;
   double file_size = 0;
-  const auto in = open_checked(file, what, material.texture_bytes.get(), memory, file_size);
+  const auto in = open_checked(file, what, map.bytes.get(), memory, file_size);
   TextureSize size{in->spec().width, in->spec().height, in->spec().nchannels};
   in->close();
   return size;
 }
 
-void verify_texture(const MeshMaterial& material) {
-  const std::string file = material.texture_file.string();
-  const std::string what = file + ": the texture of material '" + material.name + "'" + (material.texture_bytes ? " (embedded)" : "");
+void verify_texture(const MeshTexture& map, const std::string& material_name, const char* kind) {
+  const std::string file = map.file.string();
+  const std::string what = map_description(map, material_name, kind);
   std::error_code ec;
-  if (!material.texture_bytes && !std::filesystem::is_regular_file(material.texture_file, ec)) throw IoError(what + " does not exist");
+  if (!map.bytes && !std::filesystem::is_regular_file(map.file, ec)) throw IoError(what + " does not exist");
   std::unique_ptr<ImageBytesReader> memory;
   double file_size = 0;
-  const auto in = open_checked(file, what, material.texture_bytes.get(), memory, file_size);
+  const auto in = open_checked(file, what, map.bytes.get(), memory, file_size);
   const std::string format = in->format_name();
   std::string fault;
   if (format == "png" || format == "jpeg")
-    fault = with_bytes(file, material.texture_bytes.get(), [&](const std::uint8_t* data, std::size_t size) -> std::string {
+    fault = with_bytes(file, map.bytes.get(), [&](const std::uint8_t* data, std::size_t size) -> std::string {
       if (format == "png") return png_fault(data, size, true);
       return jpeg_ends(data, size) ? "" : "it is truncated (it does not end with the JPEG end-of-image marker)";
     });
@@ -305,15 +314,23 @@ void check_material_textures(TriangleMesh& mesh, const std::string& name, const 
   }
   for (std::size_t m = 0; m < mesh.materials.size(); ++m) {
     MeshMaterial& material = mesh.materials[m];
-    if (!used[m] || !material.has_texture() || !options.check_textures) continue;
-    try {
-      verify_texture(material);
-    } catch (const IoError& e) {
-      if (!options.missing_textures_grey)
-        throw IoError(name + ": " + e.what() + " (fix the path or the file, or pass --missing-textures grey to render its faces untextured)");
-      warnings.push_back(std::string(e.what()) + "; its faces are rendered untextured (--missing-textures grey)");
-      material.texture_file.clear();
-      material.texture_bytes.reset();
+    if (!used[m] || !options.check_textures) continue;
+    struct Map {
+      MeshTexture* texture;
+      const char *kind, *without;
+    };
+    const Map maps[] = {{&material.texture, "texture", "untextured"}, {&material.normal_texture, "normal texture", "without their normal map"}};
+    for (const Map& map : maps) {
+      if (!map.texture->present()) continue;
+      try {
+        verify_texture(*map.texture, material.name, map.kind);
+      } catch (const IoError& e) {
+        if (!options.missing_textures_grey)
+          throw IoError(name + ": " + e.what() + " (fix the path or the file, or pass --missing-textures grey to render its faces " +
+                        map.without + ")");
+        warnings.push_back(std::string(e.what()) + "; its faces are rendered " + map.without + " (--missing-textures grey)");
+        *map.texture = MeshTexture{};
+      }
     }
   }
 }

@@ -11,7 +11,7 @@ namespace meshtour {
 /// Checks one texture fully (probe_texture's header checks, then the file's structure and every
 /// pixel decoded once; see docs/FORMATS.md, "Hostile textures"): an IoError naming the file and
 /// what is wrong with it.
-void verify_texture(const MeshMaterial& material);
+void verify_texture(const MeshTexture& map, const std::string& material_name, const char* kind = "texture");
 
 /// Opens the texture of every material some triangle uses. A missing or unreadable one is an
 /// IoError naming the texture, the material and the model `name`, or, with

@@ -98,7 +98,7 @@ TEST(GoldenMultiAtlas, TwoAtlasesRenderLikeOne) {
   const TriangleMesh two = load_mesh(write_sphere(dir, true));
   ASSERT_EQ(one.materials.size(), 1u);
   ASSERT_EQ(two.materials.size(), 3u);
-  EXPECT_EQ(two.materials[0].texture_file.filename(), "atlas full.png");  // a name with a space
+  EXPECT_EQ(two.materials[0].texture.file.filename(), "atlas full.png");  // a name with a space
   ASSERT_EQ(two.triangle_materials.size(), two.triangles.size());
   std::size_t per_material[3] = {};
   for (const auto m : two.triangle_materials) ++per_material[m];

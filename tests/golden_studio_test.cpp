@@ -73,7 +73,7 @@ TEST(GoldenStudio, TexturedObj) {
   const TriangleMesh cube = load_mesh(file);
   ASSERT_TRUE(cube.has_texture()) << "the loader kept no UVs or no map_Kd";
   ASSERT_EQ(cube.materials.size(), 1u);
-  EXPECT_EQ(cube.materials[0].texture_file.filename(), "checker.png");
+  EXPECT_EQ(cube.materials[0].texture.file.filename(), "checker.png");
   EXPECT_EQ(cube.corner_uvs.size(), 3 * cube.triangles.size());
   studio_golden(Renderer(cube, small_options("studio")).render(Camera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0}),
                       "studio_textured_obj");

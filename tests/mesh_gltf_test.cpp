@@ -97,9 +97,9 @@ TEST(MeshGltf, NodeTransformsMaterialsAndExternalFiles) {
   ASSERT_EQ(mesh.materials.size(), 1u);
   const MeshMaterial& m = mesh.materials[0];
   EXPECT_EQ(m.name, "paint");
-  EXPECT_EQ(m.texture_file, dir / "checker.png");
-  EXPECT_EQ(m.wrap_s, TextureWrap::clamp);
-  EXPECT_EQ(m.wrap_t, TextureWrap::mirror);
+  EXPECT_EQ(m.texture.file, dir / "checker.png");
+  EXPECT_EQ(m.texture.wrap_s, TextureWrap::clamp);
+  EXPECT_EQ(m.texture.wrap_t, TextureWrap::mirror);
   ASSERT_TRUE(m.base_color);
   EXPECT_FLOAT_EQ(m.base_color->x(), 0.5f);
   ASSERT_TRUE(mesh.has_texture());
@@ -128,7 +128,7 @@ TEST(MeshGltf, GlbWithEmbeddedImageColoursStripsAndTextureTransform) {
   ASSERT_TRUE(mesh.has_colors());
   EXPECT_FLOAT_EQ(mesh.colors[0].x(), 1.0f);  // stored sRGB-encoded, like PLY colours
   ASSERT_EQ(mesh.materials.size(), 1u);
-  ASSERT_TRUE(mesh.materials[0].texture_bytes);
+  ASSERT_TRUE(mesh.materials[0].texture.bytes);
   EXPECT_TRUE(mesh.materials[0].texture_times_vertex_colors);
   const TextureSize size = probe_texture(mesh.materials[0]);
   EXPECT_EQ(size.width, 64);
@@ -172,7 +172,7 @@ TEST(MeshGltf, SpecularGlossinessDiffuseAndWebpTextures) {
     ASSERT_TRUE(mesh.materials[0].base_color);
     EXPECT_FLOAT_EQ(mesh.materials[0].base_color->x(), 0.25f);
     EXPECT_FLOAT_EQ(mesh.materials[0].base_color->y(), 0.5f);
-    ASSERT_TRUE(mesh.materials[0].texture_bytes);
+    ASSERT_TRUE(mesh.materials[0].texture.bytes);
     EXPECT_EQ(probe_texture(mesh.materials[0]).width, 64);
     // Vertex 1 at glTF uv (1, 1), scaled by 0.5: meshtour's (0.5, 1 - 0.5).
     EXPECT_NEAR((mesh.corner_uvs[1] - Eigen::Vector2f(0.5f, 0.5f)).norm(), 0.0f, 1e-6f);
@@ -198,7 +198,7 @@ TEST(MeshGltf, SpecularGlossinessDiffuseAndWebpTextures) {
     const TextureSize size = probe_texture(mesh.materials[0]);
     EXPECT_EQ(size.width, 64) << "with a PNG fallback: " << with_fallback;
     EXPECT_EQ(size.height, 64);
-    EXPECT_TRUE(mesh.materials[0].texture_file.string().ends_with(".webp"));
+    EXPECT_TRUE(mesh.materials[0].texture.file.string().ends_with(".webp"));
   }
   // A .gltf with the WebP image as a data URI (tinygltf decodes only PNG, JPEG, BMP and GIF ones).
   const auto base64 = [](const std::vector<unsigned char>& bytes) {

@@ -252,7 +252,7 @@ TEST(MeshLoader, PlyVertexTexcoordsAndTextureFileComment) {
   const TriangleMesh mesh = load_mesh(write_text(dir / "quad.ply", ply), nullptr, LoadOptions{.check_textures = false});
   ASSERT_EQ(mesh.triangles.size(), 2u);
   ASSERT_EQ(mesh.materials.size(), 1u);
-  EXPECT_EQ(mesh.materials[0].texture_file, dir / "my texture.png");
+  EXPECT_EQ(mesh.materials[0].texture.file, dir / "my texture.png");
   ASSERT_TRUE(mesh.has_texture());
   for (std::size_t f = 0; f < 2; ++f)
     for (int c = 0; c < 3; ++c) {

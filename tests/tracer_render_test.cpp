@@ -171,7 +171,7 @@ TEST(Renderer, TexturesAreDecodedLikeVertexColours) {
   const auto textured = [&](const std::string& file) {
     TriangleMesh mesh = uv_sphere(1.0, 32, 16);
     MeshMaterial m;
-    m.texture_file = dir / file;
+    m.texture.file = dir / file;
     mesh.materials = {m};
     mesh.triangle_materials.assign(mesh.triangles.size(), 0);
     mesh.corner_uvs.assign(3 * mesh.triangles.size(), Eigen::Vector2f(0.5f, 0.5f));

@@ -106,9 +106,9 @@ MemoryEstimate estimate_job_memory(std::size_t triangles, std::size_t vertices, 
 double estimate_decoded_texture_bytes(const TriangleMesh& mesh) {
   double bytes = 0.0;
   for (const MeshMaterial& material : mesh.materials)
-    if (material.has_texture()) {
+    for (const MeshTexture* map : material.maps()) {  // base colour and normal map alike
       try {
-        const TextureSize size = probe_texture(material);
+        const TextureSize size = probe_texture(*map, material.name);
         bytes += 4.0 / 3.0 * size.width * size.height * size.channels;
       } catch (const IoError&) {
         // An unreadable texture holds no memory; the loader or the renderer says what is wrong.

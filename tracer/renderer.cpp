@@ -26,6 +26,7 @@
 #include "tracer/denoiser.h"
 #include "tracer/film.h"
 #include "tracer/random.h"
+#include "mesh/tangents.h"
 #include "tracer/renderer_impl.h"
 #include "tracer/renderer_internal.h"
 #include "tracer/tracer.h"
@@ -118,8 +119,61 @@ OIIO::TextureOpt::MipMode mip_mode(MipFilter filter) {
   return OIIO::TextureOpt::MipModeTrilinear;
 }
 
-// One Surface per mesh material, with a texture handle per textured material (one texture system
-// for them all: its cache holds the tiles of every atlas within one memory budget).
+// Opens one map of a material in the renderer's texture system (made at the first map: its cache
+// holds the tiles of every atlas within one memory budget). `colour`: a base colour map, whose
+// 8-bit values are sRGB-encoded; a normal map's are linear.
+Renderer::Impl::Map open_map(Renderer::Impl& s, const MeshTexture& t, const std::string& material, const char* kind, bool colour) {
+  Renderer::Impl::Map map;
+  map.wrap_s = wrap_mode(t.wrap_s);
+  map.wrap_t = wrap_mode(t.wrap_t);
+  map.mag_interp = interp_mode(t.mag_filter);
+  map.min_interp = interp_mode(t.min_filter);
+  map.mip = mip_mode(t.mip_filter);
+  if (!s.textures) {
+    s.textures.reset(OIIO::TextureSystem::create(/*shared=*/false));
+    // Untiled images (JPEG, PNG atlases) are cached in 64x64 tiles rather than whole, so the
+    // cache's memory cap holds for 16k atlases too (the texels and the filtering are the same).
+    s.textures->attribute("autotile", 64);
+  }
+  const OIIO::ustring texture_name(t.file.string());
+  if (t.bytes) {
+    s.embedded_bytes.push_back(t.bytes);
+    s.embedded_images.push_back(std::make_unique<ImageBytesReader>(t.bytes->data(), t.bytes->size()));
+    OIIO::ImageSpec config;
+    void* proxy = s.embedded_images.back().get();
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    s.textures->imagecache()->add_file(texture_name, nullptr, &config);
+  }
+  int readable = 0;  // "exists" is 1 only for a file OpenImageIO can open as an image
+  s.textures->get_texture_info(texture_name, 0, OIIO::ustring("exists"), OIIO::TypeInt, &readable);
+  map.handle = readable ? s.textures->get_texture_handle(texture_name) : nullptr;
+  if (!map.handle || !s.textures->good(map.handle))
+    throw IoError(t.file.string() + ": cannot read the " + kind + " of material '" + material + "' (" + s.textures->geterror() +
+                  "); check the file the model names it in, or pass --missing-textures grey");
+  // OpenImageIO 2.4's texture system returns the file's values as stored (it has no colour
+  // transform), so the encoding is decided here: integer colour images (PNG, JPEG, WebP, 8/16-bit
+  // TIFF: scans' atlases, glTF base colour) are sRGB-encoded unless the file says linear; float
+  // images (EXR, HDR) and every normal map hold linear values.
+  int format = 0;
+  s.textures->get_texture_info(map.handle, nullptr, 0, OIIO::ustring("format"), OIIO::TypeInt, &format);
+  OIIO::ustring color_space;
+  s.textures->get_texture_info(map.handle, nullptr, 0, OIIO::ustring("oiio:ColorSpace"), OIIO::TypeString, &color_space);
+  const bool float_data = format == OIIO::TypeDesc::HALF || format == OIIO::TypeDesc::FLOAT || format == OIIO::TypeDesc::DOUBLE;
+  // A grey map (1 channel, or grey and alpha) is looked up as its first channel, made grey RGB.
+  int channels = 3;
+  s.textures->get_texture_info(map.handle, nullptr, 0, OIIO::ustring("channels"), OIIO::TypeInt, &channels);
+  map.grey = channels <= 2;
+  if (!colour && map.grey)
+    throw InputError(t.file.string() + ": the " + std::string(kind) + " of material '" + material +
+                     "' is a grey image; a normal map needs RGB (x, y, z)");
+  int resolution[2] = {1, 1};
+  s.textures->get_texture_info(map.handle, nullptr, 0, OIIO::ustring("resolution"), OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), resolution);
+  map.texels_across = static_cast<float>(std::max({resolution[0], resolution[1], 1}));
+  map.srgb = colour && !float_data && !OIIO::Strutil::iequals(color_space.string(), "linear");
+  return map;
+}
+
+// One Surface per mesh material, with its maps opened.
 void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_texture) {
   if (mesh.materials.empty()) return;
   const bool textured = use_texture && mesh.has_texture();
@@ -128,50 +182,10 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
     surface.factor = m.base_color.value_or(Eigen::Vector3f::Ones());
     surface.replaces_base_color = m.base_color.has_value();
     surface.texture_times_vertex_colors = m.texture_times_vertex_colors;
-    surface.wrap_s = wrap_mode(m.wrap_s);
-    surface.wrap_t = wrap_mode(m.wrap_t);
-    surface.mag_interp = interp_mode(m.mag_filter);
-    surface.min_interp = interp_mode(m.min_filter);
-    surface.mip = mip_mode(m.mip_filter);
-    if (textured && m.has_texture()) {
-      if (!s.textures) {
-        s.textures.reset(OIIO::TextureSystem::create(/*shared=*/false));
-        // Untiled images (JPEG, PNG atlases) are cached in 64x64 tiles rather than whole, so the
-        // cache's memory cap holds for 16k atlases too (the texels and the filtering are the same).
-        s.textures->attribute("autotile", 64);
-      }
-      const OIIO::ustring texture_name(m.texture_file.string());
-      if (m.texture_bytes) {
-        s.embedded_bytes.push_back(m.texture_bytes);
-        s.embedded_images.push_back(std::make_unique<ImageBytesReader>(m.texture_bytes->data(), m.texture_bytes->size()));
-        OIIO::ImageSpec config;
-        void* proxy = s.embedded_images.back().get();
-        config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-        s.textures->imagecache()->add_file(texture_name, nullptr, &config);
-      }
-      int readable = 0;  // "exists" is 1 only for a file OpenImageIO can open as an image
-      s.textures->get_texture_info(texture_name, 0, OIIO::ustring("exists"), OIIO::TypeInt, &readable);
-      surface.texture = readable ? s.textures->get_texture_handle(texture_name) : nullptr;
-      if (!surface.texture || !s.textures->good(surface.texture))
-        throw IoError(m.texture_file.string() + ": cannot read the texture of material '" + m.name + "' (" +
-                      s.textures->geterror() + "); check the file the model names it in, or pass --missing-textures grey");
-      // OpenImageIO 2.4's texture system returns the file's values as stored (it has no colour
-      // transform), so the encoding is decided here: integer images (PNG, JPEG, WebP, 8/16-bit
-      // TIFF: scans' atlases, glTF base colour) are sRGB-encoded unless the file says linear;
-      // float images (EXR, HDR) hold linear values.
-      int format = 0;
-      s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("format"), OIIO::TypeInt, &format);
-      OIIO::ustring color_space;
-      s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("oiio:ColorSpace"), OIIO::TypeString, &color_space);
-      const bool float_data = format == OIIO::TypeDesc::HALF || format == OIIO::TypeDesc::FLOAT || format == OIIO::TypeDesc::DOUBLE;
-      // A grey map (1 channel, or grey and alpha) is looked up as its first channel, made grey RGB.
-      int channels = 3;
-      s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("channels"), OIIO::TypeInt, &channels);
-      surface.texture_grey = channels <= 2;
-      int resolution[2] = {1, 1};
-      s.textures->get_texture_info(surface.texture, nullptr, 0, OIIO::ustring("resolution"), OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), resolution);
-      surface.texels_across = static_cast<float>(std::max({resolution[0], resolution[1], 1}));
-      surface.texture_srgb = !float_data && !OIIO::Strutil::iequals(color_space.string(), "linear");
+    if (textured && m.texture.present()) surface.texture = open_map(s, m.texture, m.name, "texture", true);
+    if (textured && m.normal_texture.present()) {
+      surface.normal_map = open_map(s, m.normal_texture, m.name, "normal texture", false);
+      surface.normal_scale = m.normal_scale;
     }
     s.surfaces.push_back(surface);
   }
@@ -187,6 +201,33 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
     const Eigen::Vector2f a = s.corner_uvs[3 * i + 1] - s.corner_uvs[3 * i], b = s.corner_uvs[3 * i + 2] - s.corner_uvs[3 * i];
     const float uv = std::abs(a.x() * b.y() - a.y() * b.x());
     s.uv_scale[i] = world > 0.0f ? std::sqrt(uv / world) : 0.0f;
+  }
+}
+
+// The shading normals per corner where the file has its own (a corner without one takes the
+// smooth vertex normal), and, where some surface has a normal map, per-corner tangents: the
+// file's, else generated (mesh/tangents.h) against these normals.
+void set_up_corner_frames(Renderer::Impl& s, const TriangleMesh& mesh) {
+  const std::size_t corners = 3 * s.triangles.size();
+  const bool mapped = std::any_of(s.surfaces.begin(), s.surfaces.end(), [](const Renderer::Impl::Surface& f) { return f.normal_map.handle; });
+  const bool own_normals = mesh.corner_normals.size() == corners;
+  if (!own_normals && !mapped) return;
+  s.corner_normals.resize(corners);
+  for (std::size_t c = 0; c < corners; ++c) {
+    const Eigen::Vector3f vertex = s.normals[s.triangles[c / 3][c % 3]];
+    s.corner_normals[c] = own_normals && mesh.corner_normals[c].squaredNorm() > 0.0f ? mesh.corner_normals[c] : vertex;
+  }
+  if (!mapped) return;
+  if (mesh.corner_tangents.size() == corners && own_normals) {
+    s.corner_tangents = mesh.corner_tangents;
+    // A corner the file gives no tangent (a primitive without TANGENT) gets a generated one.
+    if (std::any_of(s.corner_tangents.begin(), s.corner_tangents.end(), [](const Eigen::Vector4f& t) { return t.w() == 0.0f; })) {
+      const std::vector<Eigen::Vector4f> generated = corner_tangents(s.positions, s.triangles, s.corner_normals, s.corner_uvs);
+      for (std::size_t c = 0; c < corners; ++c)
+        if (s.corner_tangents[c].w() == 0.0f) s.corner_tangents[c] = generated[c];
+    }
+  } else {
+    s.corner_tangents = corner_tangents(s.positions, s.triangles, s.corner_normals, s.corner_uvs);
   }
 }
 
@@ -430,6 +471,7 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::
     for (const std::uint32_t v : copied_from) s.colors.push_back(s.colors[v]);
   }
   set_up_surfaces(s, mesh, material.use_texture);
+  set_up_corner_frames(s, mesh);
 
   s.rays = rays ? std::move(rays) : std::make_shared<const RayScene>(mesh);
   if (s.rays->triangle_count() != mesh.triangles.size())

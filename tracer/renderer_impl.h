@@ -102,25 +102,35 @@ struct Renderer::Impl {
   bool has_ground = false;
   float ground_height = 0.0f;  // dot(point, up) of the ground plane
   float ground_half = 0.0f;    // half its side: far beyond any shadow; looks infinite
-  // The mesh's materials as the tiles use them: texture handle, colour factor and wrap modes.
-  struct Surface {
-    OIIO::TextureSystem::TextureHandle* texture = nullptr;  // none: untextured
-    Eigen::Vector3f factor{1.0f, 1.0f, 1.0f};
-    bool replaces_base_color = false;   // untextured with a colour of its own (not the look's)
-    bool texture_times_vertex_colors = false;
-    bool texture_grey = false;  // a 1- or 2-channel (grey, grey + alpha) texture: its first channel is grey
-    bool texture_srgb = false;  // the texture's values are sRGB-encoded: decoded to linear after the lookup
+  // One image map of a material as the tiles look it up: its handle and the format's rules.
+  struct Map {
+    OIIO::TextureSystem::TextureHandle* handle = nullptr;  // none: no map
     OIIO::TextureOpt::Wrap wrap_s = OIIO::TextureOpt::WrapPeriodic, wrap_t = OIIO::TextureOpt::WrapPeriodic;
-    // The format's filters (MeshMaterial): the magnification one where a sample's footprint is
+    // The format's filters (MeshTexture): the magnification one where a sample's footprint is
     // under a texel of the largest side, the minification one and the mipmap mode elsewhere.
     OIIO::TextureOpt::InterpMode mag_interp = OIIO::TextureOpt::InterpBilinear, min_interp = OIIO::TextureOpt::InterpBilinear;
     OIIO::TextureOpt::MipMode mip = OIIO::TextureOpt::MipModeTrilinear;
-    float texels_across = 1.0f;  // the texture's larger side in texels
+    float texels_across = 1.0f;  // the image's larger side in texels
+    bool grey = false;  // a 1- or 2-channel (grey, grey + alpha) image: its first channel is grey
+    bool srgb = false;  // the values are sRGB-encoded: decoded to linear after the lookup
+  };
+  // The mesh's materials as the tiles use them: maps, colour factor.
+  struct Surface {
+    Map texture;     // the base colour map
+    Map normal_map;  // a tangent-space normal map
+    float normal_scale = 1.0f;
+    Eigen::Vector3f factor{1.0f, 1.0f, 1.0f};
+    bool replaces_base_color = false;   // untextured with a colour of its own (not the look's)
+    bool texture_times_vertex_colors = false;
   };
   std::vector<Surface> surfaces;              // empty: the look's material everywhere
   std::vector<std::uint32_t> triangle_surface;  // per triangle; empty = surface 0
-  // Per-corner UVs, when some surface has a texture.
+  // Per-corner UVs, when some surface has a map.
   std::vector<Eigen::Vector2f> corner_uvs;
+  // Per-corner shading normals, when the file has its own or a normal map needs them (else
+  // `normals` per vertex), and per-corner tangents (xyz, w = bitangent sign) for normal maps.
+  std::vector<Eigen::Vector3f> corner_normals;
+  std::vector<Eigen::Vector4f> corner_tangents;
   std::vector<float> uv_scale;  // per triangle: sqrt(uv area / world area), for the filter footprint
   // Embedded images (glTF) read through these; declared before `textures`, which reads them until
   // it is destroyed.

@@ -503,8 +503,26 @@ MESHTOUR_SIMD_INLINE void shade_background(const Frame& f, const V3& bg, ShadedS
   sh.guide_depth = simd::broadcast(std::numeric_limits<float>::infinity());
 }
 
-// The model's surface at the hits: the smooth normal (facing the camera) and the albedo, from the
-// hit triangle's vertices (gathers), its material and its texture.
+// One lookup of a map at `uv` (OBJ's convention, v up) with a footprint of `width_uv`: RGB, or
+// false where OpenImageIO has no value (then `rgb` is untouched).
+MESHTOUR_SIMD_INLINE bool look_up(const Impl& r, Scratch& scratch, const Impl::Map& map, const Eigen::Vector2f& uv, float width_uv,
+                                  float (&rgb)[3]) {
+  OIIO::TextureOpt opt;
+  opt.swrap = map.wrap_s;
+  opt.twrap = map.wrap_t;
+  const bool magnified = width_uv * map.texels_across <= 1.0f;
+  opt.interpmode = magnified ? map.mag_interp : map.min_interp;
+  opt.mipmode = magnified ? OIIO::TextureOpt::MipModeNoMIP : map.mip;
+  // OBJ's v runs upwards; OpenImageIO's t runs down the image.
+  if (!r.textures->texture(map.handle, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv, map.grey ? 1 : 3,
+                           rgb))
+    return false;
+  if (map.grey) rgb[1] = rgb[2] = rgb[0];
+  return true;
+}
+
+// The model's surface at the hits: the shading normal (facing the camera) and the albedo, from the
+// hit triangle's corners (gathers), its material and its maps.
 struct SurfacePoint {
   V3 n, albedo;
 };
@@ -520,33 +538,25 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
     const std::size_t prim = primary.hit.primID[l];
     const auto& tri = r.triangles[prim];
     const float bu = primary.hit.u[l], bv = primary.hit.v[l], bw = 1.0f - bu - bv;
-    const Eigen::Vector3f n = bw * r.normals[tri[0]] + bu * r.normals[tri[1]] + bv * r.normals[tri[2]];
-    nx[l] = n.x();
-    ny[l] = n.y();
-    nz[l] = n.z();
+    Eigen::Vector3f n = r.corner_normals.empty()
+                            ? Eigen::Vector3f(bw * r.normals[tri[0]] + bu * r.normals[tri[1]] + bv * r.normals[tri[2]])
+                            : Eigen::Vector3f(bw * r.corner_normals[3 * prim] + bu * r.corner_normals[3 * prim + 1] + bv * r.corner_normals[3 * prim + 2]);
     Eigen::Vector3f c(ar[l], ag[l], ab[l]);
     if (!r.colors.empty()) c = bw * r.colors[tri[0]] + bu * r.colors[tri[1]] + bv * r.colors[tri[2]];
     if (!r.surfaces.empty()) {
       const Impl::Surface& surface = r.surfaces[r.triangle_surface.empty() ? 0 : r.triangle_surface[prim]];
-      if (surface.texture) {
-        const Eigen::Vector2f uv = bw * r.corner_uvs[3 * prim] + bu * r.corner_uvs[3 * prim + 1] + bv * r.corner_uvs[3 * prim + 2];
-        // Isotropic footprint of one sample in texture space: the pixel's width at this
-        // distance, stretched by the slant, divided by sqrt(spp) because the samples already
-        // average over the pixel.
-        const float slant = std::max(0.2f, std::abs(h.ng.x[l] * dir.x[l] + h.ng.y[l] * dir.y[l] + h.ng.z[l] * dir.z[l]));
-        const float width_uv = r.uv_scale[prim] * h.t[l] * f.pixel_angle / slant / std::sqrt(static_cast<float>(f.spp));
-        OIIO::TextureOpt opt;
-        opt.swrap = surface.wrap_s;
-        opt.twrap = surface.wrap_t;
-        const bool magnified = width_uv * surface.texels_across <= 1.0f;
-        opt.interpmode = magnified ? surface.mag_interp : surface.min_interp;
-        opt.mipmode = magnified ? OIIO::TextureOpt::MipModeNoMIP : surface.mip;
+      const bool mapped = surface.texture.handle || surface.normal_map.handle;
+      const Eigen::Vector2f uv = mapped ? Eigen::Vector2f(bw * r.corner_uvs[3 * prim] + bu * r.corner_uvs[3 * prim + 1] + bv * r.corner_uvs[3 * prim + 2])
+                                        : Eigen::Vector2f::Zero();
+      // Isotropic footprint of one sample in texture space: the pixel's width at this
+      // distance, stretched by the slant, divided by sqrt(spp) because the samples already
+      // average over the pixel.
+      const float slant = std::max(0.2f, std::abs(h.ng.x[l] * dir.x[l] + h.ng.y[l] * dir.y[l] + h.ng.z[l] * dir.z[l]));
+      const float width_uv = mapped ? r.uv_scale[prim] * h.t[l] * f.pixel_angle / slant / std::sqrt(static_cast<float>(f.spp)) : 0.0f;
+      if (surface.texture.handle) {
         float rgb[3] = {0, 0, 0};
-        // OBJ's v runs upwards; OpenImageIO's t runs down the image.
-        if (r.textures->texture(surface.texture, scratch.texture_thread, opt, uv.x(), 1.0f - uv.y(), width_uv, 0.0f, 0.0f, width_uv,
-                                surface.texture_grey ? 1 : 3, rgb)) {
-          if (surface.texture_grey) rgb[1] = rgb[2] = rgb[0];
-          const Eigen::Vector3f texel = surface.texture_srgb ? srgb_to_linear(Eigen::Vector3f(rgb[0], rgb[1], rgb[2]))
+        if (look_up(r, scratch, surface.texture, uv, width_uv, rgb)) {
+          const Eigen::Vector3f texel = surface.texture.srgb ? srgb_to_linear(Eigen::Vector3f(rgb[0], rgb[1], rgb[2]))
                                                              : Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
           c = surface.texture_times_vertex_colors && !r.colors.empty() ? Eigen::Vector3f(texel.cwiseProduct(c)) : texel;
         }
@@ -554,7 +564,29 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
       } else if (surface.replaces_base_color) {
         c = r.colors.empty() ? surface.factor : Eigen::Vector3f(c.cwiseProduct(surface.factor));
       }
+      float rgb[3];
+      if (surface.normal_map.handle && look_up(r, scratch, surface.normal_map, uv, width_uv, rgb)) {
+        // The map's (x, y, z) in the corner frame (tangent, bitangent, normal), glTF's rule:
+        // normalize((2 value - 1) * (scale, scale, 1)), the frame's tangent made perpendicular.
+        const Eigen::Vector3f m((2.0f * rgb[0] - 1.0f) * surface.normal_scale, (2.0f * rgb[1] - 1.0f) * surface.normal_scale, 2.0f * rgb[2] - 1.0f);
+        const Eigen::Vector4f* ct = &r.corner_tangents[3 * prim];
+        const Eigen::Vector3f along = bw * ct[0].head<3>() + bu * ct[1].head<3>() + bv * ct[2].head<3>();
+        const float n_len = n.norm();
+        if (n_len > 0.0f) {
+          const Eigen::Vector3f unit_n = n / n_len;
+          Eigen::Vector3f t = along - unit_n * unit_n.dot(along);
+          if (t.squaredNorm() > 0.0f) {
+            t.normalize();
+            const Eigen::Vector3f b = unit_n.cross(t) * (ct[0].w() < 0.0f ? -1.0f : 1.0f);
+            const Eigen::Vector3f mapped_n = m.x() * t + m.y() * b + m.z() * unit_n;
+            if (mapped_n.squaredNorm() > 0.0f) n = mapped_n;
+          }
+        }
+      }
     }
+    nx[l] = n.x();
+    ny[l] = n.y();
+    nz[l] = n.z();
     ar[l] = c.x();
     ag[l] = c.y();
     ab[l] = c.z();

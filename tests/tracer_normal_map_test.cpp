@@ -1,0 +1,167 @@
+// Normal maps and the file's own normals, seen through the normal layer (the world-space shading
+// normal the denoiser is guided by) of a square quad facing the camera: a map of one tilted
+// normal must tilt the whole quad along the frame its UVs and tangents give, the way the glTF
+// specification reads it (+x along increasing u, +y along increasing v up the image, w turning
+// the bitangent), and a file's NORMAL must be the shading normal.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include "gltf_writer.h"
+#include "helpers.h"
+#include "core/error.h"
+#include "tracer/tracer.h"
+
+namespace meshtour {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct QuadSpec {
+  std::optional<Eigen::Vector3f> normal;   // NORMAL of every vertex, or none
+  std::optional<Eigen::Vector4f> tangent;  // TANGENT of every vertex, or none
+  std::optional<Eigen::Vector3f> mapped;   // the normal map's one tangent-space normal, or no map
+  bool mirrored_u = false;                 // u runs right to left
+  double scale = 1.0;                      // normalTexture.scale
+  QuadSpec with_normal(Eigen::Vector3f n) const { QuadSpec q = *this; q.normal = n; return q; }
+  QuadSpec with_tangent(Eigen::Vector4f t) const { QuadSpec q = *this; q.tangent = t; return q; }
+  QuadSpec with_map(Eigen::Vector3f m) const { QuadSpec q = *this; q.mapped = m; return q; }
+  QuadSpec mirrored() const { QuadSpec q = *this; q.mirrored_u = true; return q; }
+  QuadSpec scaled(double k) const { QuadSpec q = *this; q.scale = k; return q; }
+};
+
+// A one-colour 8x8 PNG holding the tangent-space normal `m` as glTF stores it (m * 0.5 + 0.5).
+std::vector<unsigned char> normal_map_png(const fs::path& dir, const Eigen::Vector3f& m) {
+  OIIO::ImageBuf tex(OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8));
+  const Eigen::Vector3f v = (m.normalized() * 0.5f).array() + 0.5f;
+  OIIO::ImageBufAlgo::fill(tex, v.data());
+  const fs::path file = dir / "normal.png";
+  EXPECT_TRUE(tex.write(file.string())) << tex.geterror();
+  return test::read_bytes(file);
+}
+
+fs::path write_quad(const fs::path& dir, const QuadSpec& q) {
+  test::GltfBuilder g;
+  const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  std::vector<float> positions, uvs, normals, tangents;
+  for (const auto& c : corners) {
+    positions.insert(positions.end(), {c[0], c[1], 0.0f});
+    const float u = (c[0] + 1) / 2, v = (c[1] + 1) / 2;  // v up the image
+    uvs.insert(uvs.end(), {q.mirrored_u ? 1 - u : u, 1 - v});  // glTF's v runs down
+    if (q.normal) normals.insert(normals.end(), {q.normal->x(), q.normal->y(), q.normal->z()});
+    if (q.tangent) tangents.insert(tangents.end(), {q.tangent->x(), q.tangent->y(), q.tangent->z(), q.tangent->w()});
+  }
+  nlohmann::json attributes = {{"POSITION", g.floats(positions, 3)}, {"TEXCOORD_0", g.floats(uvs, 2)}};
+  if (q.normal) attributes["NORMAL"] = g.floats(normals, 3);
+  if (q.tangent) attributes["TANGENT"] = g.floats(tangents, 4);
+  const int idx = g.indices({0, 1, 2, 0, 2, 3});
+  g.doc["meshes"] = {{{"primitives", {{{"attributes", attributes}, {"indices", idx}, {"material", 0}}}}}};
+  g.doc["nodes"] = {{{"mesh", 0}}};
+  g.doc["scenes"] = {{{"nodes", {0}}}};
+  g.doc["scene"] = 0;
+  nlohmann::json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.8, 0.8, 1.0}}}}};
+  if (q.mapped) {
+    g.embedded_image(normal_map_png(dir, *q.mapped), "image/png");
+    g.doc["textures"] = {{{"source", 0}}};
+    material["normalTexture"] = {{"index", 0}, {"scale", q.scale}};
+  }
+  g.doc["materials"] = {material};
+  g.write_glb(dir / "quad.glb");
+  return dir / "quad.glb";
+}
+
+// The mean shading normal over the middle of the frame (the quad fills it).
+Eigen::Vector3f shading_normal(const fs::path& model) {
+  RenderOptions options;
+  options.width = options.height = 32;
+  options.samples_per_pixel = 4;
+  options.shading = look_preset("plain");
+  options.layers.normal = true;
+  options.denoise = false;
+  const double fov = 2.0 * std::atan(0.2) * 180.0 / std::numbers::pi;
+  const Image img = Renderer(load_mesh(model), options).render(Camera{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, fov});
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  for (int y = 8; y < 24; ++y)
+    for (int x = 8; x < 24; ++x) sum += Eigen::Map<const Eigen::Vector3f>(&img.normal[(static_cast<std::size_t>(y) * 32 + x) * 3]);
+  return sum.normalized();
+}
+
+void expect_near(const Eigen::Vector3f& got, const Eigen::Vector3f& want, const char* what) {
+  EXPECT_LT((got - want.normalized()).norm(), 0.01f) << what << ": got " << got.transpose() << ", want " << want.normalized().transpose();
+}
+
+const Eigen::Vector3f kUp(0, 0, 1);
+const float kSin = 0.5f, kCos = 0.8660254f;  // 30 degrees
+
+TEST(NormalMap, TiltsTheShadingNormalAlongTheFrameOfTheUvs) {
+  const fs::path dir = test::scratch_dir();
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(kUp))), kUp, "no map");
+  // +x of the map is increasing u (right), +y is increasing v (up the image).
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(kUp).with_map(Eigen::Vector3f(kSin, 0, kCos)))), {kSin, 0, kCos}, "tilt along u");
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(kUp).with_map(Eigen::Vector3f(0, kSin, kCos)))), {0, kSin, kCos}, "tilt along v");
+  // Mirrored UVs: u runs left, so +x of the map does too; the generated tangent's w keeps +y up.
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(kUp).with_map(Eigen::Vector3f(kSin, 0, kCos)).mirrored())),
+              {-kSin, 0, kCos}, "mirrored, along u");
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(kUp).with_map(Eigen::Vector3f(0, kSin, kCos)).mirrored())),
+              {0, kSin, kCos}, "mirrored, along v");
+  // Without NORMAL in the file the map works on the computed normals.
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_map(Eigen::Vector3f(kSin, 0, kCos)))), {kSin, 0, kCos}, "computed normals");
+  // The scale multiplies x and y: 0 leaves the surface's own normal.
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(kUp).with_map(Eigen::Vector3f(kSin, 0, kCos)).scaled(0.0))), kUp, "scale 0");
+}
+
+TEST(NormalMap, TheFilesTangentsAreUsed) {
+  const fs::path dir = test::scratch_dir();
+  // TANGENT +y (w +1): the bitangent is cross(n, t) = -x, so +x of the map points up the frame.
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(kUp).with_tangent(Eigen::Vector4f(0, 1, 0, 1)).with_map(Eigen::Vector3f(kSin, 0, kCos)))),
+              {0, kSin, kCos}, "tangent +y");
+  // w -1 turns the bitangent: +y of the map points right.
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(kUp).with_tangent(Eigen::Vector4f(0, 1, 0, -1)).with_map(Eigen::Vector3f(0, kSin, kCos)))),
+              {kSin, 0, kCos}, "tangent +y, w -1");
+}
+
+// A damaged normal map is refused naming it, or with --missing-textures grey left out with a
+// warning (the faces keep their colour and their own normals).
+TEST(NormalMap, ADamagedMapIsNamedOrLeftOut) {
+  const fs::path dir = test::scratch_dir();
+  // The PNG's bytes cut short inside the GLB: rewrite the file with half an image.
+  test::GltfBuilder g;
+  std::vector<unsigned char> png = normal_map_png(dir, Eigen::Vector3f(kSin, 0, kCos));
+  png.resize(png.size() / 2);
+  const std::vector<float> positions = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0}, uvs = {0, 1, 1, 1, 1, 0, 0, 0};
+  const nlohmann::json attributes = {{"POSITION", g.floats(positions, 3)}, {"TEXCOORD_0", g.floats(uvs, 2)}};
+  const int idx = g.indices({0, 1, 2, 0, 2, 3});
+  g.doc["meshes"] = {{{"primitives", {{{"attributes", attributes}, {"indices", idx}, {"material", 0}}}}}};
+  g.doc["nodes"] = {{{"mesh", 0}}};
+  g.embedded_image(png, "image/png");
+  g.doc["textures"] = {{{"source", 0}}};
+  g.doc["materials"] = {{{"name", "stone"}, {"normalTexture", {{"index", 0}}}}};
+  g.write_glb(dir / "damaged.glb");
+  try {
+    load_mesh(dir / "damaged.glb");
+    ADD_FAILURE() << "a damaged normal map was accepted";
+  } catch (const IoError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("the normal texture of material 'stone'"), std::string::npos) << message;
+    EXPECT_NE(message.find("--missing-textures grey"), std::string::npos) << message;
+  }
+  LoadReport report;
+  const TriangleMesh grey = load_mesh(dir / "damaged.glb", &report, LoadOptions{.missing_textures_grey = true});
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("without their normal map"), std::string::npos) << report.warnings[0];
+  EXPECT_FALSE(grey.materials[0].normal_texture.present());
+}
+
+TEST(FileNormals, AreTheShadingNormals) {
+  const fs::path dir = test::scratch_dir();
+  // A flat quad whose file says its normals lean 37 degrees to the right: computed normals would
+  // be (0, 0, 1).
+  expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(Eigen::Vector3f(0.6f, 0, 0.8f)))), {0.6f, 0, 0.8f}, "file normals");
+}
+
+}  // namespace
+}  // namespace meshtour
