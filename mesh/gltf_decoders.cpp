@@ -128,6 +128,8 @@ PrimitiveData decode_draco(const tinygltf::Model& model, const tinygltf::Value& 
   read(position, data.positions);
   if (want_colors) read(attribute("COLOR_0"), data.colors);
   if (uv_set >= 0) read(attribute("TEXCOORD_" + std::to_string(uv_set)), data.uvs);
+  read(attribute("NORMAL"), data.normals);
+  read(attribute("TANGENT"), data.tangents);
   for (int set = 0; want_skin; ++set) {
     const draco::PointAttribute* joints = attribute("JOINTS_" + std::to_string(set));
     const draco::PointAttribute* weights = attribute("WEIGHTS_" + std::to_string(set));

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 #include <optional>
 
@@ -161,6 +162,24 @@ TEST(FileNormals, AreTheShadingNormals) {
   // A flat quad whose file says its normals lean 37 degrees to the right: computed normals would
   // be (0, 0, 1).
   expect_near(shading_normal(write_quad(dir, QuadSpec{}.with_normal(Eigen::Vector3f(0.6f, 0, 0.8f)))), {0.6f, 0, 0.8f}, "file normals");
+}
+
+// The same through KHR_draco_mesh_compression (Voyager's deliveries are Draco GLBs): the decoded
+// NORMAL is the shading normal, to Draco's quantisation.
+TEST(FileNormals, AreReadFromDracoData) {
+  if (std::system("command -v draco_transcoder >/dev/null 2>&1") != 0) {
+    if (std::getenv("MESHTOUR_REQUIRE_SHARED")) FAIL() << "draco_transcoder is not installed (scripts/install-deps.sh --tests)";
+    GTEST_SKIP() << "draco_transcoder is not installed (Debian package draco)";
+  }
+  const fs::path dir = test::scratch_dir();
+  const fs::path plain = write_quad(dir, QuadSpec{}.with_normal(Eigen::Vector3f(0.6f, 0, 0.8f))), draco = dir / "draco.glb";
+  const std::string command = "draco_transcoder -i '" + plain.string() + "' -o '" + draco.string() + "' >/dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  ASSERT_NE(test::read_bytes(draco), test::read_bytes(plain));
+  const TriangleMesh mesh = load_mesh(draco);
+  ASSERT_EQ(mesh.corner_normals.size(), 6u);
+  for (const Eigen::Vector3f& n : mesh.corner_normals) EXPECT_LT((n - Eigen::Vector3f(0.6f, 0, 0.8f)).norm(), 0.02f) << n.transpose();
+  expect_near(shading_normal(draco), {0.6f, 0, 0.8f}, "Draco normals");
 }
 
 }  // namespace
