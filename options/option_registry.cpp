@@ -133,6 +133,17 @@ std::vector<Option> make_registry() {
                "gradient) or plain (even light, no shadows, for catalogues); the scene file's own look values still apply "
                "(default: the scene's, else studio)",
        .scene_key = "look.preset", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "environment", .flag = "--environment", .kind = Kind::text, .type_name = "FILE", .default_text = "none",
+       .help = "Image-based light in place of the look's uniform sky: an equirectangular HDR or EXR image (2:1), or\n"
+               "neutral (a built-in studio: softbox above, strips at the sides, a grey room). Its diffuse light,\n"
+               "occluded like the sky, lights the model; the look's lights stay; the background stays the look's",
+       .scene_key = "look.environment", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "environment-rotation", .flag = "--environment-rotation", .kind = Kind::number, .lo = -360, .hi = 360,
+       .default_text = "0", .help = "Turns the environment about the up axis (degrees)", .scene_key = "look.environment_rotation",
+       .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "environment-intensity", .flag = "--environment-intensity", .kind = Kind::number, .lo = 0, .hi = 1000,
+       .default_text = "1", .help = "Multiplies the environment's light (neutral: 1 lights a white surface facing up as 1.0)",
+       .scene_key = "look.environment_intensity", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "crease-angle", .flag = "--crease-angle", .kind = Kind::number, .lo = 0, .hi = 180, .default_text = "60",
        .help = "Edges where faces meet at more than this angle (degrees) are shaded sharp, smaller ones smooth\n"
                "(default 60: a box, a plinth or a CAD part keeps flat faces, a scan stays smooth; 180 smooths every edge)",

@@ -19,6 +19,7 @@
 #include "mesh/up_axis.h"
 #include "scenes/voyager.h"
 #include "default_scene.h"
+#include "tracer/environment.h"
 
 namespace meshtour {
 namespace {
@@ -61,6 +62,9 @@ void set_background(Shading& sh, const std::string& text) {
 void set_exposure(Shading& sh, const std::string& text) { sh.exposure = std::stof(text); }
 void set_crease_angle(Shading& sh, const std::string& text) { sh.material.crease_angle_deg = std::stof(text); }
 void set_tone_mapping(Shading& sh, const std::string& text) { sh.tone_mapping = parse_tone_mapping(text); }
+void set_environment(Shading& sh, const std::string& text) { sh.environment = text == "none" ? nullptr : environment_named(text); }
+void set_environment_rotation(Shading& sh, const std::string& text) { sh.environment_rotation_deg = std::stof(text); }
+void set_environment_intensity(Shading& sh, const std::string& text) { sh.environment_intensity = std::stof(text); }
 
 // One registered look key: checked by its row, then set.
 void read_look_value(JsonReader& look, const std::string& key, std::string_view id, Shading& sh,
@@ -70,7 +74,7 @@ void read_look_value(JsonReader& look, const std::string& key, std::string_view 
 
 // The values of a "look" object over `sh` (the preset is the caller's: apply_look). The object
 // was checked when the file was read, so putting them back over another preset cannot fail.
-void apply_look_values(JsonReader& look, const std::string& source, Shading& sh) {
+void apply_look_values(JsonReader& look, const std::string& source, Shading& sh, const std::filesystem::path& base_dir) {
   Material& m = sh.material;
   read_color(look, "base_color", m.base_color);
   look.read("roughness", m.roughness, 0.0, 1.0);
@@ -115,19 +119,26 @@ void apply_look_values(JsonReader& look, const std::string& source, Shading& sh)
   read_color(look, "background_bottom", sh.background_bottom);
   read_look_value(look, "exposure", "exposure", sh, set_exposure);
   read_look_value(look, "tone_mapping", "tone-mapping", sh, set_tone_mapping);
+  // An environment file is relative to the scene file, like the model.
+  if (const auto text = read_registered(look, "environment", options::option("environment"))) {
+    const std::filesystem::path p(*text);
+    set_environment(sh, *text == "none" || *text == "neutral" || p.is_absolute() ? *text : (base_dir / p).string());
+  }
+  read_look_value(look, "environment_rotation", "environment-rotation", sh, set_environment_rotation);
+  read_look_value(look, "environment_intensity", "environment-intensity", sh, set_environment_intensity);
 }
 
 // The "look" object: its preset, then its values; kept as the scene's file_look, so that a preset
 // chosen later (--preset) gets the file's values too.
-void apply_look(const json& look_json, const std::string& source, Scene& scene) {
+void apply_look(const json& look_json, const std::string& source, Scene& scene, const std::filesystem::path& base_dir) {
   JsonReader look(look_json, source, "look");
   const std::string preset = read_registered(look, "preset", options::option("preset")).value_or(scene.render.shading.preset);
   scene.render.shading = look_preset(preset);
-  apply_look_values(look, source, scene.render.shading);
+  apply_look_values(look, source, scene.render.shading, base_dir);
   look.finish();
-  scene.file_look = [look_json, source](Shading& sh) {
+  scene.file_look = [look_json, source, base_dir](Shading& sh) {
     JsonReader again(look_json, source, "look");
-    apply_look_values(again, source, sh);
+    apply_look_values(again, source, sh, base_dir);
   };
 }
 
@@ -201,6 +212,9 @@ const std::map<std::string_view, SceneSetter>& scene_bindings() {
       {"background", [](S s, T t) { set_background(s.render.shading, t); }},
       {"exposure", [](S s, T t) { set_exposure(s.render.shading, t); }},
       {"tone-mapping", [](S s, T t) { set_tone_mapping(s.render.shading, t); }},
+      {"environment", [](S s, T t) { set_environment(s.render.shading, t); }},
+      {"environment-rotation", [](S s, T t) { set_environment_rotation(s.render.shading, t); }},
+      {"environment-intensity", [](S s, T t) { set_environment_intensity(s.render.shading, t); }},
       {"exr-layers",
        [](S s, T t) {
          ExtraLayers& layers = s.render.layers;
@@ -326,7 +340,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     if (std::string_view(section) == "output") object.read("filter_radius", scene.render.filter_radius, 0.5, 2.0);
     object.finish();
   }
-  if (top.has("look")) apply_look(top.raw("look"), source, scene);
+  if (top.has("look")) apply_look(top.raw("look"), source, scene, base_dir);
   top.finish();
   return scene;
 }

@@ -141,6 +141,10 @@ TEST(TourCommand, BadInputGivesOneClearLineAndNoVideo) {
   std::ofstream(dir / "garbage.off") << "OFF\nthis is not a number\n\x01\x02";
   std::ofstream(dir / "empty.obj") << "# nothing here\n";
   std::ofstream(dir / "points.obj") << "v 0 0 0\nv 1 0 0\n";
+  {
+    OIIO::ImageBuf square(OIIO::ImageSpec(16, 16, 3, OIIO::TypeDesc::FLOAT));
+    ASSERT_TRUE(square.write((dir / "square.exr").string()));
+  }
   const std::vector<BadInput> cases = {
       {"missing file", test::shell_quoted(dir / "nope.ply"), 3, "no such file"},
       {"corrupt PLY", test::shell_quoted(dir / "garbage.ply"), 2, "corrupt PLY"},
@@ -150,6 +154,8 @@ TEST(TourCommand, BadInputGivesOneClearLineAndNoVideo) {
       {"unwritable output", "-o /proc/forbidden/x.mp4", 3, "x.mp4"},
       {"odd size", "--width 161 --height 121", 2, "even"},
       {"bad axis", "--up w", 2, "--up"},
+      {"missing environment", "--environment " + test::shell_quoted(dir / "sky.hdr"), 3, "sky.hdr"},
+      {"square environment", "--environment " + test::shell_quoted(dir / "square.exr"), 2, "twice as wide as high"},
   };
   for (const auto& c : cases) {
     const auto video = dir / (std::string(c.name) + ".mp4");
@@ -163,7 +169,27 @@ TEST(TourCommand, BadInputGivesOneClearLineAndNoVideo) {
     EXPECT_FALSE(std::filesystem::exists(video)) << c.name;
   }
   // Nothing half-written anywhere: only the inputs remain.
-  EXPECT_EQ(count_files(dir), 4u);
+  EXPECT_EQ(count_files(dir), 5u);
+}
+
+// --environment neutral lights the model with the built-in studio (brighter than the look's sky),
+// in a tour and from a scene file's look.environment alike.
+TEST(TourCommand, EnvironmentLightsTheModel) {
+  const auto dir = test::scratch_dir();
+  const auto poster_mean = [&](const std::string& name, const std::string& args) {
+    const auto poster = dir / (name + ".png");
+    const auto r = run_meshtour("tour " + args + " --frames 1 --width 96 --height 64 --spp 2 --path turntable -q --poster " +
+                                test::shell_quoted(poster) + " -o " + test::shell_quoted(dir / (name + ".mp4")));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    OIIO::ImageBuf image(poster.string());
+    const auto stats = OIIO::ImageBufAlgo::computePixelStats(image);
+    return stats.avg.empty() ? 0.0f : stats.avg[0];
+  };
+  const float none = poster_mean("none", ""), neutral = poster_mean("neutral", "--environment neutral");
+  EXPECT_GT(neutral, none + 0.01f) << none << " vs " << neutral;
+  std::ofstream(dir / "plain.json") << R"({"model": {"procedural": "sculpture"}})";
+  std::ofstream(dir / "lit.json") << R"({"model": {"procedural": "sculpture"}, "look": {"environment": "neutral"}})";
+  EXPECT_GT(poster_mean("lit", test::shell_quoted(dir / "lit.json")), poster_mean("plain", test::shell_quoted(dir / "plain.json")) + 0.01f);
 }
 
 // --size NAME: an unknown name is one line listing every name; a name with --width is refused;

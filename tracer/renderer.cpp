@@ -479,6 +479,11 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::
                      " triangles, not " + std::to_string(mesh.triangles.size()) + ")");
 
   s.up = options.world_up.normalized().cast<float>();
+  if (const Shading& sh = options.shading; sh.environment) {
+    if (!(sh.environment_intensity >= 0.0f) || !std::isfinite(sh.environment_intensity))
+      throw InputError("the environment's intensity must be 0 or more, got " + std::to_string(sh.environment_intensity));
+    s.environment_light = irradiance_sh(*sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
+  }
   if (options.shading.ground) {
     float lowest = std::numeric_limits<float>::infinity();
     for (const auto& t : s.triangles)
@@ -545,6 +550,8 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   const std::size_t nlights = f.lights.size();
   f.base_color = mat.base_color;
   f.ambient = sh.ambient;
+  f.environment = environment_light.has_value();
+  if (environment_light) f.sky_light = *environment_light;
   f.background_top = sh.background_top;
   f.background_bottom = sh.background_bottom;
   f.shadows = sh.shadows;
@@ -576,7 +583,8 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
     f.ground_weights[i] = std::max(0.0f, up.dot(f.lights[i].direction)) * f.lights[i].radiance_luminance;
     f.ground_light_total += f.ground_weights[i];
   }
-  const float ground_sky = sh.ambient_occlusion || !sh.shadows ? luminance(sh.ambient) : 0.0f;
+  const Eigen::Vector3f sky_on_ground = environment_light ? (*environment_light)(up) : sh.ambient;
+  const float ground_sky = sh.ambient_occlusion || !sh.shadows ? luminance(sky_on_ground) : 0.0f;
   const float ground_total = f.ground_light_total + ground_sky;
   f.ground_shadow = ground_total > 0.0f ? sh.ground_shadow : 0.0f;
   f.ground_light_share = ground_total > 0.0f ? f.ground_shadow * f.ground_light_total / ground_total : 0.0f;

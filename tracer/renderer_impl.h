@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "mesh/image_bytes_reader.h"
 #include "mesh/ray_scene.h"
 #include "tracer/denoiser.h"
+#include "tracer/environment.h"
 #include "tracer/film.h"
 #include "tracer/instruction_set.h"
 #include "tracer/renderer_internal.h"
@@ -59,6 +61,9 @@ struct Frame {
   float ground_height = 0.0f, ground_half = 0.0f;
   std::vector<FrameLight> lights;
   Eigen::Vector3f base_color, ambient, background_top, background_bottom;
+  // With an environment, the sky's light at normal n is sky_light(n) (E(n) / pi) instead of `ambient`.
+  bool environment = false;
+  IrradianceSH sky_light;
   bool shadows = true, ambient_occlusion = true;
   float shininess = 1.0f, spec_scale = 0.0f, spec_cutoff = 1.0f;
   float eps = 0.0f, ao_length = 0.0f, model_radius = 0.0f, ground_ao_reach2 = 0.0f;
@@ -137,6 +142,8 @@ struct Renderer::Impl {
   std::vector<std::unique_ptr<ImageBytesReader>> embedded_images;
   std::vector<std::shared_ptr<const std::vector<unsigned char>>> embedded_bytes;
   TextureSystemPtr textures;
+  // The environment's irradiance in the world frame (Shading::environment), once per job.
+  std::optional<IrradianceSH> environment_light;
   ReconstructionFilter filter;
   // The Film's and the denoiser's memory, kept between frames (one per concurrent render()).
   mutable FilmMemory film_memory;

@@ -530,6 +530,9 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
                                             const V3& dir) {
   const F16 one = simd::broadcast(1.0f);
   alignas(64) float nx[16] = {}, ny[16] = {}, nz[16] = {}, ar[16], ag[16], ab[16];
+  // The normal before its normal map: which of its sides faces the camera decides the side of
+  // the mapped one too (a mapped normal may lean away from the camera on a surface that faces it).
+  alignas(64) float sx[16] = {}, sy[16] = {}, sz[16] = {};
   for (int l = 0; l < simd::kLanes; ++l) {
     ar[l] = f.base_color.x();
     ag[l] = f.base_color.y();
@@ -541,6 +544,9 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
     Eigen::Vector3f n = r.corner_normals.empty()
                             ? Eigen::Vector3f(bw * r.normals[tri[0]] + bu * r.normals[tri[1]] + bv * r.normals[tri[2]])
                             : Eigen::Vector3f(bw * r.corner_normals[3 * prim] + bu * r.corner_normals[3 * prim + 1] + bv * r.corner_normals[3 * prim + 2]);
+    sx[l] = n.x();
+    sy[l] = n.y();
+    sz[l] = n.z();
     Eigen::Vector3f c(ar[l], ag[l], ab[l]);
     if (!r.colors.empty()) c = bw * r.colors[tri[0]] + bu * r.colors[tri[1]] + bv * r.colors[tri[2]];
     if (!r.surfaces.empty()) {
@@ -595,8 +601,23 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
   const F16 n_len2 = dot(n, n);
   const F16 inv_n = 1.0f / simd::sqrt(simd::select(simd::gt(n_len2, 0.0f), n_len2, one));
   n = select(simd::gt(n_len2, 0.0f), V3{n.x * inv_n, n.y * inv_n, n.z * inv_n}, h.ng);
-  n = select(simd::gt(dot(n, dir), 0.0f), V3{-n.x, -n.y, -n.z}, n);
+  const V3 side{simd::load(sx), simd::load(sy), simd::load(sz)};
+  const I16 faces_away = simd::select_int(simd::gt(n_len2, 0.0f), simd::gt(dot(side, dir), 0.0f), simd::gt(dot(n, dir), 0.0f));
+  n = select(faces_away, V3{-n.x, -n.y, -n.z}, n);
   return {n, V3{simd::load(ar), simd::load(ag), simd::load(ab)}};
+}
+
+// The environment's diffuse light at unit normals n: E(n) / pi from its nine coefficients
+// (tracer/environment.h), at least 0.
+MESHTOUR_SIMD_INLINE V3 environment_light(const Frame& f, const V3& n) {
+  const F16 zero = simd::broadcast(0.0f);
+  const F16 basis[9] = {simd::broadcast(1.0f), n.y, n.z, n.x, n.x * n.y, n.y * n.z, 3.0f * n.z * n.z - 1.0f, n.x * n.z, n.x * n.x - n.y * n.y};
+  V3 e{zero, zero, zero};
+  for (std::size_t k = 0; k < 9; ++k) {
+    const Eigen::Vector3f& c = f.sky_light.coefficient[k];
+    e = {e.x + basis[k] * c.x(), e.y + basis[k] * c.y(), e.z + basis[k] * c.z()};
+  }
+  return {simd::max(e.x, zero), simd::max(e.y, zero), simd::max(e.z, zero)};
 }
 
 // The samples on the model: what each light would bring unshadowed (diffuse and a Blinn-Phong
@@ -657,7 +678,8 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
     for (std::size_t i = 0; i < nlights; ++i)
       model_base = {model_base.x + contributions[i].x, model_base.y + contributions[i].y, model_base.z + contributions[i].z};
   }
-  const V3 sky{albedo.x * f.ambient.x(), albedo.y * f.ambient.y(), albedo.z * f.ambient.z()};
+  const V3 sky_light = f.environment ? environment_light(f, n) : broadcast(f.ambient);
+  const V3 sky{albedo.x * sky_light.x, albedo.y * sky_light.y, albedo.z * sky_light.z};
   if (guides) {
     V3 unshadowed = sky;
     for (std::size_t i = 0; i < nlights; ++i)

@@ -18,6 +18,7 @@
 namespace meshtour {
 
 class RayScene;  // mesh/ray_scene.h
+struct EnvironmentImage;  // tracer/environment.h
 
 /// A pinhole camera in model units.
 
@@ -68,6 +69,11 @@ struct Shading {
   std::vector<Light> lights;     ///< at most 8
   bool shadows = true;           ///< trace shadow rays (soft, from the lights' discs)
   Eigen::Vector3f ambient{0.25f, 0.25f, 0.25f};  ///< sky light from every direction, linear RGB
+  /// Image-based light in place of `ambient` (tracer/environment.h): the environment's diffuse
+  /// light (its irradiance), occluded by the sky rays as the ambient is; null = `ambient`.
+  std::shared_ptr<const EnvironmentImage> environment;
+  float environment_rotation_deg = 0.0f;  ///< turns the environment about the up axis
+  float environment_intensity = 1.0f;     ///< multiplies its radiance
   bool ambient_occlusion = true;  ///< the sky light is occluded by nearby geometry
   float ao_distance = 0.3f;       ///< AO ray length, fraction of the model's bounding-box diagonal
   bool ground = true;             ///< a shadow-catching floor under the model (perpendicular to RenderOptions::world_up)

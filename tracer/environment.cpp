@@ -1,0 +1,191 @@
+#include "tracer/environment.h"
+
+#include <Eigen/Geometry>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "tracer/color.h"
+
+namespace meshtour {
+namespace {
+
+constexpr float kPi = std::numbers::pi_v<float>;
+
+// The environment's frame in the world: +y on `up`, -z on the horizontal direction nearest the
+// world's -z (else +x), turned about up.
+Eigen::Matrix3f world_from_environment(const Eigen::Vector3f& up_in, float rotation_deg) {
+  const Eigen::Vector3f up = up_in.normalized();
+  Eigen::Vector3f back = Eigen::Vector3f::UnitZ() - up * up.z();  // the environment's +z
+  if (back.squaredNorm() < 1e-6f) back = Eigen::Vector3f::UnitX() - up * up.x();
+  back.normalize();
+  const Eigen::Vector3f right = up.cross(back);  // +x = y cross z
+  const float a = rotation_deg * kPi / 180.0f, c = std::cos(a), s = std::sin(a);
+  const Eigen::Vector3f x = c * right - s * back, z = s * right + c * back;
+  Eigen::Matrix3f m;
+  m.col(0) = x;
+  m.col(1) = up;
+  m.col(2) = z;
+  return m;
+}
+
+// The direction (environment frame) through the centre of pixel (i, j), and its solid angle.
+Eigen::Vector3f pixel_direction(const EnvironmentImage& env, int i, int j, float& solid_angle) {
+  const float theta = (static_cast<float>(j) + 0.5f) / static_cast<float>(env.height) * kPi;  // from the zenith
+  const float phi = ((static_cast<float>(i) + 0.5f) / static_cast<float>(env.width) - 0.5f) * 2.0f * kPi;
+  solid_angle = (2.0f * kPi / static_cast<float>(env.width)) * (kPi / static_cast<float>(env.height)) * std::sin(theta);
+  // u = 0.5 (phi 0) looks along -z; phi grows towards +x.
+  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
+// The real spherical harmonics of bands 0-2 at unit direction d, in the order of IrradianceSH.
+std::array<float, 9> sh_basis(const Eigen::Vector3f& d) {
+  const float x = d.x(), y = d.y(), z = d.z();
+  return {0.282095f, 0.488603f * y, 0.488603f * z, 0.488603f * x, 1.092548f * x * y, 1.092548f * y * z,
+          0.315392f * (3.0f * z * z - 1.0f), 1.092548f * x * z, 0.546274f * (x * x - y * y)};
+}
+
+// The light of an environment needs no more than 512 x 256 pixels (its nine coefficients change
+// by less than 1e-4 of the mean from 4k): each smaller pixel averages the pixels it covers,
+// weighted by their solid angle, so that the light's energy stays as it was.
+EnvironmentImage downsampled(EnvironmentImage env) {
+  constexpr int kWidth = 512;
+  if (env.width <= kWidth) return env;
+  EnvironmentImage small;
+  small.width = kWidth;
+  small.height = std::max(1, static_cast<int>(std::lround(static_cast<double>(env.height) * kWidth / env.width)));
+  small.source = env.source;
+  std::vector<double> sum(static_cast<std::size_t>(small.width) * small.height * 3, 0.0), weight(static_cast<std::size_t>(small.width) * small.height, 0.0);
+  for (int j = 0; j < env.height; ++j) {
+    const double w = std::sin((j + 0.5) / env.height * std::numbers::pi);
+    const int sj = std::min(small.height - 1, static_cast<int>(static_cast<long long>(j) * small.height / env.height));
+    for (int i = 0; i < env.width; ++i) {
+      const int si = std::min(small.width - 1, static_cast<int>(static_cast<long long>(i) * small.width / env.width));
+      const std::size_t d = static_cast<std::size_t>(sj) * small.width + si;
+      for (int c = 0; c < 3; ++c) sum[d * 3 + c] += w * env.rgb[(static_cast<std::size_t>(j) * env.width + i) * 3 + c];
+      weight[d] += w;
+    }
+  }
+  small.rgb.resize(sum.size());
+  for (std::size_t d = 0; d < weight.size(); ++d)
+    for (int c = 0; c < 3; ++c) small.rgb[d * 3 + c] = weight[d] > 0 ? static_cast<float>(sum[d * 3 + c] / weight[d]) : 0.0f;
+  return small;
+}
+
+}  // namespace
+
+Eigen::Vector3f IrradianceSH::operator()(const Eigen::Vector3f& n) const {
+  const float x = n.x(), y = n.y(), z = n.z();
+  const float b[9] = {1.0f, y, z, x, x * y, y * z, 3.0f * z * z - 1.0f, x * z, x * x - y * y};
+  Eigen::Vector3f e = Eigen::Vector3f::Zero();
+  for (int k = 0; k < 9; ++k) e += b[k] * coefficient[static_cast<std::size_t>(k)];
+  return e.cwiseMax(0.0f);
+}
+
+Eigen::Vector3f environment_to_world(const Eigen::Vector3f& d, const Eigen::Vector3f& up, float rotation_deg) {
+  return world_from_environment(up, rotation_deg) * d;
+}
+
+IrradianceSH irradiance_sh(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg, float intensity) {
+  const Eigen::Matrix3f m = world_from_environment(up, rotation_deg);
+  // L_k = integral of L(w) Y_k(w) dw, in double: a 4k image sums 8 million terms.
+  std::array<Eigen::Vector3d, 9> l;
+  l.fill(Eigen::Vector3d::Zero());
+  for (int j = 0; j < env.height; ++j)
+    for (int i = 0; i < env.width; ++i) {
+      float d_omega = 0.0f;
+      const Eigen::Vector3f w = m * pixel_direction(env, i, j, d_omega);
+      const float* p = &env.rgb[(static_cast<std::size_t>(j) * env.width + i) * 3];
+      const Eigen::Vector3d radiance(p[0], p[1], p[2]);
+      const std::array<float, 9> y = sh_basis(w);
+      for (std::size_t k = 0; k < 9; ++k) l[k] += radiance * static_cast<double>(y[k] * d_omega);
+    }
+  // E(n) = sum_l A_l sum_m L_lm Y_lm(n), A = (pi, 2 pi / 3, pi / 4); divided by pi, with the
+  // basis' constants folded in (Y20's -1 term stays in the basis 3z^2 - 1).
+  const double a[3] = {1.0, 2.0 / 3.0, 0.25};
+  const double c[9] = {0.282095, 0.488603, 0.488603, 0.488603, 1.092548, 1.092548, 0.315392, 1.092548, 0.546274};
+  const int band[9] = {0, 1, 1, 1, 2, 2, 2, 2, 2};
+  IrradianceSH sh;
+  for (std::size_t k = 0; k < 9; ++k) sh.coefficient[k] = (l[k] * (a[band[k]] * c[k] * intensity)).cast<float>();
+  return sh;
+}
+
+EnvironmentImage read_environment(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  auto in = OIIO::ImageInput::open(name);
+  if (!in) throw IoError(name + ": cannot read the environment image (" + OIIO::geterror() + ")");
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0) throw InputError(name + ": the environment image has no pixels");
+  const double aspect = static_cast<double>(spec.width) / spec.height;
+  if (aspect < 1.9 || aspect > 2.1)
+    throw InputError(name + ": the environment image is " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+                     "; an equirectangular (latitude-longitude) image is twice as wide as high");
+  if (static_cast<double>(spec.width) * spec.height > 64.0 * 1024 * 1024)
+    throw InputError(name + ": the environment image has more than 64 megapixels; scale it down (4k x 2k is plenty for light)");
+  EnvironmentImage env;
+  env.width = spec.width;
+  env.height = spec.height;
+  env.source = name;
+  const int channels = spec.nchannels;
+  std::vector<float> all(static_cast<std::size_t>(env.width) * env.height * channels);
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
+    throw IoError(name + ": cannot read the environment image (" + in->geterror() + ")");
+  const bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
+  env.rgb.resize(static_cast<std::size_t>(env.width) * env.height * 3);
+  for (std::size_t p = 0, n = static_cast<std::size_t>(env.width) * env.height; p < n; ++p)
+    for (int c = 0; c < 3; ++c) {
+      float v = all[p * channels + static_cast<std::size_t>(std::min(c, channels - 1))];
+      if (encoded) v = srgb_to_linear(v);
+      if (!(v >= 0.0f) || !std::isfinite(v))
+        throw InputError(name + ": the environment image holds a negative or non-finite value at pixel " + std::to_string(p % env.width) +
+                         ", " + std::to_string(p / env.width));
+      env.rgb[p * 3 + static_cast<std::size_t>(c)] = v;
+    }
+  return downsampled(std::move(env));
+}
+
+EnvironmentImage neutral_environment() {
+  EnvironmentImage env;
+  env.width = 256;
+  env.height = 128;
+  env.source = "neutral";
+  env.rgb.resize(static_cast<std::size_t>(env.width) * env.height * 3);
+  // Soft-edged rectangles in (azimuth, elevation), degrees: a softbox above and in front, a strip
+  // on each side, on a light grey room whose floor is darker.
+  struct Panel {
+    float azimuth, elevation, half_width, half_height, radiance;
+  };
+  const Panel panels[] = {{0.0f, 60.0f, 50.0f, 22.0f, 5.0f}, {-80.0f, 25.0f, 10.0f, 25.0f, 3.0f}, {95.0f, 20.0f, 10.0f, 20.0f, 2.0f}};
+  const auto smooth_inside = [](float distance, float half, float edge) {
+    return std::clamp((half - std::abs(distance)) / edge + 0.5f, 0.0f, 1.0f);
+  };
+  for (int j = 0; j < env.height; ++j)
+    for (int i = 0; i < env.width; ++i) {
+      const float elevation = 90.0f - (static_cast<float>(j) + 0.5f) / static_cast<float>(env.height) * 180.0f;
+      const float azimuth = ((static_cast<float>(i) + 0.5f) / static_cast<float>(env.width) - 0.5f) * 360.0f;
+      // The room: walls 0.6, the ceiling a little brighter, the floor 0.25, blended over 20 degrees.
+      float v = elevation < 0.0f ? 0.25f + 0.35f * std::clamp(1.0f + elevation / 20.0f, 0.0f, 1.0f) : 0.6f + 0.2f * elevation / 90.0f;
+      for (const Panel& p : panels) {
+        float da = std::remainder(azimuth - p.azimuth, 360.0f);
+        v += p.radiance * smooth_inside(da, p.half_width, 6.0f) * smooth_inside(elevation - p.elevation, p.half_height, 6.0f);
+      }
+      for (int c = 0; c < 3; ++c) env.rgb[(static_cast<std::size_t>(j) * env.width + i) * 3 + static_cast<std::size_t>(c)] = v;
+    }
+  // Scale: a surface facing up receives pi (E / pi = 1).
+  const float up = irradiance_sh(env, Eigen::Vector3f::UnitY(), 0.0f, 1.0f)(Eigen::Vector3f::UnitY()).x();
+  for (float& v : env.rgb) v /= up;
+  return env;
+}
+
+std::shared_ptr<const EnvironmentImage> environment_named(const std::string& name_or_file) {
+  if (name_or_file == "neutral") {
+    static const std::shared_ptr<const EnvironmentImage> neutral = std::make_shared<const EnvironmentImage>(neutral_environment());
+    return neutral;
+  }
+  return std::make_shared<const EnvironmentImage>(read_environment(name_or_file));
+}
+
+}  // namespace meshtour
