@@ -83,6 +83,13 @@ nlohmann::json describe(const std::string& input) {
       jm["normal_texture_size"] = {size.width, size.height, size.channels};
       jm["normal_scale"] = material.normal_scale;
     }
+    if (material.occlusion_texture.present()) {
+      const MeshTexture& map = material.occlusion_texture;
+      jm["occlusion_texture"] = map.bytes ? "(embedded) " + map.file.filename().string() : map.file.string();
+      const TextureSize size = probe_texture(map, material.name);
+      jm["occlusion_texture_size"] = {size.width, size.height, size.channels};
+      jm["occlusion_strength"] = material.occlusion_strength;
+    }
     j["materials"].push_back(jm);
   }
   j["warnings"] = report.warnings;

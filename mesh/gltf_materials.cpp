@@ -1,6 +1,7 @@
 // glTF materials as meshtour uses them: the base colour factor and texture (embedded, in a data
 // URI or an external file), its sampler's wrap modes and filters, coordinate set and
 // KHR_texture_transform.
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <memory>
@@ -233,6 +234,18 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
     } else {
       use.material.normal_texture = texture_of(model, normal.index, file, where, "normal texture");
       use.material.normal_scale = static_cast<float>(normal.scale);
+      coordinates = own;
+    }
+  }
+  if (const tinygltf::OcclusionTextureInfo& occlusion = m.occlusionTexture; occlusion.index >= 0) {
+    const auto it = occlusion.extensions.find("KHR_texture_transform");
+    const TextureCoordinates own = coordinates_of(occlusion.texCoord, it != occlusion.extensions.end() ? &it->second : nullptr);
+    if (coordinates && !(*coordinates == own)) {
+      warnings.push_back(where + ": its occlusion texture reads other texture coordinates (set or KHR_texture_transform) than its "
+                                 "other maps, which meshtour does not do; the occlusion texture is not used");
+    } else {
+      use.material.occlusion_texture = texture_of(model, occlusion.index, file, where, "occlusion texture");
+      use.material.occlusion_strength = static_cast<float>(std::clamp(occlusion.strength, 0.0, 1.0));
       coordinates = own;
     }
   }

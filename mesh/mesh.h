@@ -62,13 +62,18 @@ struct MeshMaterial {
   /// normal; x and y are multiplied by `normal_scale`.
   MeshTexture normal_texture;
   float normal_scale = 1.0f;
+  /// An ambient-occlusion map (glTF occlusionTexture): its first (red) channel, linear, darkens the
+  /// indirect light only (the sky or environment, not the look's lights), mixed in by `strength`:
+  /// 1 + strength * (value - 1).
+  MeshTexture occlusion_texture;
+  float occlusion_strength = 1.0f;
   /// Whether vertex colours multiply the texture (glTF COLOR_0); otherwise a texture replaces them.
   bool texture_times_vertex_colors = false;
   bool has_texture() const { return texture.present(); }
   /// The maps the material has (for checks and memory estimates).
   std::vector<const MeshTexture*> maps() const {
     std::vector<const MeshTexture*> out;
-    for (const MeshTexture* t : {&texture, &normal_texture})
+    for (const MeshTexture* t : {&texture, &normal_texture, &occlusion_texture})
       if (t->present()) out.push_back(t);
     return out;
   }

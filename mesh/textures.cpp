@@ -319,7 +319,9 @@ void check_material_textures(TriangleMesh& mesh, const std::string& name, const 
       MeshTexture* texture;
       const char *kind, *without;
     };
-    const Map maps[] = {{&material.texture, "texture", "untextured"}, {&material.normal_texture, "normal texture", "without their normal map"}};
+    const Map maps[] = {{&material.texture, "texture", "untextured"},
+                        {&material.normal_texture, "normal texture", "without their normal map"},
+                        {&material.occlusion_texture, "occlusion texture", "without their occlusion map"}};
     for (const Map& map : maps) {
       if (!map.texture->present()) continue;
       try {

@@ -357,7 +357,7 @@ std::vector<Option> make_registry() {
        .help = "Tone curve of PNG frames and the video: filmic (ACES fit: rolls highlights off, deepens shadows),\n"
                "clamp (none: over 1 clips) or pbr-neutral (Khronos PBR Neutral, as model-viewer and f3d: colours\n"
                "under 0.8 shown as they are, only highlights compressed). EXR frames stay linear and record it",
-       .scene_key = "look.tone_mapping", .commands = encode,
+       .scene_key = "look.tone_mapping", .manifest_column = true, .commands = kRendering | encode, .farm = kToTasks,
        .meanings = {{.commands = encode, .help = "EXR frames: filmic, clamp or pbr-neutral (default: from the EXR header, else filmic)",
                      .default_text = "from the EXR header"}}});
   // ---- The toroidal-patch path (docs/METHOD.md); the feature orbit uses the patch options too.

@@ -14,6 +14,7 @@
 #include "options/batch_manifest.h"
 #include "options/cli_options.h"
 #include "options/option_registry.h"
+#include "tracer/environment.h"
 #include "evaluate/evaluate.h"
 #include "pathgen/feature_orbit.h"
 #include "scenes/scene.h"
@@ -46,7 +47,8 @@ std::string sample_value(const Option& o) {
     case Kind::choice_list: return std::string(o.choices.front()) + "," + std::string(o.choices.back());
     case Kind::number_or_choice: return options::number_text(o.lo + 0.5 * (o.hi - o.lo));
     case Kind::frame_selection: return "0-3:2";
-    case Kind::text: return o.id == "poster" ? "out.png" : "out.json";  // a poster is a PNG
+    case Kind::text:  // a poster is a PNG; an environment must be readable (the built-in one is)
+      return o.id == "poster" ? "out.png" : o.id == "environment" ? "neutral" : "out.json";
     case Kind::existing_file: return "/dev/null";
     case Kind::flag: return "true";
     case Kind::size: return "64x48";
@@ -129,6 +131,8 @@ std::string scene_fingerprint(const Scene& s) {
                       {"elev", s.elevation_deg}, {"first", std::string(orbit_start_name(s.orbit_start))}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
                       {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"crease", s.render.shading.material.crease_angle_deg},
                       {"denoise", s.render.denoise}, {"tone", int(s.render.shading.tone_mapping)},
+                      {"env", s.render.shading.environment ? s.render.shading.environment->source : ""},
+                      {"env_turn", s.render.shading.environment_rotation_deg}, {"env_scale", s.render.shading.environment_intensity},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},
                       {"file", s.path_file ? s.path_file->string() : ""}, {"grey", s.missing_textures_grey},
                       {"quality", s.quality}};

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "core/error.h"
 #include "helpers.h"
@@ -85,6 +86,36 @@ TEST(Environment, WhiteFurnaceTexturedConvexSurfaceRendersItsTexture) {
   sphere.corner_uvs.assign(3 * sphere.triangles.size(), Eigen::Vector2f(0.5f, 0.5f));
   const Eigen::Vector3f mean = covered_mean(Renderer(sphere, furnace(uniform_environment(1.0f))).render(kCamera));
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], colour[c], 0.01f * colour[c]) << "channel " << c;
+}
+
+// An occlusion map darkens the indirect light only: in the furnace a sphere whose map holds 0.25
+// renders 1 + strength * (0.25 - 1); under a light alone (no sky) the map changes nothing.
+TEST(Environment, AnOcclusionMapDarkensTheSkyOnly) {
+  const fs::path dir = test::scratch_dir();
+  OIIO::ImageBuf tex(OIIO::ImageSpec(4, 4, 1, OIIO::TypeDesc::FLOAT));
+  const float value[1] = {0.25f};
+  OIIO::ImageBufAlgo::fill(tex, value);
+  ASSERT_TRUE(tex.write((dir / "occlusion.exr").string()));
+  const auto sphere = [&](std::optional<float> strength) {
+    TriangleMesh mesh = uv_sphere(1.0, 96, 48);
+    MeshMaterial m;
+    if (strength) {
+      m.occlusion_texture.file = dir / "occlusion.exr";
+      m.occlusion_strength = *strength;
+    }
+    mesh.materials = {m};
+    mesh.corner_uvs.assign(3 * mesh.triangles.size(), Eigen::Vector2f(0.5f, 0.5f));
+    return mesh;
+  };
+  const RenderOptions options = furnace(uniform_environment(1.0f));
+  EXPECT_NEAR(covered_mean(Renderer(sphere(1.0f), options).render(kCamera)).x(), 0.25f, 0.0025f);
+  EXPECT_NEAR(covered_mean(Renderer(sphere(0.5f), options).render(kCamera)).x(), 0.625f, 0.00625f);
+  RenderOptions lit = options;
+  lit.shading.environment = nullptr;
+  lit.shading.ambient = Eigen::Vector3f::Zero();
+  lit.shading.lights = look_preset("studio").lights;
+  const Image with_map = Renderer(sphere(1.0f), lit).render(kCamera), without = Renderer(sphere(std::nullopt), lit).render(kCamera);
+  EXPECT_EQ(with_map.rgba, without.rgba);
 }
 
 // Light from one side: an environment bright where +x of its frame lies (u > 0.5 is +x, as

@@ -125,6 +125,15 @@ EnvironmentImage read_environment(const std::filesystem::path& file) {
                      "; an equirectangular (latitude-longitude) image is twice as wide as high");
   if (static_cast<double>(spec.width) * spec.height > 64.0 * 1024 * 1024)
     throw InputError(name + ": the environment image has more than 64 megapixels; scale it down (4k x 2k is plenty for light)");
+  if (spec.nchannels < 1 || spec.nchannels > 4)
+    throw InputError(name + ": the environment image has " + std::to_string(spec.nchannels) + " channels; save it as RGB");
+  // A header may claim more pixels than its file can hold (a damaged file or a decompression
+  // bomb): as for textures (mesh/textures.cpp), no codec packs more than 65,536 values into a byte.
+  std::error_code ec;
+  const double file_bytes = static_cast<double>(std::filesystem::file_size(file, ec));
+  if (!ec && static_cast<double>(spec.width) * spec.height * spec.nchannels > 65536.0 * std::max(1.0, file_bytes))
+    throw InputError(name + ": the environment image claims " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+                     " pixels but the file holds only " + std::to_string(static_cast<long long>(file_bytes)) + " bytes (damaged?)");
   EnvironmentImage env;
   env.width = spec.width;
   env.height = spec.height;

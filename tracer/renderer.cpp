@@ -119,10 +119,14 @@ OIIO::TextureOpt::MipMode mip_mode(MipFilter filter) {
   return OIIO::TextureOpt::MipModeTrilinear;
 }
 
+// What a map holds: colour (8-bit values sRGB-encoded), a normal (linear RGB) or a scalar in its
+// first channel (linear; glTF occlusion's red channel, a grey image's grey).
+enum class MapData { colour, normal, scalar };
+
 // Opens one map of a material in the renderer's texture system (made at the first map: its cache
-// holds the tiles of every atlas within one memory budget). `colour`: a base colour map, whose
-// 8-bit values are sRGB-encoded; a normal map's are linear.
-Renderer::Impl::Map open_map(Renderer::Impl& s, const MeshTexture& t, const std::string& material, const char* kind, bool colour) {
+// holds the tiles of every atlas within one memory budget).
+Renderer::Impl::Map open_map(Renderer::Impl& s, const MeshTexture& t, const std::string& material, const char* kind, MapData data) {
+  const bool colour = data == MapData::colour;
   Renderer::Impl::Map map;
   map.wrap_s = wrap_mode(t.wrap_s);
   map.wrap_t = wrap_mode(t.wrap_t);
@@ -163,7 +167,7 @@ Renderer::Impl::Map open_map(Renderer::Impl& s, const MeshTexture& t, const std:
   int channels = 3;
   s.textures->get_texture_info(map.handle, nullptr, 0, OIIO::ustring("channels"), OIIO::TypeInt, &channels);
   map.grey = channels <= 2;
-  if (!colour && map.grey)
+  if (data == MapData::normal && map.grey)
     throw InputError(t.file.string() + ": the " + std::string(kind) + " of material '" + material +
                      "' is a grey image; a normal map needs RGB (x, y, z)");
   int resolution[2] = {1, 1};
@@ -182,10 +186,14 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
     surface.factor = m.base_color.value_or(Eigen::Vector3f::Ones());
     surface.replaces_base_color = m.base_color.has_value();
     surface.texture_times_vertex_colors = m.texture_times_vertex_colors;
-    if (textured && m.texture.present()) surface.texture = open_map(s, m.texture, m.name, "texture", true);
+    if (textured && m.texture.present()) surface.texture = open_map(s, m.texture, m.name, "texture", MapData::colour);
     if (textured && m.normal_texture.present()) {
-      surface.normal_map = open_map(s, m.normal_texture, m.name, "normal texture", false);
+      surface.normal_map = open_map(s, m.normal_texture, m.name, "normal texture", MapData::normal);
       surface.normal_scale = m.normal_scale;
+    }
+    if (textured && m.occlusion_texture.present()) {
+      surface.occlusion_map = open_map(s, m.occlusion_texture, m.name, "occlusion texture", MapData::scalar);
+      surface.occlusion_strength = m.occlusion_strength;
     }
     s.surfaces.push_back(surface);
   }

@@ -124,6 +124,8 @@ struct Renderer::Impl {
     Map texture;     // the base colour map
     Map normal_map;  // a tangent-space normal map
     float normal_scale = 1.0f;
+    Map occlusion_map;  // its first channel darkens the sky's light
+    float occlusion_strength = 1.0f;
     Eigen::Vector3f factor{1.0f, 1.0f, 1.0f};
     bool replaces_base_color = false;   // untextured with a colour of its own (not the look's)
     bool texture_times_vertex_colors = false;

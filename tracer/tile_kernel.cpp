@@ -525,6 +525,7 @@ MESHTOUR_SIMD_INLINE bool look_up(const Impl& r, Scratch& scratch, const Impl::M
 // hit triangle's corners (gathers), its material and its maps.
 struct SurfacePoint {
   V3 n, albedo;
+  F16 sky_occlusion;  // the occlusion map's factor on the sky's light (1: none)
 };
 MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scratch& scratch, const RTCRayHit16& primary, const Hits& h,
                                             const V3& dir) {
@@ -533,10 +534,12 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
   // The normal before its normal map: which of its sides faces the camera decides the side of
   // the mapped one too (a mapped normal may lean away from the camera on a surface that faces it).
   alignas(64) float sx[16] = {}, sy[16] = {}, sz[16] = {};
+  alignas(64) float occlusion[16];
   for (int l = 0; l < simd::kLanes; ++l) {
     ar[l] = f.base_color.x();
     ag[l] = f.base_color.y();
     ab[l] = f.base_color.z();
+    occlusion[l] = 1.0f;
     if (!h.on_model[l]) continue;
     const std::size_t prim = primary.hit.primID[l];
     const auto& tri = r.triangles[prim];
@@ -551,7 +554,7 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
     if (!r.colors.empty()) c = bw * r.colors[tri[0]] + bu * r.colors[tri[1]] + bv * r.colors[tri[2]];
     if (!r.surfaces.empty()) {
       const Impl::Surface& surface = r.surfaces[r.triangle_surface.empty() ? 0 : r.triangle_surface[prim]];
-      const bool mapped = surface.texture.handle || surface.normal_map.handle;
+      const bool mapped = surface.texture.handle || surface.normal_map.handle || surface.occlusion_map.handle;
       const Eigen::Vector2f uv = mapped ? Eigen::Vector2f(bw * r.corner_uvs[3 * prim] + bu * r.corner_uvs[3 * prim + 1] + bv * r.corner_uvs[3 * prim + 2])
                                         : Eigen::Vector2f::Zero();
       // Isotropic footprint of one sample in texture space: the pixel's width at this
@@ -571,6 +574,8 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
         c = r.colors.empty() ? surface.factor : Eigen::Vector3f(c.cwiseProduct(surface.factor));
       }
       float rgb[3];
+      if (surface.occlusion_map.handle && look_up(r, scratch, surface.occlusion_map, uv, width_uv, rgb))
+        occlusion[l] = 1.0f + surface.occlusion_strength * (std::clamp(rgb[0], 0.0f, 1.0f) - 1.0f);
       if (surface.normal_map.handle && look_up(r, scratch, surface.normal_map, uv, width_uv, rgb)) {
         // The map's (x, y, z) in the corner frame (tangent, bitangent, normal), glTF's rule:
         // normalize((2 value - 1) * (scale, scale, 1)), the frame's tangent made perpendicular.
@@ -604,7 +609,7 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
   const V3 side{simd::load(sx), simd::load(sy), simd::load(sz)};
   const I16 faces_away = simd::select_int(simd::gt(n_len2, 0.0f), simd::gt(dot(side, dir), 0.0f), simd::gt(dot(n, dir), 0.0f));
   n = select(faces_away, V3{-n.x, -n.y, -n.z}, n);
-  return {n, V3{simd::load(ar), simd::load(ag), simd::load(ab)}};
+  return {n, V3{simd::load(ar), simd::load(ag), simd::load(ab)}, simd::load(occlusion)};
 }
 
 // The environment's diffuse light at unit normals n: E(n) / pi from its nine coefficients
@@ -679,7 +684,8 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
       model_base = {model_base.x + contributions[i].x, model_base.y + contributions[i].y, model_base.z + contributions[i].z};
   }
   const V3 sky_light = f.environment ? environment_light(f, n) : broadcast(f.ambient);
-  const V3 sky{albedo.x * sky_light.x, albedo.y * sky_light.y, albedo.z * sky_light.z};
+  const F16 open = surface.sky_occlusion;
+  const V3 sky{albedo.x * sky_light.x * open, albedo.y * sky_light.y * open, albedo.z * sky_light.z * open};
   if (guides) {
     V3 unshadowed = sky;
     for (std::size_t i = 0; i < nlights; ++i)
