@@ -157,6 +157,55 @@ TEST(NormalMap, ADamagedMapIsNamedOrLeftOut) {
   EXPECT_FALSE(grey.materials[0].normal_texture.present());
 }
 
+// Relief from a normal map survives denoising at 16 spp: a map of vertical stripes, 4 texels wide,
+// leaning 30 degrees left and right in turn, lit by the studio look's key light from the left,
+// shows bright and dark stripes; the denoised frame keeps their contrast (the denoiser divides by
+// the unshadowed light, which the mapped normal shades, and its normal guide is the mapped one).
+TEST(NormalMap, ReliefSurvivesDenoising) {
+  const fs::path dir = test::scratch_dir();
+  OIIO::ImageBuf tex(OIIO::ImageSpec(64, 8, 3, OIIO::TypeDesc::UINT8));
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const Eigen::Vector3f m = (x / 4) % 2 ? Eigen::Vector3f(kSin, 0, kCos) : Eigen::Vector3f(-kSin, 0, kCos);
+      const Eigen::Vector3f v = (m * 0.5f).array() + 0.5f;
+      tex.setpixel(x, y, v.data());
+    }
+  ASSERT_TRUE(tex.write((dir / "stripes.png").string()));
+  test::GltfBuilder g;
+  const std::vector<float> positions = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0}, uvs = {0, 1, 1, 1, 1, 0, 0, 0}, normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  const nlohmann::json attributes = {{"POSITION", g.floats(positions, 3)}, {"TEXCOORD_0", g.floats(uvs, 2)}, {"NORMAL", g.floats(normals, 3)}};
+  const int idx = g.indices({0, 1, 2, 0, 2, 3});
+  g.doc["meshes"] = {{{"primitives", {{{"attributes", attributes}, {"indices", idx}, {"material", 0}}}}}};
+  g.doc["nodes"] = {{{"mesh", 0}}};
+  g.embedded_image(test::read_bytes(dir / "stripes.png"), "image/png");
+  g.doc["samplers"] = {{{"magFilter", 9728}, {"minFilter", 9728}}};  // sharp stripes
+  g.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  g.doc["materials"] = {{{"normalTexture", {{"index", 0}}}}};
+  g.write_glb(dir / "stripes.glb");
+  RenderOptions options;
+  options.width = options.height = 128;
+  options.samples_per_pixel = 16;
+  options.shading.ground = false;
+  const double fov = 2.0 * std::atan(0.2) * 180.0 / std::numbers::pi;
+  const Image img = Renderer(load_mesh(dir / "stripes.glb"), options).render(Camera{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, fov});
+  ASSERT_FALSE(img.denoised.empty());
+  // 16 stripes across 128 pixels, 8 pixels each: the middle 4 columns of each, rows 16-111.
+  const auto contrast = [&](const std::vector<float>& rgba) {
+    double lit = 0, dark = 0;
+    for (int y = 16; y < 112; ++y)
+      for (int x = 0; x < 128; ++x) {
+        if (x % 8 < 2 || x % 8 > 5) continue;
+        const double v = rgba[(static_cast<std::size_t>(y) * 128 + x) * 4 + 1];
+        ((x / 8) % 2 ? dark : lit) += v;  // which of the two is brighter is the key light's side; the contrast is what counts
+      }
+    return (lit - dark) / (lit + dark);
+  };
+  const double raw = contrast(img.rgba), denoised = contrast(img.denoised);
+  std::cout << "[ contrast ] raw " << raw << ", denoised " << denoised << "\n";
+  EXPECT_GT(std::abs(raw), 0.1) << "the map makes no relief";
+  EXPECT_NEAR(denoised, raw, 0.1 * std::abs(raw));
+}
+
 TEST(FileNormals, AreTheShadingNormals) {
   const fs::path dir = test::scratch_dir();
   // A flat quad whose file says its normals lean 37 degrees to the right: computed normals would
