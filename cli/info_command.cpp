@@ -138,9 +138,15 @@ void print_text(const nlohmann::json& j) {
               j["non_manifold_edges"].get<std::size_t>(), j["unreferenced_vertices"].get<std::size_t>());
   for (const auto& m : j["materials"]) {
     std::printf("  material '%s': %zu triangles", m["name"].get<std::string>().c_str(), m["triangles"].get<std::size_t>());
-    if (m.contains("texture"))
-      std::printf(", texture %s (%dx%d, %d channels)", m["texture"].get<std::string>().c_str(), m["texture_size"][0].get<int>(),
-                  m["texture_size"][1].get<int>(), m["texture_size"][2].get<int>());
+    // Each map the material has: "texture", "normal texture", "occlusion texture".
+    for (const char* map : {"texture", "normal_texture", "occlusion_texture"}) {
+      if (!m.contains(map)) continue;
+      std::string label = map;
+      std::replace(label.begin(), label.end(), '_', ' ');
+      const auto& size = m[std::string(map) + "_size"];
+      std::printf(", %s %s (%dx%d, %d channels)", label.c_str(), m[map].get<std::string>().c_str(), size[0].get<int>(), size[1].get<int>(),
+                  size[2].get<int>());
+    }
     std::printf("\n");
   }
   for (const auto& w : j["warnings"]) std::printf("  warning: %s\n", w.get<std::string>().c_str());
