@@ -31,7 +31,7 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-all=(mesh gltf path_file scene frame_range pixel_size caption_text texture)
+all=(mesh gltf path_file scene frame_range pixel_size caption_text texture voyager environment)
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 
 # The same -max_len as the CTest entries (fuzz/CMakeLists.txt).
