@@ -12,6 +12,7 @@
 #include <iterator>
 
 #include "core/error.h"
+#include "mesh/image_probe.h"
 #include "mesh/file_extension.h"
 #include "mesh/image_bytes_reader.h"
 
@@ -263,6 +264,17 @@ std::string map_description(const MeshTexture& map, const std::string& material_
 }
 
 }  // namespace
+
+TextureSize probe_image(const std::filesystem::path& image, const std::string& what) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(image, ec)) throw IoError(what + " does not exist");
+  std::unique_ptr<ImageBytesReader> memory;
+  double file_size = 0;
+  const auto in = open_checked(image.string(), what, nullptr, memory, file_size);
+  TextureSize size{in->spec().width, in->spec().height, in->spec().nchannels};
+  in->close();
+  return size;
+}
 
 TextureSize probe_texture(const MeshTexture& map, const std::string& material_name) {
   const std::string file = map.file.string();

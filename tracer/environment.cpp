@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "mesh/image_probe.h"
 #include "tracer/color.h"
 
 namespace meshtour {
@@ -115,6 +116,10 @@ IrradianceSH irradiance_sh(const EnvironmentImage& env, const Eigen::Vector3f& u
 
 EnvironmentImage read_environment(const std::filesystem::path& file) {
   const std::string name = file.string();
+  // The checks every texture gets before OpenImageIO reads it (mesh/textures.cpp: damaged PNG
+  // chunks, OpenEXR header attributes larger than the file, headers claiming more pixels than it
+  // can hold, at most 65536 a side): OpenEXR itself allocates what a header announces.
+  probe_image(file, name + ": the environment image");
   auto in = OIIO::ImageInput::open(name);
   if (!in) throw IoError(name + ": cannot read the environment image (" + OIIO::geterror() + ")");
   const OIIO::ImageSpec& spec = in->spec();
