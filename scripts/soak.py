@@ -422,9 +422,14 @@ def soak_batch(args, rng, manifest, out_dir, faults, stats):
             kills, counts = faults.counts()
             short_of = [s for s in STAGES if kills[s] < args.faults] + \
                        [k for k in ("write", "fsync", "rename") if counts[k] < args.faults]
-            if counts["disk-full windows"] < args.faults:
+            if counts["disk-full windows"] < args.faults or counts["disk-full"] == 0:
                 short_of.append("disk-full")
-            if not short_of or round_no >= args.max_rounds:
+            # Past --max-rounds the rounds go on (to three times as many) only while the check's
+            # minimum is not met: one of each kind, a failed write in a full-disk window, a race.
+            # On a loaded machine 40 rounds once left the full-disk windows without a write.
+            minimum_met = all(kills[s] >= 1 for s in STAGES) and all(counts[k] >= 1 for k in ("write", "fsync", "rename")) and \
+                counts["disk-full"] > 0 and counts["disk-full windows"] >= 1 and stats["races"] > 0
+            if not short_of or (round_no >= args.max_rounds and (minimum_met or round_no >= 3 * args.max_rounds)):
                 break
             racing = rng.random() < 0.3
             n = 2 if racing else 1
