@@ -71,25 +71,17 @@ nlohmann::json describe(const std::string& input) {
     const MeshMaterial& material = mesh.materials[m];
     nlohmann::json jm = {{"name", material.name}, {"triangles", per_material[m]}};
     if (material.base_color) jm["base_color"] = {material.base_color->x(), material.base_color->y(), material.base_color->z()};
-    if (material.has_texture()) {
-      jm["texture"] = material.texture.bytes ? "(embedded) " + material.texture.file.filename().string() : material.texture.file.string();
-      const TextureSize size = probe_texture(material);
-      jm["texture_size"] = {size.width, size.height, size.channels};
+    // Each map with its image's size: "texture", "normal_texture", "occlusion_texture".
+    const std::pair<const MeshTexture*, const char*> maps[] = {
+        {&material.texture, "texture"}, {&material.normal_texture, "normal_texture"}, {&material.occlusion_texture, "occlusion_texture"}};
+    for (const auto& [map, key] : maps) {
+      if (!map->present()) continue;
+      jm[key] = map->bytes ? "(embedded) " + map->file.filename().string() : map->file.string();
+      const TextureSize size = probe_texture(*map, material.name);
+      jm[std::string(key) + "_size"] = {size.width, size.height, size.channels};
     }
-    if (material.normal_texture.present()) {
-      const MeshTexture& map = material.normal_texture;
-      jm["normal_texture"] = map.bytes ? "(embedded) " + map.file.filename().string() : map.file.string();
-      const TextureSize size = probe_texture(map, material.name);
-      jm["normal_texture_size"] = {size.width, size.height, size.channels};
-      jm["normal_scale"] = material.normal_scale;
-    }
-    if (material.occlusion_texture.present()) {
-      const MeshTexture& map = material.occlusion_texture;
-      jm["occlusion_texture"] = map.bytes ? "(embedded) " + map.file.filename().string() : map.file.string();
-      const TextureSize size = probe_texture(map, material.name);
-      jm["occlusion_texture_size"] = {size.width, size.height, size.channels};
-      jm["occlusion_strength"] = material.occlusion_strength;
-    }
+    if (material.normal_texture.present()) jm["normal_scale"] = material.normal_scale;
+    if (material.occlusion_texture.present()) jm["occlusion_strength"] = material.occlusion_strength;
     j["materials"].push_back(jm);
   }
   j["warnings"] = report.warnings;

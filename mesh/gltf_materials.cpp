@@ -223,32 +223,25 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
     use.material.texture = texture_of(model, base.index, file, where, "texture");
     coordinates = coordinates_of(base.tex_coord, base.transform);
   }
-  if (const tinygltf::NormalTextureInfo& normal = m.normalTexture; normal.index >= 0) {
-    const auto it = normal.extensions.find("KHR_texture_transform");
-    const TextureCoordinates own = coordinates_of(normal.texCoord, it != normal.extensions.end() ? &it->second : nullptr);
-    // The triangles carry one set of coordinates: the base colour's. Scans, photogrammetry and the
-    // sample models share them between the maps; a file that does not is told so.
+  // A further map (normal, occlusion) on the coordinates the triangles carry: the other maps'.
+  // Scans, photogrammetry and the sample models share them; a file that does not is told so.
+  const auto map_on_shared_coordinates = [&](const auto& info, const char* kind, MeshTexture& out) {
+    if (info.index < 0) return false;
+    const auto it = info.extensions.find("KHR_texture_transform");
+    const TextureCoordinates own = coordinates_of(info.texCoord, it != info.extensions.end() ? &it->second : nullptr);
     if (coordinates && !(*coordinates == own)) {
-      warnings.push_back(where + ": its normal texture reads other texture coordinates (set or KHR_texture_transform) than its "
-                                 "base colour, which meshtour does not do; the normal texture is not used");
-    } else {
-      use.material.normal_texture = texture_of(model, normal.index, file, where, "normal texture");
-      use.material.normal_scale = static_cast<float>(normal.scale);
-      coordinates = own;
+      warnings.push_back(where + ": its " + kind + " reads other texture coordinates (set or KHR_texture_transform) than its other "
+                         "maps, which meshtour does not do; the " + kind + " is not used");
+      return false;
     }
-  }
-  if (const tinygltf::OcclusionTextureInfo& occlusion = m.occlusionTexture; occlusion.index >= 0) {
-    const auto it = occlusion.extensions.find("KHR_texture_transform");
-    const TextureCoordinates own = coordinates_of(occlusion.texCoord, it != occlusion.extensions.end() ? &it->second : nullptr);
-    if (coordinates && !(*coordinates == own)) {
-      warnings.push_back(where + ": its occlusion texture reads other texture coordinates (set or KHR_texture_transform) than its "
-                                 "other maps, which meshtour does not do; the occlusion texture is not used");
-    } else {
-      use.material.occlusion_texture = texture_of(model, occlusion.index, file, where, "occlusion texture");
-      use.material.occlusion_strength = static_cast<float>(std::clamp(occlusion.strength, 0.0, 1.0));
-      coordinates = own;
-    }
-  }
+    out = texture_of(model, info.index, file, where, kind);
+    coordinates = own;
+    return true;
+  };
+  if (map_on_shared_coordinates(m.normalTexture, "normal texture", use.material.normal_texture))
+    use.material.normal_scale = static_cast<float>(m.normalTexture.scale);
+  if (map_on_shared_coordinates(m.occlusionTexture, "occlusion texture", use.material.occlusion_texture))
+    use.material.occlusion_strength = static_cast<float>(std::clamp(m.occlusionTexture.strength, 0.0, 1.0));
   if (coordinates) {
     use.uv_set = coordinates->set;
     use.uv_transform = coordinates->transform;

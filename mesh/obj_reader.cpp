@@ -71,25 +71,20 @@ bool read_mtl(const std::filesystem::path& mtl_file, ObjContents& faces, std::ma
         continue;
       }
       current = add_material(faces, by_name, rest);
-    } else if (key == "map_Kd" && current >= 0 && !rest.empty()) {
+    } else if ((key == "map_Kd" || key == "norm") && current >= 0 && !rest.empty()) {
+      // map_Kd: the colour map, whose -o/-s move the material's coordinates. norm: a tangent-space
+      // normal map (the statement of tinyobjloader and the exporters that write it) on those
+      // coordinates, -bm its scale. map_Bump is a height map in the MTL specification and is not
+      // read as a normal map.
       const MapStatement map = parse_map_statement(rest);
       if (map.file.empty()) continue;
-      const std::filesystem::path texture = portable_path(map.file);
+      const std::filesystem::path image = portable_path(map.file);
       MeshMaterial& m = faces.materials[static_cast<std::size_t>(current)];
-      m.texture.file = texture.is_absolute() ? texture : mtl_file.parent_path() / texture;
-      m.texture.wrap_s = m.texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
-      faces.uv_transforms[static_cast<std::size_t>(current)] = map.uv_transform;
-    } else if (key == "norm" && current >= 0 && !rest.empty()) {
-      // A tangent-space normal map (the `norm` statement of tinyobjloader and the exporters that
-      // write it), on the colour map's coordinates. map_Bump is a height map in the MTL
-      // specification and is not read as a normal map.
-      const MapStatement map = parse_map_statement(rest);
-      if (map.file.empty()) continue;
-      const std::filesystem::path texture = portable_path(map.file);
-      MeshMaterial& m = faces.materials[static_cast<std::size_t>(current)];
-      m.normal_texture.file = texture.is_absolute() ? texture : mtl_file.parent_path() / texture;
-      m.normal_texture.wrap_s = m.normal_texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
-      m.normal_scale = map.bump_multiplier;
+      MeshTexture& texture = key == "norm" ? m.normal_texture : m.texture;
+      texture.file = image.is_absolute() ? image : mtl_file.parent_path() / image;
+      texture.wrap_s = texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
+      if (key == "norm") m.normal_scale = map.bump_multiplier;
+      else faces.uv_transforms[static_cast<std::size_t>(current)] = map.uv_transform;
     }
   }
   return true;

@@ -265,28 +265,26 @@ std::string map_description(const MeshTexture& map, const std::string& material_
 
 }  // namespace
 
-TextureSize probe_image(const std::filesystem::path& image, const std::string& what) {
+namespace {
+
+// The header of an image from `bytes` when given, else from `file`, after open_checked's checks.
+TextureSize probe(const std::filesystem::path& file, const std::string& what, const std::vector<unsigned char>* bytes) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(image, ec)) throw IoError(what + " does not exist");
+  if (!bytes && !std::filesystem::is_regular_file(file, ec)) throw IoError(what + " does not exist");
   std::unique_ptr<ImageBytesReader> memory;
   double file_size = 0;
-  const auto in = open_checked(image.string(), what, nullptr, memory, file_size);
+  const auto in = open_checked(file.string(), what, bytes, memory, file_size);
   TextureSize size{in->spec().width, in->spec().height, in->spec().nchannels};
   in->close();
   return size;
 }
 
+}  // namespace
+
+TextureSize probe_image(const std::filesystem::path& image, const std::string& what) { return probe(image, what, nullptr); }
+
 TextureSize probe_texture(const MeshTexture& map, const std::string& material_name) {
-  const std::string file = map.file.string();
-  const std::string what = map_description(map, material_name, "texture");
-  std::error_code ec;
-  if (!map.bytes && !std::filesystem::is_regular_file(map.file, ec)) throw IoError(what + " does not exist");
-  std::unique_ptr<ImageBytesReader> memory;
-  double file_size = 0;
-  const auto in = open_checked(file, what, map.bytes.get(), memory, file_size);
-  TextureSize size{in->spec().width, in->spec().height, in->spec().nchannels};
-  in->close();
-  return size;
+  return probe(map.file, map_description(map, material_name, "texture"), map.bytes.get());
 }
 
 void verify_texture(const MeshTexture& map, const std::string& material_name, const char* kind) {
