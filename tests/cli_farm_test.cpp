@@ -19,6 +19,7 @@
 
 #include "encoder/video_encoder.h"
 #include "core/file_lock.h"
+#include "tracer/instruction_set.h"
 #include "helpers.h"
 #include "test_meshes.h"
 #include "video_probe.h"
@@ -375,11 +376,8 @@ int count_of(const std::string& text, const std::string& word) {
 // The instruction sets this CPU runs the tile kernel in (MESHTOUR_TILE_KERNEL names them).
 std::vector<std::string> kernels_of_this_cpu() {
   std::vector<std::string> kernels = {"baseline"};
-#if defined(__x86_64__)
-  __builtin_cpu_init();
-  if (__builtin_cpu_supports("x86-64-v3")) kernels.push_back("x86-64-v3");
-  if (__builtin_cpu_supports("x86-64-v4")) kernels.push_back("x86-64-v4");
-#endif
+  if (cpu_runs(InstructionSet::x86_64_v3)) kernels.push_back("x86-64-v3");
+  if (cpu_runs(InstructionSet::x86_64_v4)) kernels.push_back("x86-64-v4");
   return kernels;
 }
 

@@ -261,11 +261,8 @@ TEST(Denoiser, SameBitsWithOneOrTwoThreads) {
 TEST(Denoiser, SameBitsWithEveryInstructionSetAndOddSizes) {
   using Set = DenoiseSettings::InstructionSet;
   std::vector<Set> sets = {Set::baseline};
-#if defined(__x86_64__)
-  __builtin_cpu_init();
-  if (__builtin_cpu_supports("x86-64-v3")) sets.push_back(Set::x86_64_v3);
-  if (__builtin_cpu_supports("x86-64-v4")) sets.push_back(Set::x86_64_v4);
-#endif
+  for (const Set set : {Set::x86_64_v3, Set::x86_64_v4})
+    if (cpu_runs(set)) sets.push_back(set);
   // Bumpy: the left part's normals differ from pixel to pixel, so that vectors of every width
   // mix pixels whose window is one normal (fitted by the plane alone) with pixels whose is not.
   for (const bool bumpy : {false, true})

@@ -69,8 +69,7 @@ double portable_atan2(double y, double x) {
 // MESHTOUR_TILE_KERNEL=baseline|x86-64-v3|x86-64-v4 forces one (tests compare them).
 InstructionSet choose_instruction_set() {
 #if defined(MESHTOUR_TILE_KERNELS_X86_64)
-  __builtin_cpu_init();
-  const bool v3 = __builtin_cpu_supports("x86-64-v3"), v4 = __builtin_cpu_supports("x86-64-v4");
+  const bool v3 = cpu_runs(InstructionSet::x86_64_v3), v4 = cpu_runs(InstructionSet::x86_64_v4);
   if (const char* forced = std::getenv("MESHTOUR_TILE_KERNEL"); forced && *forced) {
     const std::string name = forced;
     if (name == "baseline") return InstructionSet::baseline;
