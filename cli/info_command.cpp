@@ -23,6 +23,14 @@
 namespace meshtour::cli {
 namespace {
 
+// A map's key in the JSON: its name with underscores ("metallic-roughness texture" is
+// "metallic_roughness_texture").
+std::string json_key(std::string kind) {
+  std::replace(kind.begin(), kind.end(), ' ', '_');
+  std::replace(kind.begin(), kind.end(), '-', '_');
+  return kind;
+}
+
 struct InfoArgs {
   std::string mesh;
   bool json = false;
@@ -71,15 +79,19 @@ nlohmann::json describe(const std::string& input) {
     const MeshMaterial& material = mesh.materials[m];
     nlohmann::json jm = {{"name", material.name}, {"triangles", per_material[m]}};
     if (material.base_color) jm["base_color"] = {material.base_color->x(), material.base_color->y(), material.base_color->z()};
-    // Each map with its image's size: "texture", "normal_texture", "occlusion_texture".
-    const std::pair<const MeshTexture*, const char*> maps[] = {
-        {&material.texture, "texture"}, {&material.normal_texture, "normal_texture"}, {&material.occlusion_texture, "occlusion_texture"}};
-    for (const auto& [map, key] : maps) {
-      if (!map->present()) continue;
+    // Each map with its image's size: "texture", "normal_texture", "occlusion_texture", ...
+    for (const auto& [map, kind] : material.named_maps()) {
+      const std::string key = json_key(kind);
       jm[key] = map->bytes ? "(embedded) " + map->file.filename().string() : map->file.string();
       const TextureSize size = probe_texture(*map, material.name);
-      jm[std::string(key) + "_size"] = {size.width, size.height, size.channels};
+      jm[key + "_size"] = {size.width, size.height, size.channels};
     }
+    if (material.metallic_roughness) {
+      jm["metallic"] = material.metallic_roughness->metallic;
+      jm["roughness"] = material.metallic_roughness->roughness;
+    }
+    if (material.emissive.squaredNorm() > 0.0f) jm["emissive"] = {material.emissive.x(), material.emissive.y(), material.emissive.z()};
+    if (material.unlit) jm["unlit"] = true;
     if (material.normal_texture.present()) jm["normal_scale"] = material.normal_scale;
     if (material.occlusion_texture.present()) jm["occlusion_strength"] = material.occlusion_strength;
     j["materials"].push_back(jm);
@@ -130,15 +142,18 @@ void print_text(const nlohmann::json& j) {
               j["non_manifold_edges"].get<std::size_t>(), j["unreferenced_vertices"].get<std::size_t>());
   for (const auto& m : j["materials"]) {
     std::printf("  material '%s': %zu triangles", m["name"].get<std::string>().c_str(), m["triangles"].get<std::size_t>());
-    // Each map the material has: "texture", "normal texture", "occlusion texture".
-    for (const char* map : {"texture", "normal_texture", "occlusion_texture"}) {
+    // Each map the material has: "texture", "normal texture", ...
+    for (const char* kind : kMaterialMapKinds) {
+      const std::string map = json_key(kind);
       if (!m.contains(map)) continue;
-      std::string label = map;
-      std::replace(label.begin(), label.end(), '_', ' ');
-      const auto& size = m[std::string(map) + "_size"];
-      std::printf(", %s %s (%dx%d, %d channels)", label.c_str(), m[map].get<std::string>().c_str(), size[0].get<int>(), size[1].get<int>(),
+      const auto& size = m[map + "_size"];
+      std::printf(", %s %s (%dx%d, %d channels)", kind, m[map].get<std::string>().c_str(), size[0].get<int>(), size[1].get<int>(),
                   size[2].get<int>());
     }
+    if (m.contains("metallic")) std::printf(", metallic %g, roughness %g", m["metallic"].get<double>(), m["roughness"].get<double>());
+    if (m.contains("emissive"))
+      std::printf(", emissive (%g %g %g)", m["emissive"][0].get<double>(), m["emissive"][1].get<double>(), m["emissive"][2].get<double>());
+    if (m.contains("unlit")) std::printf(", unlit");
     std::printf("\n");
   }
   for (const auto& w : j["warnings"]) std::printf("  warning: %s\n", w.get<std::string>().c_str());

@@ -36,6 +36,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!mesh.triangle_materials.empty() && mesh.triangle_materials.size() != mesh.triangles.size()) __builtin_trap();
     for (auto m : mesh.triangle_materials)
       if (m >= mesh.materials.size()) __builtin_trap();
+    // Material parameters stay in their ranges whatever the file says.
+    for (const auto& m : mesh.materials) {
+      if (m.metallic_roughness && !(m.metallic_roughness->metallic >= 0.0f && m.metallic_roughness->metallic <= 1.0f &&
+                                    m.metallic_roughness->roughness >= 0.0f && m.metallic_roughness->roughness <= 1.0f))
+        __builtin_trap();
+      if (!(m.emissive.minCoeff() >= 0.0f) || !(m.alpha >= 0.0f && m.alpha <= 1.0f) || !(m.alpha_cutoff >= 0.0f)) __builtin_trap();
+    }
   } catch (const meshtour::Error&) {
   }
   return 0;

@@ -19,7 +19,8 @@ namespace {
 // colour in a way meshtour would get wrong, so it is refused by name.
 const std::set<std::string> kSupported = {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_texture_transform",
                                           "KHR_mesh_quantization", "KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness",
-                                          "EXT_texture_webp", "EXT_mesh_gpu_instancing", "KHR_lights_punctual"};
+                                          "EXT_texture_webp", "EXT_mesh_gpu_instancing", "KHR_lights_punctual",
+                                          "KHR_materials_emissive_strength"};
 
 // Images keep their encoded bytes (OpenImageIO decodes them when the tracer needs them). An image
 // in a buffer view is left for encoded_image_bytes(): tinygltf 2.7 hands over the view's range
@@ -207,12 +208,11 @@ void refuse_unsupported(const std::vector<std::string>& required, const std::str
   if (unsupported.empty()) return;
   std::string list;
   for (const auto& e : unsupported) list += (list.empty() ? "" : ", ") + e;
+  std::string supported;
+  for (const auto& e : kSupported) supported += (supported.empty() ? "" : ", ") + e;
   throw InputError(name + ": requires the glTF extension" + (unsupported.size() > 1 ? "s " : " ") + list +
                    ", which meshtour does not read (it would change the model's geometry or colours); export the "
-                   "model without it (supported: KHR_draco_mesh_compression, EXT_meshopt_compression, "
-                   "KHR_mesh_quantization, KHR_texture_transform, KHR_materials_unlit, "
-                   "KHR_materials_pbrSpecularGlossiness, EXT_texture_webp, EXT_mesh_gpu_instancing, "
-                   "KHR_lights_punctual)");
+                   "model without it (supported: " + supported + ")");
 }
 
 // extensionsRequired as the parsed JSON lists it (strings only; nothing when it did not parse).

@@ -1,6 +1,7 @@
 // glTF materials as meshtour uses them: the base colour factor and texture (embedded, in a data
 // URI or an external file), its sampler's wrap modes and filters, coordinate set and
-// KHR_texture_transform.
+// KHR_texture_transform; the normal, occlusion, metallic-roughness and emissive maps and factors
+// (KHR_materials_emissive_strength), KHR_materials_unlit.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -63,8 +64,8 @@ std::vector<unsigned char> base64_decoded(std::string_view text, const std::stri
 // The base colour of a material: its factor and the texture it names (`index` -1: none), with
 // the texture's coordinate set and KHR_texture_transform. From pbrMetallicRoughness, or from
 // KHR_materials_pbrSpecularGlossiness's diffuse (older Sketchfab and Blender exports), which takes
-// precedence where a reader supports it; its specular and glossiness, like metallic and roughness,
-// are not part of meshtour's studio look.
+// precedence where a reader supports it; its specular and glossiness are not read (such a surface
+// gets the look's highlight).
 struct BaseColor {
   std::vector<double> factor;
   int index = -1, tex_coord = 0;
@@ -242,6 +243,36 @@ MaterialUse material_use(const tinygltf::Model& model, int index, const std::fil
     use.material.normal_scale = static_cast<float>(m.normalTexture.scale);
   if (map_on_shared_coordinates(m.occlusionTexture, "occlusion texture", use.material.occlusion_texture))
     use.material.occlusion_strength = static_cast<float>(std::clamp(m.occlusionTexture.strength, 0.0, 1.0));
+  MeshMaterial& out = use.material;
+  out.unlit = m.extensions.count("KHR_materials_unlit") > 0;
+  out.double_sided = m.doubleSided;
+  if (factor.size() >= 4) out.alpha = static_cast<float>(std::clamp(factor[3], 0.0, 1.0));
+  if (m.alphaMode == "MASK") {
+    out.alpha_mode = MeshMaterial::AlphaMode::mask;
+    out.alpha_cutoff = static_cast<float>(std::max(0.0, m.alphaCutoff));
+  } else if (m.alphaMode == "BLEND") {
+    out.alpha_mode = MeshMaterial::AlphaMode::blend;
+  }
+  // Spec-gloss materials keep the look's highlight: meshtour reads their diffuse colour only.
+  if (!out.unlit && !m.extensions.count("KHR_materials_pbrSpecularGlossiness")) {
+    const tinygltf::PbrMetallicRoughness& pbr = m.pbrMetallicRoughness;
+    MeshMaterial::MetallicRoughness mr;
+    mr.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
+    mr.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
+    map_on_shared_coordinates(pbr.metallicRoughnessTexture, "metallic-roughness texture", mr.texture);
+    out.metallic_roughness = std::move(mr);
+  }
+  if (!out.unlit) {
+    double strength = 1.0;
+    if (const auto it = m.extensions.find("KHR_materials_emissive_strength"); it != m.extensions.end() && it->second.IsObject() &&
+                                                                          it->second.Has("emissiveStrength") &&
+                                                                          it->second.Get("emissiveStrength").IsNumber())
+      strength = std::clamp(it->second.Get("emissiveStrength").GetNumberAsDouble(), 0.0, 1e6);
+    if (m.emissiveFactor.size() >= 3)
+      for (int k = 0; k < 3; ++k)
+        out.emissive[k] = static_cast<float>(std::clamp(m.emissiveFactor[static_cast<std::size_t>(k)], 0.0, 1e6) * strength);
+    if (out.emissive.squaredNorm() > 0.0f) map_on_shared_coordinates(m.emissiveTexture, "emissive texture", out.emissive_texture);
+  }
   if (coordinates) {
     use.uv_set = coordinates->set;
     use.uv_transform = coordinates->transform;

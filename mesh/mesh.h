@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace meshtour {
@@ -47,6 +48,10 @@ struct MeshTexture {
   bool present() const { return !file.empty(); }
 };
 
+/// The names of a material's maps, in messages and (spaces and hyphens as underscores) `info`.
+inline constexpr std::array<const char*, 5> kMaterialMapKinds = {"texture", "normal texture", "occlusion texture",
+                                                                 "metallic-roughness texture", "emissive texture"};
+
 /// A surface as the file gives it: a colour (factor and optional texture) and an optional normal
 /// map. UV transforms (OBJ `-o`/`-s`, glTF KHR_texture_transform) are applied to the triangles'
 /// corner_uvs by the loader, so every map of a material reads the same coordinates.
@@ -67,14 +72,58 @@ struct MeshMaterial {
   /// 1 + strength * (value - 1).
   MeshTexture occlusion_texture;
   float occlusion_strength = 1.0f;
+  /// glTF's metallic-roughness model (the specification's Appendix B BRDF: GGX, Smith, Schlick,
+  /// the metal/dielectric mix), or nothing: the look's own diffuse and highlight (OBJ, PLY).
+  struct MetallicRoughness {
+    float metallic = 1.0f, roughness = 1.0f;  ///< the factors (glTF's defaults), in [0, 1]
+    /// Linear; its blue channel multiplies `metallic`, its green `roughness`.
+    MeshTexture texture;
+  };
+  std::optional<MetallicRoughness> metallic_roughness;
+  /// Emitted radiance, linear RGB (glTF emissiveFactor times KHR_materials_emissive_strength),
+  /// times `emissive_texture` (sRGB) where it has one. Zero: none.
+  Eigen::Vector3f emissive = Eigen::Vector3f::Zero();
+  MeshTexture emissive_texture;
+  /// KHR_materials_unlit: the base colour shows as it is, lit by nothing and casting no light.
+  bool unlit = false;
+  /// glTF alphaMode. The surface's alpha is `alpha` (baseColorFactor's fourth component) times
+  /// the base colour texture's alpha channel where it has one. opaque: alpha is ignored; mask: the
+  /// surface is not there where alpha < alpha_cutoff (leaves, lace, cut-outs); blend: it stops a
+  /// share alpha of the light and of the view (glass, gauze), the rest passes straight through.
+  enum class AlphaMode { opaque, mask, blend };
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  float alpha = 1.0f;
+  float alpha_cutoff = 0.5f;
+  /// glTF doubleSided (its default is false): whether a face has a back. False: every ray that
+  /// meets a face from behind passes through it (back-face culling, for shadows and occlusion
+  /// too, as a rasterizer culls in every pass). OBJ, PLY, STL and OFF say nothing, and an open
+  /// scan must show its inside: true.
+  bool double_sided = true;
+  /// Whether rays must ask the material before they stop at a face (alpha, a single side).
+  bool rays_filtered() const { return alpha_mode != AlphaMode::opaque || !double_sided; }
   /// Whether vertex colours multiply the texture (glTF COLOR_0); otherwise a texture replaces them.
   bool texture_times_vertex_colors = false;
   bool has_texture() const { return texture.present(); }
-  /// The maps the material has (for checks and memory estimates).
+  /// The maps the material has, with their names (kMaterialMapKinds).
+  std::vector<std::pair<const MeshTexture*, const char*>> named_maps() const {
+    const MeshTexture* all[] = {&texture, &normal_texture, &occlusion_texture,
+                                metallic_roughness ? &metallic_roughness->texture : nullptr, &emissive_texture};
+    static_assert(std::size(all) == kMaterialMapKinds.size());
+    std::vector<std::pair<const MeshTexture*, const char*>> out;
+    for (std::size_t k = 0; k < kMaterialMapKinds.size(); ++k)
+      if (all[k] && all[k]->present()) out.emplace_back(all[k], kMaterialMapKinds[k]);
+    return out;
+  }
+  /// The same, writable (the texture checks drop a map that cannot be read).
+  std::vector<std::pair<MeshTexture*, const char*>> named_maps() {
+    std::vector<std::pair<MeshTexture*, const char*>> out;
+    for (const auto& [map, name] : std::as_const(*this).named_maps()) out.emplace_back(const_cast<MeshTexture*>(map), name);
+    return out;
+  }
+  /// The maps alone (for checks and memory estimates).
   std::vector<const MeshTexture*> maps() const {
     std::vector<const MeshTexture*> out;
-    for (const MeshTexture* t : {&texture, &normal_texture, &occlusion_texture})
-      if (t->present()) out.push_back(t);
+    for (const auto& m : named_maps()) out.push_back(m.first);
     return out;
   }
 };

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <mutex>
 #include <string>
 
@@ -67,7 +68,10 @@ RayScene::RayScene(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
   if (!s.device) throw RuntimeFailure("cannot create the Embree device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
   rtcSetDeviceErrorFunction(s.device.get(), record_error, &s.errors);
   s.scene.reset(rtcNewScene(s.device.get()));
-  rtcSetSceneFlags(s.scene.get(), RTC_SCENE_FLAG_ROBUST);
+  // A material with alpha or a single side lets the tracer pass a filter in its rays' context
+  // (the renderer decides per hit); a scene without one keeps Embree's plain traversal.
+  const bool filtered = std::any_of(mesh.materials.begin(), mesh.materials.end(), [](const MeshMaterial& m) { return m.rays_filtered(); });
+  rtcSetSceneFlags(s.scene.get(), filtered ? RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(s.scene.get(), RTC_BUILD_QUALITY_HIGH);
 
   const std::unique_ptr<RTCGeometryTy, GeometryDeleter> geometry(rtcNewGeometry(s.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE));

@@ -325,23 +325,21 @@ void check_material_textures(TriangleMesh& mesh, const std::string& name, const 
   for (std::size_t m = 0; m < mesh.materials.size(); ++m) {
     MeshMaterial& material = mesh.materials[m];
     if (!used[m] || !options.check_textures) continue;
-    struct Map {
-      MeshTexture* texture;
-      const char *kind, *without;
-    };
-    const Map maps[] = {{&material.texture, "texture", "untextured"},
-                        {&material.normal_texture, "normal texture", "without their normal map"},
-                        {&material.occlusion_texture, "occlusion texture", "without their occlusion map"}};
-    for (const Map& map : maps) {
-      if (!map.texture->present()) continue;
+    for (const auto& [map, kind] : material.named_maps()) {
+      // What the faces are rendered without: "untextured", "without their normal map", ...
+      std::string without = "untextured";
+      if (map != &material.texture) {
+        const std::string name = kind;
+        without = "without their " + name.substr(0, name.rfind(" texture")) + " map";
+      }
       try {
-        verify_texture(*map.texture, material.name, map.kind);
+        verify_texture(*map, material.name, kind);
       } catch (const IoError& e) {
         if (!options.missing_textures_grey)
           throw IoError(name + ": " + e.what() + " (fix the path or the file, or pass --missing-textures grey to render its faces " +
-                        map.without + ")");
-        warnings.push_back(std::string(e.what()) + "; its faces are rendered " + map.without + " (--missing-textures grey)");
-        *map.texture = MeshTexture{};
+                        without + ")");
+        warnings.push_back(std::string(e.what()) + "; its faces are rendered " + without + " (--missing-textures grey)");
+        *map = MeshTexture{};
       }
     }
   }

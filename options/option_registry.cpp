@@ -135,8 +135,9 @@ std::vector<Option> make_registry() {
        .scene_key = "look.preset", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "environment", .flag = "--environment", .kind = Kind::text, .type_name = "FILE", .default_text = "none",
        .help = "Image-based light in place of the look's uniform sky: an equirectangular HDR or EXR image (2:1), or\n"
-               "neutral (a built-in studio: softbox above, strips at the sides, a grey room). Its diffuse light,\n"
-               "occluded like the sky, lights the model; the look's lights stay; the background stays the look's",
+               "neutral (a built-in studio: softbox above, strips at the sides, a grey room). Its light, occluded\n"
+               "like the sky, lights the model (diffusely, and in the reflections of glTF materials); the look's\n"
+               "lights stay; the background stays the look's",
        .scene_key = "look.environment", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "environment-rotation", .flag = "--environment-rotation", .kind = Kind::number, .lo = -360, .hi = 360,
        .default_text = "0", .help = "Turns the environment about the up axis (degrees)", .scene_key = "look.environment_rotation",
@@ -144,6 +145,12 @@ std::vector<Option> make_registry() {
   add({.id = "environment-intensity", .flag = "--environment-intensity", .kind = Kind::number, .lo = 0, .hi = 1000,
        .default_text = "1", .help = "Multiplies the environment's light (neutral: 1 lights a white surface facing up as 1.0)",
        .scene_key = "look.environment_intensity", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "materials", .flag = "--materials", .kind = Kind::choice, .choices = {"file", "look"}, .ignore_case = true,
+       .default_text = "file",
+       .help = "Whose shading a surface gets: file (default: a glTF material's own metallic-roughness BRDF, emission\n"
+               "and unlit flag, as the glTF specification's Appendix B says) or look (the look's diffuse base and\n"
+               "highlight everywhere, on the file's colours and maps: the studio look of a clay scan)",
+       .scene_key = "look.materials", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "crease-angle", .flag = "--crease-angle", .kind = Kind::number, .lo = 0, .hi = 180, .default_text = "60",
        .help = "Edges where faces meet at more than this angle (degrees) are shaded sharp, smaller ones smooth\n"
                "(default 60: a box, a plinth or a CAD part keeps flat faces, a scan stays smooth; 180 smooths every edge)",

@@ -61,6 +61,7 @@ void set_background(Shading& sh, const std::string& text) {
 }
 void set_exposure(Shading& sh, const std::string& text) { sh.exposure = std::stof(text); }
 void set_crease_angle(Shading& sh, const std::string& text) { sh.material.crease_angle_deg = std::stof(text); }
+void set_materials(Shading& sh, const std::string& text) { sh.material.use_file_material = text == "file"; }
 void set_tone_mapping(Shading& sh, const std::string& text) { sh.tone_mapping = parse_tone_mapping(text); }
 void set_environment(Shading& sh, const std::string& text) { sh.environment = text == "none" ? nullptr : environment_named(text); }
 void set_environment_rotation(Shading& sh, const std::string& text) { sh.environment_rotation_deg = std::stof(text); }
@@ -82,6 +83,7 @@ void apply_look_values(JsonReader& look, const std::string& source, Shading& sh,
   look.read("vertex_colors", m.use_vertex_colors);
   look.read("texture", m.use_texture);
   read_look_value(look, "crease_angle", "crease-angle", sh, set_crease_angle);
+  read_look_value(look, "materials", "materials", sh, set_materials);
   if (look.has("lights")) {
     const json& lights = look.raw("lights");
     if (!lights.is_array() || lights.size() > 8)
@@ -207,6 +209,7 @@ const std::map<std::string_view, SceneSetter>& scene_bindings() {
       {"first-view", [](S s, T t) { s.orbit_start = parse_orbit_start(t); }},
       {"preset", [](S s, T t) { set_look_preset(s, t); }},
       {"crease-angle", [](S s, T t) { set_crease_angle(s.render.shading, t); }},
+      {"materials", [](S s, T t) { set_materials(s.render.shading, t); }},
       {"spp", [](S s, T t) { s.render.samples_per_pixel = whole(t); }},
       {"denoise", [](S s, T t) { s.render.denoise = t == "on"; }},
       {"background", [](S s, T t) { set_background(s.render.shading, t); }},

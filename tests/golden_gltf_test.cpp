@@ -33,7 +33,8 @@ std::filesystem::path write_cube_glb(const std::filesystem::path& dir, const Tri
   const int pos = b.floats(positions, 3), uv = b.floats(uvs, 2), idx = b.indices(indices);
   const int image = b.embedded_image(test::read_bytes(dir / "checker.png"), "image/png");
   b.doc["textures"] = {{{"source", image}}};
-  b.doc["materials"] = {{{"name", "checker"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  // Two-sided as the OBJ is (glTF's default is single-sided; the cube is wound inwards).
+  b.doc["materials"] = {{{"name", "checker"}, {"doubleSided", true}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
   b.doc["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", pos}, {"TEXCOORD_0", uv}}}, {"indices", idx}, {"material", 0}}}}}};
   b.doc["nodes"] = {{{"mesh", 0}}};
   b.doc["scenes"] = {{{"nodes", {0}}}};
@@ -48,6 +49,9 @@ RenderOptions cube_options() {
   o.height = 120;
   o.samples_per_pixel = 4;
   o.shading = look_preset("studio");
+  // The same shading for every format (the look's), so that the images compare the texture
+  // lookups alone: the GLB's material, having no metallicFactor, is a rough metal by glTF's rule.
+  o.shading.material.use_file_material = false;
   return o;
 }
 const Camera kCubeCamera{{3.2, 2.6, 4.4}, {0, -0.3, 0}, {0, 1, 0}, 40.0};

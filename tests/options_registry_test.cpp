@@ -130,6 +130,7 @@ std::string scene_fingerprint(const Scene& s) {
                       {"up", s.up_auto ? std::string("auto") : s.up.name()}, {"path", std::string(path_mode_name(s.path_mode))}, {"fov", s.vertical_fov_deg}, {"auto", s.auto_fov},
                       {"elev", s.elevation_deg}, {"first", std::string(orbit_start_name(s.orbit_start))}, {"preset", s.render.shading.preset}, {"spp", s.render.samples_per_pixel},
                       {"bg", int(s.render.shading.background)}, {"exp", s.render.shading.exposure}, {"crease", s.render.shading.material.crease_angle_deg},
+                      {"materials", s.render.shading.material.use_file_material},
                       {"denoise", s.render.denoise}, {"tone", int(s.render.shading.tone_mapping)},
                       {"env", s.render.shading.environment ? s.render.shading.environment->source : ""},
                       {"env_turn", s.render.shading.environment_rotation_deg}, {"env_scale", s.render.shading.environment_intensity},

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "furnace.h"
 #include "helpers.h"
 #include "test_meshes.h"
 #include "tracer/environment.h"
@@ -22,43 +23,10 @@ namespace {
 namespace fs = std::filesystem;
 using test_meshes::uv_sphere;
 
-std::shared_ptr<const EnvironmentImage> uniform_environment(float value, int width = 64) {
-  auto env = std::make_shared<EnvironmentImage>();
-  env->width = width;
-  env->height = width / 2;
-  env->rgb.assign(static_cast<std::size_t>(env->width) * env->height * 3, value);
-  return env;
-}
-
-// A look with nothing but the environment: no lights, no ground, occlusion on.
-RenderOptions furnace(std::shared_ptr<const EnvironmentImage> env) {
-  RenderOptions options;
-  options.width = 64;
-  options.height = 64;
-  options.samples_per_pixel = 4;
-  options.denoise = false;
-  options.shading = look_preset("studio");
-  options.shading.lights.clear();
-  options.shading.ground = false;
-  options.shading.material.base_color = Eigen::Vector3f::Ones();
-  options.shading.environment = std::move(env);
-  return options;
-}
-
-const Camera kCamera{{0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 30.0};
-
-// The mean of the raw frame's RGB over pixels the model covers wholly (alpha 1).
-Eigen::Vector3f covered_mean(const Image& img, int* count = nullptr) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  int n = 0;
-  for (std::size_t p = 0; p < static_cast<std::size_t>(img.width) * img.height; ++p)
-    if (img.rgba[p * 4 + 3] >= 1.0f) {
-      sum += Eigen::Vector3d(img.rgba[p * 4], img.rgba[p * 4 + 1], img.rgba[p * 4 + 2]);
-      ++n;
-    }
-  if (count) *count = n;
-  return n ? Eigen::Vector3f((sum / n).cast<float>()) : Eigen::Vector3f::Zero();
-}
+using test::covered_mean;
+using test::furnace;
+using test::uniform_environment;
+const Camera& kCamera = test::kFurnaceCamera;
 
 TEST(Environment, WhiteFurnaceSphereRendersOne) {
   const Image img = Renderer(uv_sphere(1.0, 96, 48), furnace(uniform_environment(1.0f))).render(kCamera);

@@ -90,6 +90,34 @@ Eigen::Vector3f environment_to_world(const Eigen::Vector3f& d, const Eigen::Vect
   return world_from_environment(up, rotation_deg) * d;
 }
 
+EnvironmentRadiance environment_radiance(std::shared_ptr<const EnvironmentImage> env, const Eigen::Vector3f& up, float rotation_deg,
+                                         float intensity) {
+  EnvironmentRadiance out;
+  out.image = std::move(env);
+  out.environment_from_world = world_from_environment(up, rotation_deg).transpose();  // a rotation
+  out.intensity = intensity;
+  return out;
+}
+
+Eigen::Vector3f EnvironmentRadiance::operator()(const Eigen::Vector3f& world) const {
+  const EnvironmentImage& env = *image;
+  const Eigen::Vector3f d = environment_from_world * world;
+  // pixel_direction() inverted: theta from the zenith, phi from -z towards +x.
+  const float theta = std::acos(std::clamp(d.y(), -1.0f, 1.0f)), phi = std::atan2(d.x(), -d.z());
+  const float x = (phi / (2.0f * kPi) + 0.5f) * static_cast<float>(env.width) - 0.5f;
+  const float y = std::clamp(theta / kPi * static_cast<float>(env.height) - 0.5f, 0.0f, static_cast<float>(env.height - 1));
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float ax = x - fx, ay = y - fy;
+  const int i0 = static_cast<int>(fx), j0 = static_cast<int>(fy), j1 = std::min(j0 + 1, env.height - 1);
+  const auto at = [&](int i, int j) {
+    i = ((i % env.width) + env.width) % env.width;
+    const float* p = &env.rgb[(static_cast<std::size_t>(j) * env.width + i) * 3];
+    return Eigen::Vector3f(p[0], p[1], p[2]);
+  };
+  const Eigen::Vector3f top = (1.0f - ax) * at(i0, j0) + ax * at(i0 + 1, j0), bottom = (1.0f - ax) * at(i0, j1) + ax * at(i0 + 1, j1);
+  return intensity * ((1.0f - ay) * top + ay * bottom);
+}
+
 IrradianceSH irradiance_sh(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg, float intensity) {
   const Eigen::Matrix3f m = world_from_environment(up, rotation_deg);
   // L_k = integral of L(w) Y_k(w) dw, in double: a 4k image sums 8 million terms.

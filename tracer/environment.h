@@ -52,6 +52,19 @@ struct IrradianceSH {
 /// it (right-handed, seen from above), times `intensity`.
 IrradianceSH irradiance_sh(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg, float intensity);
 
+/// The environment's radiance in world directions, for the rays of glossy reflections: the image
+/// as placed in the world, times its intensity.
+struct EnvironmentRadiance {
+  std::shared_ptr<const EnvironmentImage> image;
+  Eigen::Matrix3f environment_from_world = Eigen::Matrix3f::Identity();
+  float intensity = 1.0f;
+  /// The radiance arriving from unit world direction `d`: bilinear between the four nearest
+  /// pixels' centres (wrapping round the up axis, clamped at the poles).
+  Eigen::Vector3f operator()(const Eigen::Vector3f& d) const;
+};
+EnvironmentRadiance environment_radiance(std::shared_ptr<const EnvironmentImage> env, const Eigen::Vector3f& up, float rotation_deg,
+                                         float intensity);
+
 /// The world direction of the environment's direction `d` (its own frame: +y up), under the same
 /// placement as irradiance_sh().
 Eigen::Vector3f environment_to_world(const Eigen::Vector3f& d, const Eigen::Vector3f& up, float rotation_deg);

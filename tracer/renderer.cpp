@@ -137,6 +137,9 @@ Renderer::Impl::Map open_map(Renderer::Impl& s, const MeshTexture& t, const std:
     // Untiled images (JPEG, PNG atlases) are cached in 64x64 tiles rather than whole, so the
     // cache's memory cap holds for 16k atlases too (the texels and the filtering are the same).
     s.textures->attribute("autotile", 64);
+    // Colours as the file stores them, alpha apart (glTF's and PNG's straight alpha): the
+    // default would premultiply them, darkening every partly transparent texel's colour.
+    s.textures->attribute("unassociatedalpha", 1);
   }
   const OIIO::ustring texture_name(t.file.string());
   if (t.bytes) {
@@ -166,6 +169,7 @@ Renderer::Impl::Map open_map(Renderer::Impl& s, const MeshTexture& t, const std:
   int channels = 3;
   s.textures->get_texture_info(map.handle, nullptr, 0, OIIO::ustring("channels"), OIIO::TypeInt, &channels);
   map.grey = channels <= 2;
+  map.alpha_channel = channels == 4 ? 3 : channels == 2 ? 1 : -1;
   if (data == MapData::normal && map.grey)
     throw InputError(t.file.string() + ": the " + std::string(kind) + " of material '" + material +
                      "' is a grey image; a normal map needs RGB (x, y, z)");
@@ -177,7 +181,7 @@ Renderer::Impl::Map open_map(Renderer::Impl& s, const MeshTexture& t, const std:
 }
 
 // One Surface per mesh material, with its maps opened.
-void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_texture) {
+void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_texture, bool file_material) {
   if (mesh.materials.empty()) return;
   const bool textured = use_texture && mesh.has_texture();
   for (const MeshMaterial& m : mesh.materials) {
@@ -194,6 +198,25 @@ void set_up_surfaces(Renderer::Impl& s, const TriangleMesh& mesh, bool use_textu
       surface.occlusion_map = open_map(s, m.occlusion_texture, m.name, "occlusion texture", MapData::scalar);
       surface.occlusion_strength = m.occlusion_strength;
     }
+    // The file's own shading (its BRDF, light and unlit flag) where the look takes it.
+    if (file_material && m.metallic_roughness) {
+      surface.metallic_roughness = true;
+      surface.metallic = std::clamp(m.metallic_roughness->metallic, 0.0f, 1.0f);
+      surface.roughness = std::clamp(m.metallic_roughness->roughness, 0.0f, 1.0f);
+      if (textured && m.metallic_roughness->texture.present())
+        surface.metallic_roughness_map = open_map(s, m.metallic_roughness->texture, m.name, "metallic-roughness texture", MapData::scalar);
+    }
+    if (file_material) {
+      surface.emissive = m.emissive.cwiseMax(0.0f);
+      if (textured && m.emissive_texture.present() && surface.emissive.squaredNorm() > 0.0f)
+        surface.emissive_map = open_map(s, m.emissive_texture, m.name, "emissive texture", MapData::colour);
+      surface.unlit = m.unlit;
+    }
+    surface.alpha_mode = m.alpha_mode;
+    surface.alpha = std::clamp(m.alpha, 0.0f, 1.0f);
+    surface.alpha_cutoff = m.alpha_cutoff;
+    surface.double_sided = m.double_sided;
+    s.filtered_rays = s.filtered_rays || surface.rays_filtered();
     s.surfaces.push_back(surface);
   }
   s.triangle_surface = mesh.triangle_materials;
@@ -239,6 +262,75 @@ void set_up_corner_frames(Renderer::Impl& s, const TriangleMesh& mesh) {
 }
 
 }  // namespace
+
+namespace render_detail {
+
+RayContext ray_context(const Renderer::Impl& r, Scratch& scratch, bool camera) {
+  RayContext c;
+  rtcInitIntersectContext(&c.embree);
+  c.embree.flags = camera ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  if (r.filtered_rays) {
+    c.embree.filter = &filter_hits;
+    c.renderer = &r;
+    c.scratch = &scratch;
+  }
+  return c;
+}
+
+void filter_hits(const RTCFilterFunctionNArguments* args) {
+  const RayContext& c = *reinterpret_cast<const RayContext*>(args->context);
+  const Renderer::Impl& r = *c.renderer;
+  const unsigned n = args->N;
+  for (unsigned i = 0; i < n; ++i) {
+    if (args->valid[i] != -1) continue;
+    const std::uint32_t prim = RTCHitN_primID(args->hit, n, i);
+    const Renderer::Impl::Surface& surface = r.surfaces[r.triangle_surface.empty() ? 0 : r.triangle_surface[prim]];
+    if (!surface.rays_filtered()) continue;
+    const Eigen::Vector3f dir(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i), RTCRayN_dir_z(args->ray, n, i));
+    if (!surface.double_sided) {
+      // The face's own winding (counter-clockwise seen from its front), not Embree's convention.
+      const auto& t = r.triangles[prim];
+      const Eigen::Vector3f front = (r.positions[t[1]] - r.positions[t[0]]).cross(r.positions[t[2]] - r.positions[t[0]]);
+      if (front.dot(dir) > 0.0f) {
+        args->valid[i] = 0;
+        continue;
+      }
+    }
+    if (surface.alpha_mode == MeshMaterial::AlphaMode::opaque) continue;
+    float alpha = surface.alpha;
+    if (surface.texture.handle && surface.texture.alpha_channel >= 0 && !r.corner_uvs.empty()) {
+      const float u = RTCHitN_u(args->hit, n, i), v = RTCHitN_v(args->hit, n, i), w = 1.0f - u - v;
+      const Eigen::Vector2f uv = w * r.corner_uvs[3 * std::size_t{prim}] + u * r.corner_uvs[3 * std::size_t{prim} + 1] +
+                                 v * r.corner_uvs[3 * std::size_t{prim} + 2];
+      OIIO::TextureOpt opt;
+      opt.swrap = surface.texture.wrap_s;
+      opt.twrap = surface.texture.wrap_t;
+      opt.interpmode = surface.texture.mag_interp;
+      opt.mipmode = OIIO::TextureOpt::MipModeNoMIP;
+      opt.firstchannel = surface.texture.alpha_channel;
+      float a = 1.0f;
+      if (r.textures->texture(surface.texture.handle, c.scratch->texture_thread, opt, uv.x(), 1.0f - uv.y(), 0, 0, 0, 0, 1, &a))
+        alpha *= std::clamp(a, 0.0f, 1.0f);
+    }
+    bool there = true;
+    if (surface.alpha_mode == MeshMaterial::AlphaMode::mask) {
+      there = alpha >= surface.alpha_cutoff;
+    } else {
+      // Blend: the face stops the ray with probability alpha. The number is a hash of the ray's
+      // bits and the face, the same in every run and on every thread.
+      std::uint32_t bits[6];
+      const float values[6] = {RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i), RTCRayN_org_z(args->ray, n, i),
+                               dir.x(), dir.y(), dir.z()};
+      std::memcpy(bits, values, sizeof bits);
+      std::uint64_t key = rng::mix64(prim + 0x632be59bd9b4e019ULL);
+      for (const std::uint32_t b : bits) key = rng::mix64(key ^ b);
+      there = static_cast<float>(key >> 40) * 0x1.0p-24f < alpha;
+    }
+    if (!there) args->valid[i] = 0;
+  }
+}
+
+}  // namespace render_detail
 
 // For each vertex, the smallest index of a vertex at bit-identical coordinates (itself when
 // alone): the vertices that are one point of the surface. Files split vertices where their
@@ -477,7 +569,7 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::
     for (const auto& c : mesh.colors) s.colors.push_back(srgb_to_linear(c));
     for (const std::uint32_t v : copied_from) s.colors.push_back(s.colors[v]);
   }
-  set_up_surfaces(s, mesh, material.use_texture);
+  set_up_surfaces(s, mesh, material.use_texture, material.use_file_material);
   set_up_corner_frames(s, mesh);
 
   s.rays = rays ? std::move(rays) : std::make_shared<const RayScene>(mesh);
@@ -490,6 +582,7 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::
     if (!(sh.environment_intensity >= 0.0f) || !std::isfinite(sh.environment_intensity))
       throw InputError("the environment's intensity must be 0 or more, got " + std::to_string(sh.environment_intensity));
     s.environment_light = irradiance_sh(*sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
+    s.environment_radiance = environment_radiance(sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
   }
   if (options.shading.ground) {
     float lowest = std::numeric_limits<float>::infinity();
@@ -559,6 +652,7 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   f.ambient = sh.ambient;
   f.environment = environment_light.has_value();
   if (environment_light) f.sky_light = *environment_light;
+  if (environment_radiance) f.sky_radiance = &*environment_radiance;
   f.background_top = sh.background_top;
   f.background_bottom = sh.background_bottom;
   f.shadows = sh.shadows;

@@ -61,9 +61,11 @@ struct Frame {
   float ground_height = 0.0f, ground_half = 0.0f;
   std::vector<FrameLight> lights;
   Eigen::Vector3f base_color, ambient, background_top, background_bottom;
-  // With an environment, the sky's light at normal n is sky_light(n) (E(n) / pi) instead of `ambient`.
+  // With an environment, the sky's light at normal n is sky_light(n) (E(n) / pi) instead of
+  // `ambient`, and glossy reflections see `sky_radiance` in the directions they sample.
   bool environment = false;
   IrradianceSH sky_light;
+  const EnvironmentRadiance* sky_radiance = nullptr;
   bool shadows = true, ambient_occlusion = true;
   float shininess = 1.0f, spec_scale = 0.0f, spec_cutoff = 1.0f;
   float eps = 0.0f, ao_length = 0.0f, model_radius = 0.0f, ground_ao_reach2 = 0.0f;
@@ -81,6 +83,21 @@ struct Scratch {
   RTCRay16 shadow, sky;
   OIIO::TextureSystem::Perthread* texture_thread = nullptr;
 };
+
+// A tile's rays' context: Embree's (first, so that Embree's pointer to it is one to this), and
+// what filter_hits needs: the renderer and the thread's texture handle.
+struct RayContext {
+  RTCIntersectContext embree;
+  const Renderer::Impl* renderer = nullptr;
+  Scratch* scratch = nullptr;
+};
+// Embree's context filter for scenes with alpha or single-sided materials: a hit on a face whose
+// surface is not there for this ray (alpha under the mask's cutoff; a blend's share 1 - alpha,
+// decided by a hash of the ray and the face, so the same in every run; a single-sided face met
+// from behind, by any ray) is rejected, and the ray goes on.
+void filter_hits(const RTCFilterFunctionNArguments* args);
+// The context of a tile's camera rays (coherent) or secondary rays (incoherent).
+RayContext ray_context(const Renderer::Impl& r, Scratch& scratch, bool camera);
 
 // One tile's ray and sample counts.
 struct TileCounts {
@@ -118,6 +135,7 @@ struct Renderer::Impl {
     float texels_across = 1.0f;  // the image's larger side in texels
     bool grey = false;  // a 1- or 2-channel (grey, grey + alpha) image: its first channel is grey
     bool srgb = false;  // the values are sRGB-encoded: decoded to linear after the lookup
+    int alpha_channel = -1;  // the image's alpha (straight, not premultiplied), or none
   };
   // The mesh's materials as the tiles use them: maps, colour factor.
   struct Surface {
@@ -129,7 +147,22 @@ struct Renderer::Impl {
     Eigen::Vector3f factor{1.0f, 1.0f, 1.0f};
     bool replaces_base_color = false;   // untextured with a colour of its own (not the look's)
     bool texture_times_vertex_colors = false;
+    // glTF's metallic-roughness BRDF in place of the look's highlight (MeshMaterial), its
+    // factors and map (blue: metal, green: roughness).
+    bool metallic_roughness = false;
+    float metallic = 0.0f, roughness = 1.0f;
+    Map metallic_roughness_map;
+    Eigen::Vector3f emissive = Eigen::Vector3f::Zero();  // linear radiance, times the map
+    Map emissive_map;
+    bool unlit = false;  // the base colour as it is, no light
+    // What rays ask before they stop at one of its faces (filter_hits): its alpha (the factor,
+    // times the base colour map's alpha channel) and whether its back is seen.
+    MeshMaterial::AlphaMode alpha_mode = MeshMaterial::AlphaMode::opaque;
+    float alpha = 1.0f, alpha_cutoff = 0.5f;
+    bool double_sided = true;
+    bool rays_filtered() const { return alpha_mode != MeshMaterial::AlphaMode::opaque || !double_sided; }
   };
+  bool filtered_rays = false;  // some surface's rays_filtered(): the tiles' contexts carry filter_hits
   std::vector<Surface> surfaces;              // empty: the look's material everywhere
   std::vector<std::uint32_t> triangle_surface;  // per triangle; empty = surface 0
   // Per-corner UVs, when some surface has a map.
@@ -146,6 +179,7 @@ struct Renderer::Impl {
   TextureSystemPtr textures;
   // The environment's irradiance in the world frame (Shading::environment), once per job.
   std::optional<IrradianceSH> environment_light;
+  std::optional<EnvironmentRadiance> environment_radiance;
   ReconstructionFilter filter;
   // The Film's and the denoiser's memory, kept between frames (one per concurrent render()).
   mutable FilmMemory film_memory;

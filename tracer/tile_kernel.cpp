@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "tracer/color.h"
 #include "tracer/denoiser.h"
@@ -526,6 +527,13 @@ MESHTOUR_SIMD_INLINE bool look_up(const Impl& r, Scratch& scratch, const Impl::M
 struct SurfacePoint {
   V3 n, albedo;
   F16 sky_occlusion;  // the occlusion map's factor on the sky's light (1: none)
+  // The file's own shading (Surface): where `metallic_roughness`, glTF's BRDF with these
+  // parameters replaces the look's highlight; `emission` is added as it is; `unlit` lanes show
+  // their albedo alone.
+  I16 metallic_roughness, unlit;
+  F16 metallic, roughness;
+  V3 emission;
+  bool any_metallic_roughness = false, any_unlit = false, any_emission = false;
 };
 MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scratch& scratch, const RTCRayHit16& primary, const Hits& h,
                                             const V3& dir) {
@@ -535,6 +543,8 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
   // the mapped one too (a mapped normal may lean away from the camera on a surface that faces it).
   alignas(64) float sx[16] = {}, sy[16] = {}, sz[16] = {};
   alignas(64) float occlusion[16];
+  alignas(64) float metallic[16], roughness[16], er[16], eg[16], eb[16];
+  alignas(64) std::int32_t pbr_lane[16], unlit_lane[16];
   // Per lane, what the maps need: the surface, the UV and footprint, the barycentrics.
   const Impl::Surface* lane_surface[16] = {};
   Eigen::Vector2f lane_uv[16];
@@ -544,6 +554,8 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
     ag[l] = f.base_color.y();
     ab[l] = f.base_color.z();
     occlusion[l] = 1.0f;
+    metallic[l] = 0.0f, roughness[l] = 1.0f, er[l] = eg[l] = eb[l] = 0.0f;
+    pbr_lane[l] = unlit_lane[l] = 0;
     if (!h.on_model[l]) continue;
     const std::size_t prim = primary.hit.primID[l];
     const auto& tri = r.triangles[prim];
@@ -558,7 +570,12 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
     if (!r.colors.empty()) c = bw * r.colors[tri[0]] + bu * r.colors[tri[1]] + bv * r.colors[tri[2]];
     if (!r.surfaces.empty()) {
       const Impl::Surface& surface = r.surfaces[r.triangle_surface.empty() ? 0 : r.triangle_surface[prim]];
-      if (surface.texture.handle || surface.normal_map.handle || surface.occlusion_map.handle) {
+      pbr_lane[l] = surface.metallic_roughness ? -1 : 0;
+      unlit_lane[l] = surface.unlit ? -1 : 0;
+      metallic[l] = surface.metallic, roughness[l] = surface.roughness;
+      er[l] = surface.emissive.x(), eg[l] = surface.emissive.y(), eb[l] = surface.emissive.z();
+      if (surface.texture.handle || surface.normal_map.handle || surface.occlusion_map.handle || surface.metallic_roughness_map.handle ||
+          surface.emissive_map.handle) {
         lane_surface[l] = &surface;
         lane_uv[l] = bw * r.corner_uvs[3 * prim] + bu * r.corner_uvs[3 * prim + 1] + bv * r.corner_uvs[3 * prim + 2];
         // Isotropic footprint of one sample in texture space: the pixel's width at this
@@ -602,6 +619,24 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
   for (int l = 0; l < simd::kLanes; ++l) {
     const Impl::Surface* surface = lane_surface[l];
     float rgb[3];
+    if (surface && surface->metallic_roughness_map.handle &&
+        look_up(r, scratch, surface->metallic_roughness_map, lane_uv[l], lane_width[l], rgb)) {
+      roughness[l] *= std::clamp(rgb[1], 0.0f, 1.0f);  // glTF: green is roughness, blue metalness
+      metallic[l] *= std::clamp(rgb[2], 0.0f, 1.0f);
+    }
+  }
+  for (int l = 0; l < simd::kLanes; ++l) {
+    const Impl::Surface* surface = lane_surface[l];
+    float rgb[3];
+    if (surface && surface->emissive_map.handle && look_up(r, scratch, surface->emissive_map, lane_uv[l], lane_width[l], rgb)) {
+      const Eigen::Vector3f e = surface->emissive_map.srgb ? srgb_to_linear(Eigen::Vector3f(rgb[0], rgb[1], rgb[2]))
+                                                           : Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
+      er[l] *= e.x(), eg[l] *= e.y(), eb[l] *= e.z();
+    }
+  }
+  for (int l = 0; l < simd::kLanes; ++l) {
+    const Impl::Surface* surface = lane_surface[l];
+    float rgb[3];
     if (!surface || !surface->normal_map.handle || !look_up(r, scratch, surface->normal_map, lane_uv[l], lane_width[l], rgb)) continue;
     // The map's (x, y, z) in the corner frame (tangent, bitangent, normal), glTF's rule:
     // normalize((2 value - 1) * (scale, scale, 1)), the frame's tangent made perpendicular.
@@ -630,7 +665,19 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
   const V3 side{simd::load(sx), simd::load(sy), simd::load(sz)};
   const I16 faces_away = simd::select_int(simd::gt(n_len2, 0.0f), simd::gt(dot(side, dir), 0.0f), simd::gt(dot(n, dir), 0.0f));
   n = select(faces_away, V3{-n.x, -n.y, -n.z}, n);
-  return {n, V3{simd::load(ar), simd::load(ag), simd::load(ab)}, simd::load(occlusion)};
+  SurfacePoint p;
+  p.n = n;
+  p.albedo = {simd::load(ar), simd::load(ag), simd::load(ab)};
+  p.sky_occlusion = simd::load(occlusion);
+  p.metallic_roughness = simd::load_int(pbr_lane);
+  p.unlit = simd::load_int(unlit_lane);
+  p.metallic = simd::load(metallic);
+  p.roughness = simd::load(roughness);
+  p.emission = {simd::load(er), simd::load(eg), simd::load(eb)};
+  p.any_metallic_roughness = simd::any(p.metallic_roughness);
+  p.any_unlit = simd::any(p.unlit);
+  p.any_emission = simd::any(simd::gt(p.emission.x + p.emission.y + p.emission.z, 0.0f));
+  return p;
 }
 
 // The environment's diffuse light at unit normals n: E(n) / pi from its nine coefficients
@@ -644,6 +691,101 @@ MESHTOUR_SIMD_INLINE V3 environment_light(const Frame& f, const V3& n) {
     e = {e.x + basis[k] * c.x(), e.y + basis[k] * c.y(), e.z + basis[k] * c.z()};
   }
   return {simd::max(e.x, zero), simd::max(e.y, zero), simd::max(e.z, zero)};
+}
+
+// ---- glTF's metallic-roughness BRDF (the specification's Appendix B): the Trowbridge-Reitz
+// (GGX) distribution, Smith's height-correlated masking-shadowing, Schlick's Fresnel, and the mix
+// by metalness of a dielectric (F0 0.04 over the diffuse base colour) and a metal (F0 the base
+// colour). Values are pi times the BRDF: the kernel's unit, in which a white diffuse surface
+// reflects the irradiance it gets. alpha = roughness^2.
+
+// (1 - cos)^5, Schlick's weight.
+MESHTOUR_SIMD_INLINE F16 schlick_weight(F16 cos) {
+  const F16 x = 1.0f - simd::min(simd::max(cos, simd::broadcast(0.0f)), simd::broadcast(1.0f));
+  const F16 x2 = x * x;
+  return x2 * x2 * x;
+}
+// Smith's Lambda of GGX for a direction at cosine c (> 0) to the normal.
+MESHTOUR_SIMD_INLINE F16 smith_lambda(F16 alpha2, F16 c) {
+  const F16 c2 = simd::max(c * c, simd::broadcast(1e-12f));
+  const F16 tan2 = simd::max(simd::broadcast(0.0f), 1.0f - c2) / c2;
+  return 0.5f * (simd::sqrt(1.0f + alpha2 * tan2) - 1.0f);
+}
+// One lane group's parameters of the BRDF.
+struct GgxLobe {
+  F16 metallic, alpha2, n_dot_v, lambda_v;
+  V3 base;
+};
+MESHTOUR_SIMD_INLINE GgxLobe ggx_lobe(const SurfacePoint& p, const V3& view) {
+  const F16 rough = simd::max(p.roughness, simd::broadcast(0.03f));  // a mirror is a very sharp lobe
+  const F16 alpha = rough * rough;
+  GgxLobe g{p.metallic, alpha * alpha, simd::max(dot(p.n, view), simd::broadcast(1e-4f)), simd::broadcast(0.0f), p.albedo};
+  g.lambda_v = smith_lambda(g.alpha2, g.n_dot_v);
+  return g;
+}
+// The Fresnel-weighted specular colour (1 - m) F_dielectric + m F_metal at weight w, and the
+// diffuse colour (1 - m)(1 - F_dielectric) base.
+MESHTOUR_SIMD_INLINE void ggx_colours(const GgxLobe& g, F16 w, V3& specular, V3& diffuse) {
+  const F16 dielectric = 0.04f + 0.96f * w, m = g.metallic, d = (1.0f - m) * (1.0f - dielectric);
+  const F16 s = (1.0f - m) * dielectric;
+  specular = {s + m * (g.base.x + (1.0f - g.base.x) * w), s + m * (g.base.y + (1.0f - g.base.y) * w), s + m * (g.base.z + (1.0f - g.base.z) * w)};
+  diffuse = {d * g.base.x, d * g.base.y, d * g.base.z};
+}
+// What a distant disc light of irradiance `radiance` from unit direction l (cos_l > 0 to the
+// normal) reflects towards the viewer. The disc's angular radius widens the distribution
+// (alpha^2 + sin^2 of the half angle: a mirror shows the disc, not a point).
+MESHTOUR_SIMD_INLINE V3 ggx_reflected(const GgxLobe& g, const V3& n, const V3& view, const V3& l, const V3& radiance, F16 cos_l,
+                                      float sin_half_angle) {
+  const V3 sum{l.x + view.x, l.y + view.y, l.z + view.z};
+  const F16 inv = 1.0f / simd::sqrt(simd::max(dot(sum, sum), simd::broadcast(1e-12f)));
+  const V3 h{sum.x * inv, sum.y * inv, sum.z * inv};
+  const F16 n_dot_h = simd::max(dot(n, h), simd::broadcast(0.0f)), v_dot_h = dot(view, h);
+  const F16 a2 = g.alpha2 + sin_half_angle * sin_half_angle;
+  const F16 q = n_dot_h * n_dot_h * (a2 - 1.0f) + 1.0f;
+  const F16 distribution = a2 / (std::numbers::pi_v<float> * q * q);
+  const F16 cos_l_pos = simd::max(cos_l, simd::broadcast(1e-4f));
+  // pi D G2 / (4 cos_v): the 1 / cos_l of the BRDF cancels against the irradiance's cos_l.
+  const F16 spec = std::numbers::pi_v<float> * distribution / (4.0f * g.n_dot_v * (1.0f + g.lambda_v + smith_lambda(g.alpha2, cos_l_pos)));
+  V3 specular, diffuse;
+  ggx_colours(g, schlick_weight(v_dot_h), specular, diffuse);
+  return {radiance.x * (diffuse.x * cos_l + specular.x * spec), radiance.y * (diffuse.y * cos_l + specular.y * spec),
+          radiance.z * (diffuse.z * cos_l + specular.z * spec)};
+}
+// A direction of reflection sampled from the distribution of visible normals (Heitz 2018,
+// "Sampling the GGX distribution of visible normals"), numbers (u, v) in [0, 1), about the
+// normal n with tangents t1, t2; `weight` is the BRDF times cos over the density, per channel
+// (F G2 / G1), 0 below the surface.
+MESHTOUR_SIMD_INLINE V3 ggx_sample(const GgxLobe& g, const V3& n, const V3& t1, const V3& t2, const V3& view, F16 u, F16 v, V3& weight) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  const F16 alpha = simd::sqrt(g.alpha2);
+  // The view in the normal's frame, stretched to the unit-roughness configuration.
+  V3 vh{alpha * dot(view, t1), alpha * dot(view, t2), g.n_dot_v};
+  const F16 inv_vh = 1.0f / simd::sqrt(dot(vh, vh));
+  vh = {vh.x * inv_vh, vh.y * inv_vh, vh.z * inv_vh};
+  const F16 len2 = vh.x * vh.x + vh.y * vh.y;
+  const I16 tilted = simd::gt(len2, 1e-12f);
+  const F16 inv_len = 1.0f / simd::sqrt(simd::select(tilted, len2, one));
+  const V3 a{simd::select(tilted, -vh.y * inv_len, one), simd::select(tilted, vh.x * inv_len, zero), zero};
+  const V3 b{vh.y * a.z - vh.z * a.y, vh.z * a.x - vh.x * a.z, vh.x * a.y - vh.y * a.x};
+  F16 sin_phi, cos_phi;
+  simd::sincos_turns(v, sin_phi, cos_phi);
+  const F16 rad = simd::sqrt(u), p1 = rad * cos_phi;
+  const F16 mix = 0.5f * (1.0f + vh.z);
+  const F16 p2 = (1.0f - mix) * simd::sqrt(simd::max(zero, 1.0f - p1 * p1)) + mix * (rad * sin_phi);
+  const F16 p3 = simd::sqrt(simd::max(zero, 1.0f - p1 * p1 - p2 * p2));
+  V3 m{alpha * (p1 * a.x + p2 * b.x + p3 * vh.x), alpha * (p1 * a.y + p2 * b.y + p3 * vh.y), simd::max(p1 * a.z + p2 * b.z + p3 * vh.z, simd::broadcast(1e-6f))};
+  const F16 inv_m = 1.0f / simd::sqrt(dot(m, m));
+  const V3 h{(m.x * t1.x + m.y * t2.x + m.z * n.x) * inv_m, (m.x * t1.y + m.y * t2.y + m.z * n.y) * inv_m,
+             (m.x * t1.z + m.y * t2.z + m.z * n.z) * inv_m};
+  const F16 v_dot_h = dot(view, h);
+  const V3 l{2.0f * v_dot_h * h.x - view.x, 2.0f * v_dot_h * h.y - view.y, 2.0f * v_dot_h * h.z - view.z};
+  const F16 cos_l = dot(n, l);
+  const I16 above = simd::gt(cos_l, 0.0f);
+  const F16 g2_over_g1 = simd::select(above, (1.0f + g.lambda_v) / (1.0f + g.lambda_v + smith_lambda(g.alpha2, simd::max(cos_l, simd::broadcast(1e-6f)))), zero);
+  V3 specular, diffuse;
+  ggx_colours(g, schlick_weight(v_dot_h), specular, diffuse);
+  weight = {specular.x * g2_over_g1, specular.y * g2_over_g1, specular.z * g2_over_g1};
+  return l;
 }
 
 // The samples on the model: what each light would bring unshadowed (diffuse and a Blinn-Phong
@@ -664,11 +806,17 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
     const F16 spec = simd::select(simd::gt(cos_h, f.spec_cutoff), f.spec_scale * simd::pow_unit(simd::max(cos_h, simd::broadcast(1e-30f)), f.shininess), zero);
     return V3{radiance.x * (albedo.x + spec) * cos_l, radiance.y * (albedo.y + spec) * cos_l, radiance.z * (albedo.z + spec) * cos_l};
   };
+  // Lanes of the file's metallic-roughness materials: glTF's BRDF in place of the look's.
+  const bool any_ggx = surface.any_metallic_roughness;
+  const I16 ggx = simd::both(on_model, surface.metallic_roughness);
+  const GgxLobe lobe = any_ggx ? ggx_lobe(surface, view) : GgxLobe{};
   // What each light would bring here unshadowed (diffuse and highlight; 0 from behind).
   V3 contributions[8];
   for (std::size_t i = 0; i < nlights; ++i) {
     const F16 cos_i = dot(n, broadcast(f.lights[i].direction));
-    const V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cos_i);
+    V3 c = reflected(broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cos_i);
+    if (any_ggx)
+      c = select(ggx, ggx_reflected(lobe, n, view, broadcast(f.lights[i].direction), broadcast(f.lights[i].radiance), cos_i, f.lights[i].sin_half_angle), c);
     const I16 lit = simd::gt(cos_i, 0.0f);
     contributions[i] = {simd::select(lit, c.x, zero), simd::select(lit, c.y, zero), simd::select(lit, c.z, zero)};
   }
@@ -707,22 +855,95 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
   const V3 sky_light = f.environment ? environment_light(f, n) : broadcast(f.ambient);
   const F16 open = surface.sky_occlusion;
   const V3 sky{albedo.x * sky_light.x * open, albedo.y * sky_light.y * open, albedo.z * sky_light.z * open};
+  // The sky's light on glTF materials: its expected value (for the guides, and as it is
+  // without occlusion rays), and one sample of it along the occlusion ray's direction.
+  V3 sky_expected = sky, ggx_sky = sky, ggx_sky_dir{zero, zero, one};
+  if (any_ggx) {
+    // Expected: the diffuse share under the irradiance at n, and the specular share (Schlick
+    // at the view with the roughness's fade, after Fdez-Aguera 2019) under the irradiance about
+    // the mirror direction, which stands for the radiance the lobe gathers.
+    const F16 w_v = schlick_weight(lobe.n_dot_v), m = lobe.metallic;
+    const F16 keep = (1.0f - m) * (1.0f - (0.04f + 0.96f * w_v));
+    const V3 diffuse_share{keep * albedo.x, keep * albedo.y, keep * albedo.z};
+    const F16 rough_fade = 1.0f - surface.roughness;
+    auto specular_share = [&](F16 base) __attribute__((always_inline)) {
+      const F16 f0 = (1.0f - m) * 0.04f + m * base;
+      return f0 + (simd::max(rough_fade, f0) - f0) * w_v;
+    };
+    const V3 spec_share{specular_share(albedo.x), specular_share(albedo.y), specular_share(albedo.z)};
+    const V3 mirror{2.0f * lobe.n_dot_v * n.x - view.x, 2.0f * lobe.n_dot_v * n.y - view.y, 2.0f * lobe.n_dot_v * n.z - view.z};
+    const V3 sky_mirror = f.environment ? environment_light(f, mirror) : broadcast(f.ambient);
+    const V3 expected_diffuse{diffuse_share.x * sky_light.x, diffuse_share.y * sky_light.y, diffuse_share.z * sky_light.z};
+    const V3 expected_specular{spec_share.x * sky_mirror.x, spec_share.y * sky_mirror.y, spec_share.z * sky_mirror.z};
+    sky_expected = select(ggx, V3{(expected_diffuse.x + expected_specular.x) * open, (expected_diffuse.y + expected_specular.y) * open,
+                                  (expected_diffuse.z + expected_specular.z) * open}, sky);
+    if (f.ambient_occlusion) {
+      // One lobe per sample, the specular with probability p in proportion to the expected
+      // light of each; u is stretched to a fresh number within the chosen share (as choose()).
+      const F16 ws = luminance(expected_specular.x, expected_specular.y, expected_specular.z);
+      const F16 wd = luminance(expected_diffuse.x, expected_diffuse.y, expected_diffuse.z);
+      const I16 weighed = simd::gt(ws + wd, 0.0f);
+      const F16 p = simd::select(weighed, ws / simd::select(weighed, ws + wd, one), one);
+      const I16 specular_lane = simd::lt(s.u_sky, p);
+      const F16 top = simd::broadcast(0x1.fffffep-1f);
+      const F16 u = simd::min(top, simd::select(specular_lane, s.u_sky / simd::select(simd::gt(p, 0.0f), p, one),
+                                                (s.u_sky - p) / simd::select(simd::lt(p, 1.0f), 1.0f - p, one)));
+      V3 t1, t2;
+      basis(n, t1, t2);
+      V3 weight;
+      const V3 spec_dir = ggx_sample(lobe, n, t1, t2, view, u, s.v_sky, weight);
+      const V3 diffuse_dir = sky_direction(n, t1, t2, u, s.v_sky);
+      // The diffuse lobe's Fresnel at its own half vector.
+      const V3 half{diffuse_dir.x + view.x, diffuse_dir.y + view.y, diffuse_dir.z + view.z};
+      const F16 v_dot_h = dot(view, half) / simd::sqrt(simd::max(dot(half, half), simd::broadcast(1e-12f)));
+      const F16 diffuse_keep = (1.0f - m) * (1.0f - (0.04f + 0.96f * schlick_weight(v_dot_h))) * open / simd::select(simd::lt(p, 1.0f), 1.0f - p, one);
+      // The radiance the specular rays would see where unblocked: the environment's image, else the ambient.
+      alignas(64) float lr[16], lg[16], lb[16];
+      for (int l = 0; l < simd::kLanes; ++l) {
+        Eigen::Vector3f radiance = f.ambient;
+        if (f.sky_radiance && ggx[l] && specular_lane[l]) radiance = (*f.sky_radiance)(Eigen::Vector3f(spec_dir.x[l], spec_dir.y[l], spec_dir.z[l]));
+        lr[l] = radiance.x(), lg[l] = radiance.y(), lb[l] = radiance.z();
+      }
+      const F16 spec_scale = open / simd::select(simd::gt(p, 0.0f), p, one);
+      const V3 spec_value{weight.x * simd::load(lr) * spec_scale, weight.y * simd::load(lg) * spec_scale, weight.z * simd::load(lb) * spec_scale};
+      const V3 diffuse_value{diffuse_keep * albedo.x * sky_light.x, diffuse_keep * albedo.y * sky_light.y, diffuse_keep * albedo.z * sky_light.z};
+      ggx_sky = select(ggx, select(specular_lane, spec_value, diffuse_value), sky);
+      ggx_sky_dir = select(specular_lane, spec_dir, diffuse_dir);
+    }
+  }
   if (guides) {
-    V3 unshadowed = sky;
+    V3 unshadowed = sky_expected;
     for (std::size_t i = 0; i < nlights; ++i)
       unshadowed = {unshadowed.x + contributions[i].x, unshadowed.y + contributions[i].y, unshadowed.z + contributions[i].z};
     sh.guide_unshadowed = select(on_model, unshadowed, sh.guide_unshadowed);
   }
   V3 model_sky{zero, zero, zero};
+  I16 model_sky_valid = on_model;
   if (f.ambient_occlusion) {
-    model_sky = sky;
+    model_sky = any_ggx ? ggx_sky : sky;
     V3 t1, t2;
     basis(n, t1, t2);
-    sh.sky_dir = select(on_model, sky_direction(n, t1, t2, s.u_sky, s.v_sky), sh.sky_dir);
-    sh.sky_valid = simd::either(sh.sky_valid, on_model);
+    V3 dir = sky_direction(n, t1, t2, s.u_sky, s.v_sky);
+    if (any_ggx) dir = select(ggx, ggx_sky_dir, dir);
+    sh.sky_dir = select(on_model, dir, sh.sky_dir);
   } else {
-    model_base = {model_base.x + sky.x, model_base.y + sky.y, model_base.z + sky.z};
+    model_base = {model_base.x + sky_expected.x, model_base.y + sky_expected.y, model_base.z + sky_expected.z};
+    model_sky_valid = simd::broadcast_int(0);
   }
+  if (surface.any_emission) {
+    const V3& e = surface.emission;
+    model_base = {model_base.x + e.x, model_base.y + e.y, model_base.z + e.z};
+    if (guides) sh.guide_unshadowed = select(on_model, V3{sh.guide_unshadowed.x + e.x, sh.guide_unshadowed.y + e.y, sh.guide_unshadowed.z + e.z}, sh.guide_unshadowed);
+  }
+  if (surface.any_unlit) {
+    // KHR_materials_unlit: the base colour as it is; no light, no rays.
+    const I16 unlit = simd::both(on_model, surface.unlit);
+    model_base = select(unlit, albedo, model_base);
+    model_shadow = simd::both(model_shadow, ~unlit);
+    model_sky_valid = simd::both(model_sky_valid, ~unlit);
+    if (guides) sh.guide_unshadowed = select(unlit, albedo, sh.guide_unshadowed);
+  }
+  sh.sky_valid = simd::either(sh.sky_valid, model_sky_valid);
   sh.shadow_valid = simd::either(sh.shadow_valid, model_shadow);
   sh.base[0] = simd::select(on_model, model_base.x, sh.base[0]);
   sh.base[1] = simd::select(on_model, model_base.y, sh.base[1]);
@@ -954,12 +1175,9 @@ MESHTOUR_SIMD_INLINE void splat(const ReconstructionFilter& filter, const Frame&
 template <InstructionSet>
 void Renderer::Impl::render_tile(const Frame& f, Scratch& scratch, const FilmTile& film, RayRecording::Tile* recorded,
                                  TileCounts& counts) const {
-  RTCIntersectContext coherent;
-  rtcInitIntersectContext(&coherent);
-  coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  RTCIntersectContext incoherent;
-  rtcInitIntersectContext(&incoherent);
-  incoherent.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  RayContext camera_context = ray_context(*this, scratch, true), secondary_context = ray_context(*this, scratch, false);
+  RTCIntersectContext& coherent = camera_context.embree;
+  RTCIntersectContext& incoherent = secondary_context.embree;
   const V3 eye = broadcast(f.eye);
   TileSampler sampler(f, film);
   for (int first = 0; first < sampler.sample_count(); first += simd::kLanes) {

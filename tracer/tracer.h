@@ -39,7 +39,11 @@ struct Material {
   float roughness = 0.45f;  ///< 0 mirror-like highlight .. 1 no visible highlight
   float specular = 0.5f;    ///< highlight strength; 0.5 is a dielectric's 4 % reflectance
   bool use_vertex_colors = true;
-  bool use_texture = true;  ///< the mesh's diffuse texture (OBJ map_Kd), when it has one
+  bool use_texture = true;  ///< the mesh's maps (base colour, normal, occlusion, ...), when it has them
+  /// The file's own shading where it gives one: glTF's metallic-roughness BRDF in place of
+  /// `roughness` and `specular`, its emission, KHR_materials_unlit. False: every surface gets this
+  /// Material's diffuse base and highlight (on the file's colours and maps).
+  bool use_file_material = true;
   /// Shading normals are smoothed across edges where the faces meet at less than this angle
   /// (degrees) and kept apart where they meet at more: a box, a plinth or a CAD part keeps flat
   /// faces and sharp edges, a scan's curved surface stays smooth. 180 smooths every edge.

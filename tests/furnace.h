@@ -1,0 +1,53 @@
+#pragma once
+// White-furnace set-ups shared by the environment and material tests: a uniform environment, a
+// look with nothing but it (no lights, no ground, raw linear frames), a camera on +z looking at
+// a unit sphere at the origin, and the mean of the pixels the model covers wholly.
+#include <Eigen/Core>
+
+#include <memory>
+
+#include "tracer/environment.h"
+#include "tracer/tracer.h"
+
+namespace meshtour::test {
+
+inline std::shared_ptr<const EnvironmentImage> uniform_environment(float value, int width = 64) {
+  auto env = std::make_shared<EnvironmentImage>();
+  env->width = width;
+  env->height = width / 2;
+  env->rgb.assign(static_cast<std::size_t>(env->width) * env->height * 3, value);
+  return env;
+}
+
+/// 64 x 64, `spp` samples, no denoising; the studio look without lights and ground, white base
+/// colour, occlusion on, lit by `env` alone.
+inline RenderOptions furnace(std::shared_ptr<const EnvironmentImage> env, int spp = 4) {
+  RenderOptions options;
+  options.width = 64;
+  options.height = 64;
+  options.samples_per_pixel = spp;
+  options.denoise = false;
+  options.shading = look_preset("studio");
+  options.shading.lights.clear();
+  options.shading.ground = false;
+  options.shading.material.base_color = Eigen::Vector3f::Ones();
+  options.shading.environment = std::move(env);
+  return options;
+}
+
+inline const Camera kFurnaceCamera{{0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 30.0};
+
+/// The mean of the raw frame's RGB over pixels the model covers wholly (alpha 1).
+inline Eigen::Vector3f covered_mean(const Image& img, int* count = nullptr) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (std::size_t p = 0; p < static_cast<std::size_t>(img.width) * img.height; ++p)
+    if (img.rgba[p * 4 + 3] >= 1.0f) {
+      sum += Eigen::Vector3d(img.rgba[p * 4], img.rgba[p * 4 + 1], img.rgba[p * 4 + 2]);
+      ++n;
+    }
+  if (count) *count = n;
+  return n ? Eigen::Vector3f((sum / n).cast<float>()) : Eigen::Vector3f::Zero();
+}
+
+}  // namespace meshtour::test
