@@ -186,7 +186,7 @@ TEST(UpAxis, BustOnItsCut) {
   b.frustum({0.0, 0.0, 0.0}, 0.6, 0.35, 0.9);
   b.sphere({0.0, 1.55, 0.0}, 0.75);
   b.box({-0.08, 1.4, 0.7}, {0.08, 1.6, 0.9});  // a nose: the bust faces +z
-  expect_found_in_every_orientation("bust", b.mesh, Axis{1, false});
+  expect_found_in_every_orientation("bust", b.mesh, (Axis{1, false}));
 }
 
 // A head on a neck sawn off at a slant (a marble head broken from its statue, as the Venus and
@@ -212,7 +212,7 @@ TEST(UpAxis, HeadOnASlantedCut) {
   print_rests("head on a cut", c);
   EXPECT_GT(c.cut_share, 0.03) << c.reason;
   EXPECT_NE(c.reason.find("flat cut on its -y side"), std::string::npos) << c.reason;
-  expect_found_in_every_orientation("head on a slanted cut", bust, Axis{1, false});
+  expect_found_in_every_orientation("head on a slanted cut", bust, (Axis{1, false}));
   // As glTF it keeps +y by the specification, and a z-up export is not turned by so weak a cue:
   // its cut says +z, but it scores far below a firm rest.
   const UpChoice z_up = choose_up_axis(rotated(bust, axis_rotation(Axis{1, false}, Axis{2, false})), "head.glb");
@@ -269,7 +269,7 @@ TEST(UpAxis, OpenEndIsABaseOnlyFacingAnAxis) {
     const Eigen::Matrix3d tilt = Eigen::AngleAxisd(tilt_deg * EIGEN_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
     return rotated(b.mesh, tilt);
   };
-  expect_found_in_every_orientation("ball open at its foot", open_ball(0.0), Axis{1, false});
+  expect_found_in_every_orientation("ball open at its foot", open_ball(0.0), (Axis{1, false}));
   const TriangleMesh tilted = open_ball(25.0);
   print_rests("tilted opening", choose_up_axis(tilted));
   for (const Axis to : kAllAxes) {
@@ -313,7 +313,7 @@ TEST(UpAxis, StandingFigure) {
   b.box({-0.05, 2.05, 0.25}, {0.05, 2.15, 0.4});  // nose: facing +z
   const UpChoice c = choose_up_axis(b.mesh);
   EXPECT_EQ(c.symmetry_normal, 0) << "mirror x " << c.symmetry[0] << " y " << c.symmetry[1] << " z " << c.symmetry[2];
-  expect_found_in_every_orientation("figure", b.mesh, Axis{1, false});
+  expect_found_in_every_orientation("figure", b.mesh, (Axis{1, false}));
 }
 
 // A box on a wider plinth: it stands on the plinth, whichever axis is up.
@@ -321,7 +321,7 @@ TEST(UpAxis, BoxOnPlinth) {
   Builder b;
   b.box({-1.0, 0.0, -1.0}, {1.0, 0.3, 1.0});  // plinth
   b.box({-0.4, 0.3, -0.4}, {0.4, 2.0, 0.4});  // tall box on it
-  expect_found_in_every_orientation("plinth", b.mesh, Axis{1, false});
+  expect_found_in_every_orientation("plinth", b.mesh, (Axis{1, false}));
 }
 
 // glTF is +y up by its specification: the shape overrides that only when it clearly disagrees,
@@ -330,8 +330,8 @@ TEST(UpAxis, GltfKeepsItsUpUnlessTheShapeClearlyDisagrees) {
   Builder b;
   b.box({-1.0, 0.0, -1.0}, {1.0, 0.3, 1.0});
   b.box({-0.4, 0.3, -0.4}, {0.4, 2.0, 0.4});
-  EXPECT_EQ(format_up_axis("a/model.glb"), Axis(1, false));
-  EXPECT_EQ(format_up_axis("model.GLTF"), Axis(1, false));
+  EXPECT_EQ(format_up_axis("a/model.glb"), (Axis{1, false}));
+  EXPECT_EQ(format_up_axis("model.GLTF"), (Axis{1, false}));
   EXPECT_FALSE(format_up_axis("model.ply").has_value());
   // Upright (+y) as the specification says: +y, no warning.
   const UpChoice upright = choose_up_axis(b.mesh, "plinth.glb");
@@ -408,14 +408,14 @@ TEST(UpAxis, VesselsStandMouthUp) {
     EXPECT_LE(on_foot.trapped_air, 0.05) << name;
     EXPECT_GT(c.upside_down_air, 0.0) << name << ": " << c.reason;
     EXPECT_NE(c.reason.find("mouth up"), std::string::npos) << c.reason;
-    expect_found_in_every_orientation(name, b.mesh, Axis{1, false});
+    expect_found_in_every_orientation(name, b.mesh, (Axis{1, false}));
   }
   // A solid dome on its flat face (a paperweight) traps no air either way: it stays on its face.
   Builder dome;
   dome.revolution({0.0, 0.0, 0.0}, [](double t) { return std::cos(EIGEN_PI / 2 * t); }, [](double t) { return std::sin(EIGEN_PI / 2 * t); });
   const UpChoice d = choose_up_axis(dome.mesh);
   EXPECT_EQ(d.upside_down_air, 0.0) << d.reason;
-  expect_found_in_every_orientation("dome", dome.mesh, Axis{1, false});
+  expect_found_in_every_orientation("dome", dome.mesh, (Axis{1, false}));
 }
 
 // Vessels as photogrammetry scans them: the camera never sees the underside (on the table) nor
@@ -438,7 +438,7 @@ TEST(UpAxis, OpenScansOfVesselsStandMouthUp) {
     EXPECT_GT(upright.flat_base, 0.2) << name << ": the open foot is its base";
     EXPECT_LT(upright.flat_top, 0.15) << name << ": only the lip is flat on top; the hole inside is no top";
     EXPECT_GE(c.rests[3].trapped_air, 0.15) << name << ": on its mouth, its inside closed where the scan stopped traps air";
-    expect_found_in_every_orientation(name, b.mesh, Axis{1, false});
+    expect_found_in_every_orientation(name, b.mesh, (Axis{1, false}));
   }
 }
 
@@ -457,7 +457,7 @@ TEST(UpAxis, RoundVesselWithLittleAirUnderItsMouthStandsOnItsFoot) {
   EXPECT_GT(mouth.score, foot.score) << "it rests more firmly on its mouth";
   EXPECT_LT(mouth.trapped_air, 0.15);
   EXPECT_GT(mouth.trapped_air, 0.05);
-  expect_found_in_every_orientation("tied vase", b.mesh, Axis{1, false});
+  expect_found_in_every_orientation("tied vase", b.mesh, (Axis{1, false}));
 }
 
 // Furniture rests more firmly on its top or seat than on its legs (flat, heavy, the whole
@@ -484,7 +484,7 @@ TEST(UpAxis, FurnitureStandsOnItsLegs) {
     const UpChoice c = choose_up_axis(b->mesh);
     EXPECT_GE(c.rests[2].clearance, 0.4) << name;
     EXPECT_NE(c.reason.find("stands on its legs"), std::string::npos) << name << ": " << c.reason;
-    expect_found_in_every_orientation(name, b->mesh, Axis{1, false});
+    expect_found_in_every_orientation(name, b->mesh, (Axis{1, false}));
   }
 }
 
@@ -516,7 +516,7 @@ TEST(UpAxis, FigureWithSpreadArmsStandsOnItsFeet) {
   EXPECT_EQ(c.symmetry_normal, 0) << c.reason;
   EXPECT_TRUE(c.lying_figure) << c.reason;
   EXPECT_GT(c.rests[4].score, c.rests[2].score) << "lying on its back is the firmer rest, so the figure rule decides";
-  expect_found_in_every_orientation("T-pose", person.mesh, Axis{1, false});
+  expect_found_in_every_orientation("T-pose", person.mesh, (Axis{1, false}));
   // Wide soles make the feet the firmest rest, but not clearly (less than 1.5x the back): the
   // same figure, so it stands on its feet in every orientation all the same.
   const Builder shod = figure(0.24, 0.1);
@@ -524,7 +524,7 @@ TEST(UpAxis, FigureWithSpreadArmsStandsOnItsFeet) {
   EXPECT_GT(f.rests[2].score, f.rests[4].score) << f.reason;
   EXPECT_LT(f.rests[2].score, 1.5 * f.rests[4].score) << f.reason;
   EXPECT_TRUE(f.lying_figure) << f.reason;
-  expect_found_in_every_orientation("T-pose on wide soles", shod.mesh, Axis{1, false});
+  expect_found_in_every_orientation("T-pose on wide soles", shod.mesh, (Axis{1, false}));
 
   Builder lizard;
   lizard.box({-0.15, 0.0, -1.0}, {0.15, 0.3, 1.0});  // body, head to tail along z
@@ -532,7 +532,7 @@ TEST(UpAxis, FigureWithSpreadArmsStandsOnItsFeet) {
     for (const double z : {-0.6, 0.6}) lizard.box({sx > 0 ? 0.15 : -0.45, 0.0, z - 0.05}, {sx > 0 ? 0.45 : -0.15, 0.1, z + 0.05});
   const UpChoice l = choose_up_axis(lizard.mesh);
   EXPECT_FALSE(l.lying_figure) << l.reason;
-  expect_found_in_every_orientation("lizard", lizard.mesh, Axis{1, false});
+  expect_found_in_every_orientation("lizard", lizard.mesh, (Axis{1, false}));
 
 }
 
