@@ -10,7 +10,13 @@
 // library's operator delete does, so only operator new(size_t) is replaced (array and nothrow
 // forms call it; the aligned forms use aligned_alloc already). Only in the executable: a library
 // must not replace its host's allocator. Not under the sanitizers, which bring their own.
-#if !defined(__SANITIZE_ADDRESS__)
+// (GCC says so with __SANITIZE_ADDRESS__, clang with __has_feature.)
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define MESHTOUR_ADDRESS_SANITIZER 1
+#endif
+#endif
+#if !defined(__SANITIZE_ADDRESS__) && !defined(MESHTOUR_ADDRESS_SANITIZER)
 #include <sys/mman.h>
 
 #include <cstdlib>

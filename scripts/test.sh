@@ -2,7 +2,7 @@
 # Quick start, second command: install what is needed, build, and run the whole test suite:
 #  1. a Release build of the program, the tests and the benchmarks in build-test/ (scripts/tour.sh
 #     builds the program alone in build/), and all tests;
-#  2. an AddressSanitizer + UndefinedBehaviorSanitizer build (clang) and all tests again, under the
+#  2. an AddressSanitizer + UndefinedBehaviorSanitizer build and all tests again, under the
 #     sanitizers (set MESHTOUR_SKIP_SANITIZERS=1 to skip this half on a slow machine);
 #  3. the libFuzzer targets (fuzz/, clang) for a fixed number of inputs each (MESHTOUR_SKIP_FUZZ=1 skips).
 # Tests that need ../shared/meshes skip when it is absent, unless MESHTOUR_REQUIRE_SHARED=1.
@@ -17,9 +17,10 @@ ctest --test-dir build-test --output-on-failure -j "$jobs" --timeout 600
 
 if [ "${MESHTOUR_SKIP_SANITIZERS:-0}" != 1 ]; then
   echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
-  # Clang, as the fuzz build: with both sanitizers the whole build takes 1,240 s of CPU against
-  # GCC 12's 3,268 s (docs/TESTING.md), and CI pays for it on every run.
-  CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHTOUR_SANITIZE=ON -DMESHTOUR_BUILD_BENCH=OFF >/dev/null
+  # GCC. Clang builds this tree with both sanitizers in 1,240 s of CPU against GCC 12's 3,268 s,
+  # but its tests do not pass yet (docs/TESTING.md: tests that build JSON with one-element braces,
+  # which nlohmann::json reads differently under clang); until they do, CI builds with GCC.
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHTOUR_SANITIZE=ON -DMESHTOUR_BUILD_BENCH=OFF >/dev/null
   cmake --build build-asan -j "$jobs"
   # TBB keeps worker threads and their arenas alive until exit, which LeakSanitizer reports as
   # leaks of the runtime, not of meshtour; leaks are still checked, with TBB's suppressed.

@@ -188,7 +188,7 @@ TEST(MeshGltf, SpecularGlossinessDiffuseAndWebpTextures) {
     const int webp = b.embedded_image(test::read_bytes(dir / "checker.webp"), "image/webp");
     nlohmann::json texture = {{"extensions", {{"EXT_texture_webp", {{"source", webp}}}}}};
     if (with_fallback) texture["source"] = png;
-    b.doc["textures"] = {texture};
+    b.doc["textures"] = nlohmann::json::array({texture});
     b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
     b.doc["extensionsUsed"] = {"EXT_texture_webp"};
     if (!with_fallback) b.doc["extensionsRequired"] = {"EXT_texture_webp"};

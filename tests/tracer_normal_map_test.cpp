@@ -70,7 +70,7 @@ fs::path write_quad(const fs::path& dir, const QuadSpec& q) {
     g.doc["textures"] = {{{"source", 0}}};
     material["normalTexture"] = {{"index", 0}, {"scale", q.scale}};
   }
-  g.doc["materials"] = {material};
+  g.doc["materials"] = nlohmann::json::array({material});
   g.write_glb(dir / "quad.glb");
   return dir / "quad.glb";
 }
