@@ -137,7 +137,7 @@ std::vector<Option> make_registry() {
        .help = "Image-based light in place of the look's uniform sky: an equirectangular HDR or EXR image (2:1), or\n"
                "neutral (a built-in studio: softbox above, strips at the sides, a grey room). Its light, occluded\n"
                "like the sky, lights the model (diffusely, and in the reflections of glTF materials); the look's\n"
-               "lights stay; the background stays the look's",
+               "lights stay; the background stays the look's (--environment-background shown shows it)",
        .scene_key = "look.environment", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "environment-rotation", .flag = "--environment-rotation", .kind = Kind::number, .lo = -360, .hi = 360,
        .default_text = "0", .help = "Turns the environment about the up axis (degrees)", .scene_key = "look.environment_rotation",
@@ -145,6 +145,12 @@ std::vector<Option> make_registry() {
   add({.id = "environment-intensity", .flag = "--environment-intensity", .kind = Kind::number, .lo = 0, .hi = 1000,
        .default_text = "1", .help = "Multiplies the environment's light (neutral: 1 lights a white surface facing up as 1.0)",
        .scene_key = "look.environment_intensity", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "environment-background", .flag = "--environment-background", .kind = Kind::choice, .choices = {"hidden", "shown"},
+       .ignore_case = true, .default_text = "hidden",
+       .help = "With --environment: shown puts the environment behind the model (and under the ground's\n"
+               "shadows) in place of the look's gradient; hidden (default) keeps the gradient. Transparent\n"
+               "frames stay transparent",
+       .scene_key = "look.environment_background", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "materials", .flag = "--materials", .kind = Kind::choice, .choices = {"file", "look"}, .ignore_case = true,
        .default_text = "file",
        .help = "Whose shading a surface gets: file (default: a glTF material's own metallic-roughness BRDF, emission\n"

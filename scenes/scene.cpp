@@ -66,6 +66,7 @@ void set_tone_mapping(Shading& sh, const std::string& text) { sh.tone_mapping = 
 void set_environment(Shading& sh, const std::string& text) { sh.environment = text == "none" ? nullptr : environment_named(text); }
 void set_environment_rotation(Shading& sh, const std::string& text) { sh.environment_rotation_deg = std::stof(text); }
 void set_environment_intensity(Shading& sh, const std::string& text) { sh.environment_intensity = std::stof(text); }
+void set_environment_background(Shading& sh, const std::string& text) { sh.environment_background = text == "shown"; }
 
 // One registered look key: checked by its row, then set.
 void read_look_value(JsonReader& look, const std::string& key, std::string_view id, Shading& sh,
@@ -128,6 +129,7 @@ void apply_look_values(JsonReader& look, const std::string& source, Shading& sh,
   }
   read_look_value(look, "environment_rotation", "environment-rotation", sh, set_environment_rotation);
   read_look_value(look, "environment_intensity", "environment-intensity", sh, set_environment_intensity);
+  read_look_value(look, "environment_background", "environment-background", sh, set_environment_background);
 }
 
 // The "look" object: its preset, then its values; kept as the scene's file_look, so that a preset
@@ -218,6 +220,7 @@ const std::map<std::string_view, SceneSetter>& scene_bindings() {
       {"environment", [](S s, T t) { set_environment(s.render.shading, t); }},
       {"environment-rotation", [](S s, T t) { set_environment_rotation(s.render.shading, t); }},
       {"environment-intensity", [](S s, T t) { set_environment_intensity(s.render.shading, t); }},
+      {"environment-background", [](S s, T t) { set_environment_background(s.render.shading, t); }},
       {"exr-layers",
        [](S s, T t) {
          ExtraLayers& layers = s.render.layers;

@@ -118,6 +118,38 @@ TEST(Environment, LightComesFromTheBrightSideAndTurnsWithTheRotation) {
   EXPECT_NEAR(left_turned, right, 0.02 * right);  // mirror images
 }
 
+// --environment-background shown: the environment behind the model, per pixel along the
+// camera ray (a red sky above the horizon, a blue floor below it, on the frame's top and bottom
+// rows); hidden, the look's grey gradient; transparent frames stay transparent.
+TEST(Environment, ShownAsTheBackgroundAlongTheCameraRays) {
+  auto env = std::make_shared<EnvironmentImage>();
+  env->width = 64;
+  env->height = 32;
+  env->rgb.resize(64 * 32 * 3);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 64; ++i) {
+      float* p = &env->rgb[(static_cast<std::size_t>(j) * 64 + i) * 3];
+      p[0] = j < 16 ? 1.0f : 0.0f, p[1] = 0.0f, p[2] = j < 16 ? 0.0f : 1.0f;
+    }
+  RenderOptions options = furnace(env);
+  const auto pixel = [](const Image& img, int x, int y) {
+    const float* p = &img.rgba[(static_cast<std::size_t>(y) * img.width + x) * 4];
+    return Eigen::Vector4f(p[0], p[1], p[2], p[3]);
+  };
+  const Image hidden = Renderer(uv_sphere(1.0, 64, 32), options).render(kCamera);
+  EXPECT_NEAR(pixel(hidden, 2, 2).x(), pixel(hidden, 2, 2).z(), 0.05f) << "the gradient is grey";
+  options.shading.environment_background = true;
+  const Image shown = Renderer(uv_sphere(1.0, 64, 32), options).render(kCamera);
+  EXPECT_NEAR(pixel(shown, 2, 2).x(), 1.0f, 1e-5f);
+  EXPECT_NEAR(pixel(shown, 2, 2).z(), 0.0f, 1e-5f);
+  EXPECT_NEAR(pixel(shown, 2, 61).z(), 1.0f, 1e-5f);
+  EXPECT_NEAR(pixel(shown, 2, 61).x(), 0.0f, 1e-5f);
+  EXPECT_EQ(pixel(shown, 32, 32), pixel(hidden, 32, 32)) << "the model's own pixels do not change";
+  options.shading.background = BackgroundKind::transparent;
+  const Image transparent = Renderer(uv_sphere(1.0, 64, 32), options).render(kCamera);
+  EXPECT_EQ(pixel(transparent, 2, 2), Eigen::Vector4f::Zero());
+}
+
 TEST(Environment, NeutralLightsAWhiteSurfaceFacingUpAsOne) {
   const EnvironmentImage env = neutral_environment();
   EXPECT_EQ(env.width, 2 * env.height);

@@ -632,6 +632,18 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   f.step_x = (2.0f * tan_half * aspect / static_cast<float>(width)) * right;
   f.step_y = (-2.0f * tan_half / static_cast<float>(height)) * cam_up;
   f.corner = f.forward - tan_half * aspect * right + tan_half * cam_up;
+  if (sh.environment_background && environment_radiance && !f.transparent) {
+    f.backdrop_rgb.resize(static_cast<std::size_t>(width) * height * 3);
+    tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = 0; x < width; ++x) {
+          // The kernel's camera ray at the pixel's centre (tile_kernel.cpp, camera_rays).
+          const Eigen::Vector3f dir = (f.corner + (static_cast<float>(x) + 0.5f) * f.step_x + (static_cast<float>(y) + 0.5f) * f.step_y).normalized();
+          const Eigen::Vector3f rgb = (*environment_radiance)(dir);
+          std::copy(rgb.data(), rgb.data() + 3, &f.backdrop_rgb[(static_cast<std::size_t>(y) * width + x) * 3]);
+        }
+    });
+  }
 
   for (const Light& l : sh.lights) {
     const Eigen::Vector3f d = l.from_camera.x() * right + l.from_camera.y() * cam_up - l.from_camera.z() * f.forward;

@@ -66,6 +66,10 @@ struct Frame {
   bool environment = false;
   IrradianceSH sky_light;
   const EnvironmentRadiance* sky_radiance = nullptr;
+  // Shading::environment_background: per pixel, the environment's radiance along the camera ray
+  // through the pixel's centre (RGB), the backdrop of every sample of the pixel; empty: the
+  // gradient. One lookup a pixel, not a sample (the image is at most 512 x 256: finer than it).
+  std::vector<float> backdrop_rgb;
   bool shadows = true, ambient_occlusion = true;
   float shininess = 1.0f, spec_scale = 0.0f, spec_cutoff = 1.0f;
   float eps = 0.0f, ao_length = 0.0f, model_radius = 0.0f, ground_ao_reach2 = 0.0f;

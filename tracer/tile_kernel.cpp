@@ -486,8 +486,16 @@ struct ShadedSamples {
 
 // The backdrop behind the samples (none in transparent frames), and the shading of a sample
 // that hits nothing: the backdrop, no rays.
-MESHTOUR_SIMD_INLINE V3 backdrop(const Frame& f, const CameraRays& camera) {
+MESHTOUR_SIMD_INLINE V3 backdrop(const Frame& f, const PacketSamples& s, const CameraRays& camera) {
   const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  if (!f.backdrop_rgb.empty()) {  // the environment, per pixel
+    alignas(64) float r[16], g[16], b[16];
+    for (int l = 0; l < simd::kLanes; ++l) {
+      const float* p = &f.backdrop_rgb[(static_cast<std::size_t>(s.py[l]) * f.width + static_cast<std::size_t>(s.px[l])) * 3];
+      r[l] = p[0], g[l] = p[1], b[l] = p[2];
+    }
+    return {simd::load(r), simd::load(g), simd::load(b)};
+  }
   const F16 t_bg = simd::min(one, simd::max(zero, camera.film_y * f.inv_height));
   V3 bg{zero, zero, zero};
   if (!f.transparent) bg = backdrop_colour(f.background_top, f.background_bottom, t_bg);
@@ -1095,7 +1103,7 @@ MESHTOUR_SIMD_INLINE void trace_shadow_and_occlusion_rays(const Impl& r, const F
 // 5. Splat: every sample onto the pixels within the filter's radius of it, on the tile's sums,
 // with the denoiser's guides.
 MESHTOUR_SIMD_INLINE void splat(const ReconstructionFilter& filter, const Frame& f, const FilmTile& film, const PacketSamples& s,
-                                const Hits& h, const ShadedSamples& sh, const F16 (&rgba)[4]) {
+                                const Hits& h, const ShadedSamples& sh, const V3& bg, const F16 (&rgba)[4]) {
   const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
   const int lanes = s.lanes;
   const int* buffer_pixel = s.sums_pixel;
@@ -1113,7 +1121,9 @@ MESHTOUR_SIMD_INLINE void splat(const ReconstructionFilter& filter, const Frame&
   V3 splat_light = sh.guide_unshadowed;
   if (film.guides && !f.transparent) {
     const F16 t_centre = simd::min(one, simd::max(zero, (simd::load(s.py) + 0.5f) * f.inv_height));
-    splat_light = select(h.on_model, sh.guide_unshadowed, backdrop_colour(f.background_top, f.background_bottom, t_centre));
+    // (An environment backdrop is per pixel already.)
+    const V3 centre_bg = f.backdrop_rgb.empty() ? backdrop_colour(f.background_top, f.background_bottom, t_centre) : bg;
+    splat_light = select(h.on_model, sh.guide_unshadowed, centre_bg);
   }
   if (film.guides && one_pixel && !h.any) {
     // One pixel's samples, all on the background: its guides stay as the tile cleared them (no
@@ -1186,7 +1196,7 @@ void Renderer::Impl::render_tile(const Frame& f, Scratch& scratch, const FilmTil
     const CameraRays camera = camera_rays(f, samples);
     RayRecording::Packet* rec = intersect(*this, coherent, scratch.primary, samples, eye, camera.dir, recorded, counts);
     const Hits hits = read_hits(f, scratch.primary, samples, eye, camera.dir);
-    const V3 bg = backdrop(f, camera);
+    const V3 bg = backdrop(f, samples, camera);
     ShadedSamples shaded;
     shade_background(f, bg, shaded);
     if (hits.any) {
@@ -1201,7 +1211,7 @@ void Renderer::Impl::render_tile(const Frame& f, Scratch& scratch, const FilmTil
     }
     F16 rgba[4];
     trace_shadow_and_occlusion_rays(*this, f, incoherent, scratch, hits, shaded, rec, counts, rgba);
-    splat(filter, f, film, samples, hits, shaded, rgba);
+    splat(filter, f, film, samples, hits, shaded, bg, rgba);
   }
 }
 

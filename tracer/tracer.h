@@ -78,6 +78,9 @@ struct Shading {
   std::shared_ptr<const EnvironmentImage> environment;
   float environment_rotation_deg = 0.0f;  ///< turns the environment about the up axis
   float environment_intensity = 1.0f;     ///< multiplies its radiance
+  /// Shows the environment behind the model (and, darkened by its shadows, on the ground) in
+  /// place of the look's gradient; transparent frames stay transparent.
+  bool environment_background = false;
   bool ambient_occlusion = true;  ///< the sky light is occluded by nearby geometry
   float ao_distance = 0.3f;       ///< AO ray length, fraction of the model's bounding-box diagonal
   bool ground = true;             ///< a shadow-catching floor under the model (perpendicular to RenderOptions::world_up)
