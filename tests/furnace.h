@@ -19,6 +19,18 @@ inline std::shared_ptr<const EnvironmentImage> uniform_environment(float value, 
   return env;
 }
 
+/// An environment of two halves, 64 x 32: `sky` above the horizon, `floor` below it.
+inline std::shared_ptr<const EnvironmentImage> sky_and_floor(const Eigen::Vector3f& sky, const Eigen::Vector3f& floor) {
+  auto env = std::make_shared<EnvironmentImage>();
+  env->width = 64;
+  env->height = 32;
+  env->rgb.resize(64 * 32 * 3);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 64; ++i)
+      for (int c = 0; c < 3; ++c) env->rgb[(static_cast<std::size_t>(j) * 64 + i) * 3 + c] = (j < 16 ? sky : floor)[c];
+  return env;
+}
+
 /// 64 x 64, `spp` samples, no denoising; the studio look without lights and ground, white base
 /// colour, occlusion on, lit by `env` alone.
 inline RenderOptions furnace(std::shared_ptr<const EnvironmentImage> env, int spp = 4) {

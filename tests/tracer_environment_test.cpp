@@ -122,16 +122,7 @@ TEST(Environment, LightComesFromTheBrightSideAndTurnsWithTheRotation) {
 // camera ray (a red sky above the horizon, a blue floor below it, on the frame's top and bottom
 // rows); hidden, the look's grey gradient; transparent frames stay transparent.
 TEST(Environment, ShownAsTheBackgroundAlongTheCameraRays) {
-  auto env = std::make_shared<EnvironmentImage>();
-  env->width = 64;
-  env->height = 32;
-  env->rgb.resize(64 * 32 * 3);
-  for (int j = 0; j < 32; ++j)
-    for (int i = 0; i < 64; ++i) {
-      float* p = &env->rgb[(static_cast<std::size_t>(j) * 64 + i) * 3];
-      p[0] = j < 16 ? 1.0f : 0.0f, p[1] = 0.0f, p[2] = j < 16 ? 0.0f : 1.0f;
-    }
-  RenderOptions options = furnace(env);
+  RenderOptions options = furnace(test::sky_and_floor({1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}));
   const auto pixel = [](const Image& img, int x, int y) {
     const float* p = &img.rgba[(static_cast<std::size_t>(y) * img.width + x) * 4];
     return Eigen::Vector4f(p[0], p[1], p[2], p[3]);

@@ -129,15 +129,7 @@ TEST(Material, RoughWhiteMetalLosesWhatTheIntegralOfItsBrdfSays) {
 // its specular reflection of the environment would be black; one reflected the wrong way round,
 // the other colour).
 TEST(Material, SmoothMetalReflectsTheEnvironmentTheRightWayUp) {
-  auto env = std::make_shared<EnvironmentImage>();
-  env->width = 64;
-  env->height = 32;
-  env->rgb.resize(64 * 32 * 3);
-  for (int j = 0; j < 32; ++j)
-    for (int i = 0; i < 64; ++i) {
-      float* p = &env->rgb[(static_cast<std::size_t>(j) * 64 + i) * 3];
-      p[0] = j < 16 ? 1.0f : 0.05f, p[1] = 0.05f, p[2] = j < 16 ? 0.05f : 1.0f;
-    }
+  const auto env = test::sky_and_floor({1.0f, 0.05f, 0.05f}, {0.05f, 0.05f, 1.0f});
   const Image img = Renderer(sphere_of(metal(1.0f, 0.1f)), furnace_options(env, 16)).render(kSphereCamera);
   const auto row_mean = [&](int y, int c) {
     double sum = 0;
