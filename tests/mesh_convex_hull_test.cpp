@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "mesh/convex_hull.h"
+#include "test_meshes.h"
 
 namespace meshtour {
 namespace {
@@ -96,13 +97,13 @@ TEST(ConvexHull, CubeWithInteriorPointsKeepsExactlyItsCorners) {
   std::mt19937_64 rng(4);
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 5000; ++i)
-    points.emplace_back(1.8 * uniform(rng) - 0.9, 1.8 * uniform(rng) - 0.9, 1.8 * uniform(rng) - 0.9);
+    points.push_back(test_meshes::drawn_vector([&] { return 1.8 * uniform(rng) - 0.9; }));
   std::vector<std::size_t> corners;
   for (int c = 0; c < 8; ++c) {
     corners.push_back(points.size());
     points.emplace_back(c & 1 ? 1.0 : -1.0, c & 2 ? 1.0 : -1.0, c & 4 ? 1.0 : -1.0);
     for (int i = 0; i < 700; ++i)  // corners among the interior points, not at the end
-      points.emplace_back(1.8 * uniform(rng) - 0.9, 1.8 * uniform(rng) - 0.9, 1.8 * uniform(rng) - 0.9);
+      points.push_back(test_meshes::drawn_vector([&] { return 1.8 * uniform(rng) - 0.9; }));
   }
   EXPECT_EQ(convex_hull_vertex_indices(points), corners);
 }

@@ -15,6 +15,7 @@
 #include "helpers.h"
 #include "pathgen/camera_export.h"
 #include "pathgen/turntable.h"
+#include "test_meshes.h"
 
 namespace {
 
@@ -33,8 +34,9 @@ TEST(CameraExport, GltfRotationTurnsMinusZIntoTheViewAndYIntoTheUp) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 100; ++i) {
-    const CameraPose pose{Eigen::Vector3d(u(rng), u(rng), u(rng)) * 5, Eigen::Vector3d(u(rng), u(rng), u(rng)),
-                          Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized()};
+    const auto draw = [&] { return u(rng); };
+    const CameraPose pose{test_meshes::drawn_vector(draw) * 5, test_meshes::drawn_vector(draw),
+                          test_meshes::drawn_vector(draw).normalized()};
     const Eigen::Quaterniond q = to_quaternion(gltf_camera_rotation(pose));
     EXPECT_NEAR(q.norm(), 1.0, 1e-12);
     const Eigen::Vector3d view = (pose.target - pose.eye).normalized();

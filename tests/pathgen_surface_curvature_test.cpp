@@ -205,8 +205,8 @@ TEST(PathgenSurfaceTorus, HandCheckedSphereAndSaddle) {
 TEST(PathgenSurfaceTorus, OsculatingTorusTouchesToSecondOrder) {
   std::mt19937_64 rng(11);
   for (int trial = 0; trial < 200; ++trial) {
-    const Eigen::Vector3d p(uniform(rng) - 0.5, uniform(rng) - 0.5, uniform(rng) - 0.5);
-    const Eigen::Vector3d N = Eigen::Vector3d(gaussian(rng), gaussian(rng), gaussian(rng)).normalized();
+    const Eigen::Vector3d p = drawn_vector([&] { return uniform(rng) - 0.5; });
+    const Eigen::Vector3d N = drawn_vector([&] { return gaussian(rng); }).normalized();
     const auto [X, Y] = surface_detail::tangent_frame(N);
     const double phi0 = 2 * std::numbers::pi * uniform(rng);
     const Eigen::Vector3d t1 = std::cos(phi0) * X + std::sin(phi0) * Y, t2 = N.cross(t1);

@@ -190,7 +190,7 @@ TEST(PathgenSurfaceSmoothing, ImplicitStepMatchesAnIndependentDirectSolve) {
   // fixed, solves it with a sparse Cholesky factorization and compares with the library's CG.
   TriangleMesh input = open_cylinder(0.2, 0.8, 24, 12);
   std::mt19937_64 rng(8);
-  for (auto& p : input.positions) p += 0.004 * Eigen::Vector3d(gaussian(rng), gaussian(rng), gaussian(rng));
+  for (auto& p : input.positions) p += 0.004 * test_meshes::drawn_vector([&] { return gaussian(rng); });
   CleanupCounts counts;
   std::vector<std::string> notes;
   auto mesh = surface_detail::clean_and_build(input, SurfaceOptions{}, counts, notes);
