@@ -19,14 +19,12 @@
 namespace meshtour {
 namespace {
 
-// Portable random numbers (the standard distributions differ between library implementations).
-double uniform(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+// Portable random numbers (test_meshes.h: the standard distributions differ between library
+// implementations), each vector's coordinates drawn x, y, z in turn.
+using test_meshes::uniform;
 Eigen::Vector3d gaussian3(std::mt19937_64& rng) {
   Eigen::Vector3d v;
-  for (int k = 0; k < 3; ++k) {
-    const double u1 = 1.0 - uniform(rng), u2 = uniform(rng);
-    v[k] = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-  }
+  for (int k = 0; k < 3; ++k) v[k] = test_meshes::gaussian(rng);
   return v;
 }
 Eigen::Vector3d random_direction(std::mt19937_64& rng) { return gaussian3(rng).normalized(); }
@@ -122,7 +120,7 @@ TEST(ConvexHull, PointsOnTheCubesFacesAndEdgesAreDropped) {
     }
     // Grid coordinates strictly between -1 and 1, so that no other point falls on a corner.
     const auto grid = [&] { return (std::floor(uniform(rng) * 511.0) + 1.0) / 256.0 - 1.0; };
-    Eigen::Vector3d p(grid(), grid(), grid());
+    Eigen::Vector3d p = test_meshes::drawn_vector(grid);
     p[i % 3] = i % 2 ? 1.0 : -1.0;
     if (i % 5 == 0) p[(i + 1) % 3] = 1.0;  // some on edges
     points.push_back(p);
