@@ -7,10 +7,14 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
+#include <set>
 
 #include "furnace.h"
+#include "core/error.h"
 #include "golden.h"
 #include "gltf_writer.h"
 #include "helpers.h"
@@ -378,6 +382,78 @@ TEST(Material, GltfReaderTakesEveryFactorAndMap) {
   ASSERT_TRUE(mesh.materials[2].metallic_roughness);
   EXPECT_FLOAT_EQ(mesh.materials[2].metallic_roughness->metallic, 1.0f);
   EXPECT_FLOAT_EQ(mesh.materials[2].metallic_roughness->roughness, 1.0f);
+}
+
+// The tile kernel is compiled once per x86-64 level and the CPU's widest runs (as in
+// Renderer.SamePixelsWithEveryInstructionSet, on the look's own shading): every part of a glTF
+// material must give the same bits on each, or a farm of mixed machines would give mixed frames.
+// A textured, normal-mapped, partly metal, emissive, half-transparent sphere under an
+// environment, the look's lights and its ground, at whole and partial packets per pixel.
+TEST(Material, SamePixelsWithEveryInstructionSet) {
+  const fs::path dir = test::scratch_dir();
+  const auto write_map = [&](const char* name, auto texel) {
+    OIIO::ImageBuf tex(OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8));
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) {
+        const Eigen::Vector3f v = texel(x, y);
+        tex.setpixel(x, y, v.data());
+      }
+    EXPECT_TRUE(tex.write((dir / name).string())) << tex.geterror();
+    MeshTexture t;
+    t.file = dir / name;
+    return t;
+  };
+  MeshMaterial m = metal(0.6f, 0.35f, Eigen::Vector3f(0.9f, 0.7f, 0.5f));
+  m.texture = write_map("checker.png", [](int x, int y) { return (x + y) % 2 ? Eigen::Vector3f(1, 1, 1) : Eigen::Vector3f(0.2f, 0.5f, 0.3f); });
+  m.normal_texture = write_map("bumps.png", [](int x, int y) {  // tangent-space normals leaning every way
+    const Eigen::Vector3f n = Eigen::Vector3f(0.4f * std::sin(1.7f * x), 0.4f * std::cos(2.3f * y), 1.0f).normalized();
+    return Eigen::Vector3f((n.array() * 0.5f + 0.5f).matrix());
+  });
+  m.metallic_roughness->texture = write_map("metal.png", [](int x, int y) { return Eigen::Vector3f(0, 0.3f + 0.08f * x, 0.2f + 0.1f * y); });
+  m.emissive = Eigen::Vector3f(0.05f, 0.02f, 0.0f);
+  m.alpha_mode = MeshMaterial::AlphaMode::blend;
+  m.alpha = 0.8f;
+  TriangleMesh sphere = uv_sphere(1.0, 48, 24);
+  for (const auto& t : sphere.triangles)
+    for (const std::uint32_t v : t) {
+      const Eigen::Vector3d& p = sphere.positions[v];
+      sphere.corner_uvs.emplace_back(static_cast<float>(std::atan2(p.z(), p.x()) / (2 * kPi) + 0.5), static_cast<float>(std::acos(std::clamp(p.y(), -1.0, 1.0)) / kPi));
+    }
+  sphere.materials = {m};
+  const auto env = test::sky_and_floor({1.0f, 0.6f, 0.4f}, {0.1f, 0.2f, 0.6f});
+  const char* const kernels[] = {"baseline", "x86-64-v3", "x86-64-v4"};
+  for (int spp : {16, 5}) {
+    RenderOptions options;
+    options.width = 64;
+    options.height = 48;
+    options.samples_per_pixel = spp;
+    options.layers = {true, true, true};
+    options.shading.environment = env;
+    std::vector<Image> images;
+    std::vector<std::string> names;
+    for (const char* kernel : kernels) {
+      test::ScopedEnv scoped("MESHTOUR_TILE_KERNEL", kernel);
+      try {
+        const Renderer renderer(sphere, options);
+        images.push_back(renderer.render(Camera{{2.2, 1.4, 2.6}, {0, 0, 0}, {0, 1, 0}, 40.0}, 3));
+        names.push_back(kernel);
+      } catch (const InputError&) {
+        // Not a level this CPU runs (or not an x86-64 build): nothing to compare.
+      }
+    }
+    ASSERT_FALSE(images.empty());
+    // The sphere is in the frame and its maps show: the albedo layer takes several colours.
+    std::set<float> reds(images[0].albedo.begin(), images[0].albedo.end());
+    EXPECT_GT(reds.size(), 100u);
+    for (std::size_t i = 1; i < images.size(); ++i) {
+      SCOPED_TRACE(names[i] + " vs " + names[0] + ", spp " + std::to_string(spp));
+      EXPECT_EQ(0, std::memcmp(images[i].rgba.data(), images[0].rgba.data(), images[0].rgba.size() * sizeof(float)));
+      ASSERT_EQ(images[i].denoised.size(), images[0].rgba.size());
+      EXPECT_EQ(0, std::memcmp(images[i].denoised.data(), images[0].denoised.data(), images[0].denoised.size() * sizeof(float)));
+      EXPECT_EQ(images[i].albedo, images[0].albedo);
+      EXPECT_EQ(images[i].normal, images[0].normal);
+    }
+  }
 }
 
 }  // namespace

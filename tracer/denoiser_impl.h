@@ -65,4 +65,13 @@ using FitPass = void (*)(Planes& raw, Planes& guide, Planes& out, Planes& guides
 template <InstructionSet>
 void fit_pass(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent);
 
+// Each set's copy of the two passes is compiled in that set's copy of denoiser_pass.cpp only, as
+// the tile kernel's (renderer_impl.h says why).
+extern template void atrous_pass<InstructionSet::baseline>(Planes&, Planes&, Planes&, int);
+extern template void atrous_pass<InstructionSet::x86_64_v3>(Planes&, Planes&, Planes&, int);
+extern template void atrous_pass<InstructionSet::x86_64_v4>(Planes&, Planes&, Planes&, int);
+extern template void fit_pass<InstructionSet::baseline>(Planes&, Planes&, Planes&, Planes&, int, bool);
+extern template void fit_pass<InstructionSet::x86_64_v3>(Planes&, Planes&, Planes&, Planes&, int, bool);
+extern template void fit_pass<InstructionSet::x86_64_v4>(Planes&, Planes&, Planes&, Planes&, int, bool);
+
 }  // namespace meshtour::denoise_detail

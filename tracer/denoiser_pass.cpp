@@ -77,8 +77,9 @@ Lanes falloff_compact(Lanes x) {
 // One a-trous pass with step `step` from `in` to `out` (both kLumaPlanes planes: the visibility's
 // luminance and its variance). The planes' addresses are taken once per row (restrict: the
 // stores cannot change them), and groups of pixels with nothing to filter are copied.
-template <InstructionSet>
+template <InstructionSet Set>
 void atrous_pass(Planes& in, Planes& out, Planes& guides, int step) {
+  static_assert(Set == kCompiledFor, "atrous_pass instantiated outside its instruction set's copy of denoiser_pass.cpp");
   const int width = in.width, height = in.height;
   const std::ptrdiff_t stride = in.stride;
   constexpr float h[3] = {0.25f, 0.5f, 0.25f};
@@ -142,8 +143,9 @@ void atrous_pass(Planes& in, Planes& out, Planes& guides, int step) {
 // the position: as a feature rather than only a weight it lets neighbours on the other flank of a
 // bump count without flattening the bump (after NFOR, Bitterli et al. 2016, which regresses on
 // the renderer's features). Sums in a fixed order for every lane.
-template <InstructionSet>
+template <InstructionSet Set>
 void fit_pass(Planes& raw, Planes& guide, Planes& out, Planes& guides, int radius, bool transparent) {
+  static_assert(Set == kCompiledFor, "fit_pass instantiated outside its instruction set's copy of denoiser_pass.cpp");
   const int width = raw.width, height = raw.height;
   const std::ptrdiff_t stride = raw.stride;
   const float inv_radius = 1.0f / static_cast<float>(radius);

@@ -1182,9 +1182,12 @@ MESHTOUR_SIMD_INLINE void splat(const ReconstructionFilter& filter, const Frame&
 
 // The integrator of a tile: its samples, 16 at a time (one packet), through the stages above:
 // camera rays, intersection, shading, shadow and occlusion rays, splat.
-template <InstructionSet>
+template <InstructionSet Set>
 void Renderer::Impl::render_tile(const Frame& f, Scratch& scratch, const FilmTile& film, RayRecording::Tile* recorded,
                                  TileCounts& counts) const {
+  // A copy compiled anywhere but in its own set's file would be this file's code under that
+  // set's name, and the linker could keep it (renderer_impl.h).
+  static_assert(Set == kCompiledFor, "render_tile instantiated outside its instruction set's copy of tile_kernel.cpp");
   RayContext camera_context = ray_context(*this, scratch, true), secondary_context = ray_context(*this, scratch, false);
   RTCIntersectContext& coherent = camera_context.embree;
   RTCIntersectContext& incoherent = secondary_context.embree;
