@@ -168,6 +168,39 @@ TEST(VisibilityScene, AStrideTestsExactlyEveryStrideThSample) {
   }
 }
 
+// sample_surface() lists the samples along a Z-order curve for tracing (SurfaceSamples::trace),
+// for speed only: every stride's list holds each of its samples once, and visible() gives the
+// very same answer, in sample order, as it gives tracing in index order.
+TEST(VisibilityScene, TheTraceOrderChangesNothingButTheSpeed) {
+  const TriangleMesh mesh = sphere_behind_plate();
+  const SurfaceSamples samples = sample_surface(mesh, 10000);
+  ASSERT_EQ(samples.trace.size(), 7u);
+  for (std::size_t k = 0; k < samples.trace.size(); ++k) {
+    std::vector<std::uint32_t> listed;
+    for (const auto& t : samples.trace[k]) {
+      listed.push_back(t.index);
+      EXPECT_EQ(t.point, samples.points[t.index]);
+      EXPECT_EQ(t.normal, samples.normals[t.index]);
+    }
+    std::sort(listed.begin(), listed.end());
+    std::vector<std::uint32_t> expected;
+    for (std::uint32_t i = 0; i < samples.size(); i += 1u << k) expected.push_back(i);
+    EXPECT_EQ(listed, expected) << "stride " << (1u << k);
+  }
+  SurfaceSamples in_index_order = samples;
+  in_index_order.trace.clear();
+  const VisibilityScene scene(mesh);
+  for (const Eigen::Vector3d& eye : {Eigen::Vector3d(0.5, 1.0, 4.0), Eigen::Vector3d(-3.0, 0.2, -2.0)})
+    for (const std::size_t stride : {1u, 4u, 64u}) {
+      const View view = view_from(eye);
+      const VisibleSamples traced = scene.visible(view, samples, 75.0, stride), plain = scene.visible(view, in_index_order, 75.0, stride);
+      EXPECT_EQ(traced.samples, plain.samples) << "stride " << stride;
+      EXPECT_EQ(traced.cosines, plain.cosines) << "stride " << stride;
+      EXPECT_EQ(traced.front, plain.front) << "stride " << stride;
+      EXPECT_GT(plain.samples.size(), samples.size() / stride / 10);
+    }
+}
+
 TEST(VisibilityScene, ASurfaceFarFromTheOriginDoesNotHideItself) {
   // A tilted plane a million units from the origin: in float the samples would sit up to 0.06
   // units off the surface, far more than the ray's clearance, were the scene not stored

@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
+#include <bit>
+#include <iterator>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -39,6 +41,36 @@ bool blocked(const RayScene& scene, RTCIntersectContext& context, const Eigen::V
   ray.flags = 0;
   rtcOccluded1(scene.scene(), &context, &ray);
   return ray.tfar < 0.0f;  // Embree sets tfar to -inf when something is in the way
+}
+
+// The points' indices along a Z-order curve through their bounding box (21 bits an axis; equal
+// codes by index, so the order is the same on every machine).
+std::vector<std::uint32_t> z_order(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : points) box.extend(p);
+  const Eigen::Vector3d extent = box.sizes().cwiseMax(1e-300);
+  const auto spread = [](std::uint64_t x) {  // the 21 bits of x to every third bit
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::uint64_t code = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double unit = std::clamp((points[i][k] - box.min()[k]) / extent[k], 0.0, 1.0);
+      code |= spread(static_cast<std::uint64_t>(unit * 2097151.0)) << k;
+    }
+    keyed[i] = {code, static_cast<std::uint32_t>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(points.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+  return order;
 }
 
 }  // namespace
@@ -101,6 +133,9 @@ SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count) {
       ++next;
     }
   }
+  s.trace.resize(7);
+  for (const std::uint32_t i : z_order(s.points))
+    for (std::size_t k = 0; k < s.trace.size() && i % (std::size_t{1} << k) == 0; ++k) s.trace[k].push_back({s.points[i], s.normals[i], i});
   return s;
 }
 
@@ -133,49 +168,59 @@ VisibleSamples VisibilityScene::visible(const View& view, const SurfaceSamples& 
   // the sample, in float precision) does not hide it.
   const float clearance = static_cast<float>(1e-5 * s.diagonal());
 
-  const std::size_t n = samples.size(), blocks = (n + kBlock - 1) / kBlock;
-  std::vector<VisibleSamples> parts(blocks);
+  const std::size_t n = samples.size();
+  // The samples to test (every stride-th), in the order to trace them.
+  const std::size_t tested = (n + stride - 1) / stride, stride_log2 = static_cast<std::size_t>(std::countr_zero(stride));
+  const std::vector<SurfaceSamples::TraceSample>* order = nullptr;
+  if (stride_log2 < samples.trace.size()) {  // stride divides 2048: a power of two
+    order = &samples.trace[stride_log2];
+    if (order->size() != tested) throw InputError("the samples' trace order must list every tested sample once");
+  }
+  const std::size_t block = kBlock / stride, blocks = (tested + block - 1) / block;  // as many blocks for any stride
+  // What each tested sample gets, in its own slot (each is traced by one block): whether it is
+  // seen (kBack, kFront: which of its sides faces the eye) and its cosine to the eye.
+  enum : std::uint8_t { kUnseen, kBack, kFront };
+  std::vector<std::uint8_t> seen(tested, kUnseen);
+  std::vector<float> seen_cosine(tested);
   std::atomic<bool> stopped{false};
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
     if (stopped.load(std::memory_order_relaxed) || interrupt_requested()) {
       stopped = true;
       return;
     }
-    VisibleSamples& out = parts[b];
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     // The rays start at the samples and run towards the eye, one at a time: on big scans that
     // is about 1.6x quicker than 16-ray packets from the eye (whose rays fan out to samples
     // spread over the model, so the packet splits at once), because a ray that is not blocked
     // near its sample soon leaves the model's boxes.
-    const std::size_t end = std::min(n, (b + 1) * kBlock);
-    for (std::size_t i = b * kBlock; i < end; i += stride) {
-      const Eigen::Vector3d d = samples.points[i] - eye;
+    // Each block traces a run of the samples' trace order (near one another on the surface).
+    const std::size_t end = std::min(tested, (b + 1) * block);
+    for (std::size_t k = b * block; k < end; ++k) {
+      const std::size_t i = order ? (*order)[k].index : k * stride;
+      const Eigen::Vector3d& point = order ? (*order)[k].point : samples.points[i];
+      const Eigen::Vector3d& normal = order ? (*order)[k].normal : samples.normals[i];
+      const Eigen::Vector3d d = point - eye;
       const double z = d.dot(frame.forward);
       if (!(z > 0.0) || std::abs(d.dot(frame.right)) > tan_x * z || std::abs(d.dot(frame.up)) > tan_y * z) continue;
       const double distance = d.norm();
-      const double cosine = std::abs(samples.normals[i].dot(d)) / distance;
+      const double cosine = std::abs(normal.dot(d)) / distance;
       if (!(cosine > cos_limit) || !(distance > 2.0 * clearance)) continue;
-      const Eigen::Vector3f from = (samples.points[i] - s.origin()).cast<float>();
+      const Eigen::Vector3f from = (point - s.origin()).cast<float>();
       const Eigen::Vector3f towards_eye = (-d / distance).cast<float>();
       if (blocked(s, context, from, towards_eye, clearance, static_cast<float>(distance))) continue;
-      out.samples.push_back(static_cast<std::uint32_t>(i));
-      out.cosines.push_back(static_cast<float>(cosine));
-      out.front.push_back(samples.normals[i].dot(d) < 0.0 ? 1 : 0);  // d runs from the eye to the sample
+      seen_cosine[i >> stride_log2] = static_cast<float>(cosine);
+      seen[i >> stride_log2] = normal.dot(d) < 0.0 ? kFront : kBack;  // d runs from the eye to the sample
     }
   });
   if (stopped) throw_if_interrupted();
   VisibleSamples all;
-  std::size_t total = 0;
-  for (const auto& p : parts) total += p.samples.size();
-  all.samples.reserve(total);
-  all.cosines.reserve(total);
-  all.front.reserve(total);
-  for (const auto& p : parts) {
-    all.samples.insert(all.samples.end(), p.samples.begin(), p.samples.end());
-    all.cosines.insert(all.cosines.end(), p.cosines.begin(), p.cosines.end());
-    all.front.insert(all.front.end(), p.front.begin(), p.front.end());
-  }
+  for (std::size_t k = 0; k < tested; ++k)
+    if (seen[k] != kUnseen) {
+      all.samples.push_back(static_cast<std::uint32_t>(k * stride));
+      all.cosines.push_back(seen_cosine[k]);
+      all.front.push_back(seen[k] == kFront ? 1 : 0);
+    }
   return all;
 }
 
