@@ -74,6 +74,7 @@ double estimate_ray_scene_bytes(std::size_t triangles, std::size_t vertices) { r
 // UVs, materials and the crease pass's scratch. (With the BVH, which is now the ray-tracing scene's
 // part, this was 250 bytes a face.)
 double estimate_shading_bytes(std::size_t triangles) { return 140.0 * static_cast<double>(triangles); }
+// The fixed part holds the 2^16 surface samples (with their trace copies, about 8 MB) and the views' bits.
 double estimate_coverage_bytes(std::size_t triangles, std::size_t vertices) {
   return 150e6 + 50.0 * static_cast<double>(triangles) + 60.0 * static_cast<double>(vertices);
 }

@@ -213,8 +213,8 @@ struct Renderer::Impl {
 // set's -march; tracer/CMakeLists.txt), and nowhere else. Without these declarations a file
 // that takes a copy's address while it sees the template's body (renderer.cpp and
 // tile_kernel.cpp in one unity batch) compiles that copy again with the baseline's flags, and
-// the linker may keep that one: from 2026-12-02 (84c641f) to 2026-12-03 every set ran SSE2
-// code, at half the speed. render_tile's static_assert refuses such a copy.
+// the linker may keep that one (from 84c641f to c6bc695 every set ran SSE2 code, at half the
+// speed). render_tile's static_assert refuses such a copy.
 extern template void Renderer::Impl::render_tile<InstructionSet::baseline>(const Frame&, Scratch&, const FilmTile&, RayRecording::Tile*,
                                                                            TileCounts&) const;
 extern template void Renderer::Impl::render_tile<InstructionSet::x86_64_v3>(const Frame&, Scratch&, const FilmTile&, RayRecording::Tile*,

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <iterator>
 #include <cmath>
 #include <limits>
 #include <numbers>

@@ -34,7 +34,8 @@ struct SurfaceSamples {
   /// another's nodes out of cache). Only the speed depends on it: VisibilityScene::visible() lists
   /// its results by sample index either way. trace[k] holds the samples whose index is a multiple
   /// of 2^k (visible()'s stride), k = 0..6, with their points and normals, so the tracing reads
-  /// them in order too; empty: index order.
+  /// them in order too; empty: index order. sample_surface() makes it: code that changes the
+  /// points or normals afterwards clears it.
   struct TraceSample {
     Eigen::Vector3d point, normal;
     std::uint32_t index;
