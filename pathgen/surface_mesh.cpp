@@ -21,6 +21,7 @@
 
 #include "core/disjoint_sets.h"
 #include "core/error.h"
+#include "mesh/morton_order.h"
 #include "pathgen/surface_mesh.h"
 
 namespace meshtour::surface_detail {
@@ -431,38 +432,6 @@ void finish_cleanup(SurfaceMesh& out, CleanupCounts& counts, std::vector<std::st
     notes.push_back("split off " + count_text(counts.split_faces, "non-manifold face", "non-manifold faces") +
                     " (edge used by more than two faces, vertex joining separate fans, or face oriented "
                     "against its neighbours): each keeps its own copies of its vertices");
-}
-
-// 21 bits per axis over the bounding box, interleaved; ties (same cell) by index, so the order is
-// a function of the geometry and of the input order only.
-std::vector<std::uint32_t> morton_order(const std::vector<Eigen::Vector3d>& positions) {
-  const auto spread = [](std::uint64_t x) {  // 21 bits → every third bit of 63
-    x &= 0x1fffff;
-    x = (x | x << 32) & 0x1f00000000ffffULL;
-    x = (x | x << 16) & 0x1f0000ff0000ffULL;
-    x = (x | x << 8) & 0x100f00f00f00f00fULL;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-    x = (x | x << 2) & 0x1249249249249249ULL;
-    return x;
-  };
-  Eigen::Vector3d lo = positions.front(), hi = positions.front();
-  for (const auto& p : positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Eigen::Vector3d extent = (hi - lo).cwiseMax(Eigen::Vector3d::Constant(1e-300));
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(positions.size());
-  parallel_ranges(keys.size(), [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) {
-      std::uint64_t code = 0;
-      for (int axis = 0; axis < 3; ++axis) {
-        const double t = std::clamp((positions[v](axis) - lo(axis)) / extent(axis), 0.0, 1.0);
-        code |= spread(static_cast<std::uint64_t>(t * 2097151.0)) << (2 - axis);
-      }
-      keys[v] = {code, static_cast<std::uint32_t>(v)};
-    }
-  });
-  tbb::parallel_sort(keys.begin(), keys.end());
-  std::vector<std::uint32_t> order(keys.size());
-  for (std::size_t i = 0; i < keys.size(); ++i) order[i] = keys[i].second;
-  return order;
 }
 
 std::pair<Eigen::Vector3d, double> normalize_positions(std::vector<Eigen::Vector3d>& positions) {

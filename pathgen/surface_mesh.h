@@ -75,9 +75,6 @@ SurfaceMesh clean_and_build(const TriangleMesh& mesh, const SurfaceOptions& opti
 /// \throw InputError if the diagonal is 0 or not finite.
 std::pair<Eigen::Vector3d, double> normalize_positions(std::vector<Eigen::Vector3d>& positions);
 
-/// Vertices sorted along a Morton (Z-order) curve of their positions (ties by index).
-std::vector<std::uint32_t> morton_order(const std::vector<Eigen::Vector3d>& positions);
-
 /// Faces whose area is below this (normalized units) get no normal, no cotangent weight, no mass.
 inline constexpr double kDegenerateArea = 1e-20;
 

@@ -13,6 +13,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "every_kernel.h"
 #include "helpers.h"
 #include "mesh/convex_hull.h"
 #include "test_meshes.h"
@@ -205,10 +206,8 @@ TEST(Renderer, SamePixelsWithOneOrTwoThreads) {
   EXPECT_EQ(0, std::memcmp(one.depth.data(), two.depth.data(), one.depth.size() * sizeof(float)));
 }
 
-// The tile kernel is compiled once per x86-64 level (tracer/CMakeLists.txt) and the CPU's widest
-// runs: a frame must not depend on which, or a farm of mixed machines would give mixed frames.
+// The look's shading on every tile kernel (every_kernel.h).
 TEST(Renderer, SamePixelsWithEveryInstructionSet) {
-  const char* const kernels[] = {"baseline", "x86-64-v3", "x86-64-v4"};
   for (int spp : {16, 5}) {  // whole packets per pixel (summed in one tree), and packets across pixels
     RenderOptions options;
     options.width = 64;
@@ -216,28 +215,8 @@ TEST(Renderer, SamePixelsWithEveryInstructionSet) {
     options.samples_per_pixel = spp;
     options.layers = {true, true, true};
     const TriangleMesh sphere = uv_sphere(1.0, 48, 24);
-    std::vector<Image> images;
-    std::vector<std::string> names;
-    for (const char* kernel : kernels) {
-      test::ScopedEnv env("MESHTOUR_TILE_KERNEL", kernel);
-      try {
-        const Renderer renderer(sphere, options);
-        images.push_back(renderer.render(studio_camera(1), 3));
-        names.push_back(kernel);
-      } catch (const InputError&) {
-        // Not a level this CPU runs (or not an x86-64 build): nothing to compare.
-      }
-    }
-    ASSERT_FALSE(images.empty());
-    for (std::size_t i = 1; i < images.size(); ++i) {
-      SCOPED_TRACE(names[i] + " vs " + names[0] + ", spp " + std::to_string(spp));
-      EXPECT_EQ(0, std::memcmp(images[i].rgba.data(), images[0].rgba.data(), images[0].rgba.size() * sizeof(float)));
-      ASSERT_EQ(images[i].denoised.size(), images[0].rgba.size());
-      EXPECT_EQ(0, std::memcmp(images[i].denoised.data(), images[0].denoised.data(), images[0].denoised.size() * sizeof(float)));
-      EXPECT_EQ(images[i].albedo, images[0].albedo);
-      EXPECT_EQ(images[i].normal, images[0].normal);
-      EXPECT_EQ(0, std::memcmp(images[i].depth.data(), images[0].depth.data(), images[0].depth.size() * sizeof(float)));
-    }
+    test::expect_same_bits_on_every_kernel([&] { return Renderer(sphere, options).render(studio_camera(1), 3); },
+                                           "spp " + std::to_string(spp));
   }
 }
 

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/triangle_geometry.h"
+#include "mesh/morton_order.h"
 
 namespace meshtour {
 namespace {
@@ -40,36 +41,6 @@ bool blocked(const RayScene& scene, RTCIntersectContext& context, const Eigen::V
   ray.flags = 0;
   rtcOccluded1(scene.scene(), &context, &ray);
   return ray.tfar < 0.0f;  // Embree sets tfar to -inf when something is in the way
-}
-
-// The points' indices along a Z-order curve through their bounding box (21 bits an axis; equal
-// codes by index, so the order is the same on every machine).
-std::vector<std::uint32_t> z_order(const std::vector<Eigen::Vector3d>& points) {
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& p : points) box.extend(p);
-  const Eigen::Vector3d extent = box.sizes().cwiseMax(1e-300);
-  const auto spread = [](std::uint64_t x) {  // the 21 bits of x to every third bit
-    x &= 0x1fffff;
-    x = (x | x << 32) & 0x1f00000000ffffULL;
-    x = (x | x << 16) & 0x1f0000ff0000ffULL;
-    x = (x | x << 8) & 0x100f00f00f00f00fULL;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-    x = (x | x << 2) & 0x1249249249249249ULL;
-    return x;
-  };
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    std::uint64_t code = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double unit = std::clamp((points[i][k] - box.min()[k]) / extent[k], 0.0, 1.0);
-      code |= spread(static_cast<std::uint64_t>(unit * 2097151.0)) << k;
-    }
-    keyed[i] = {code, static_cast<std::uint32_t>(i)};
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<std::uint32_t> order(points.size());
-  for (std::size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
-  return order;
 }
 
 }  // namespace
@@ -133,7 +104,7 @@ SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count) {
     }
   }
   s.trace.resize(7);
-  for (const std::uint32_t i : z_order(s.points))
+  for (const std::uint32_t i : morton_order(s.points))
     for (std::size_t k = 0; k < s.trace.size() && i % (std::size_t{1} << k) == 0; ++k) s.trace[k].push_back({s.points[i], s.normals[i], i});
   return s;
 }
