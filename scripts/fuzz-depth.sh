@@ -9,7 +9,8 @@
 #   scripts/fuzz-depth.sh [--build DIR] [--work DIR] [--runs N] [--hours H] [--parallel P]
 #                         [--slice-minutes M] [--report] [TARGET...]
 #
-# TARGET: mesh gltf path_file scene frame_range pixel_size caption_text texture (default: all).
+# TARGET: mesh gltf path_file scene frame_range pixel_size caption_text texture voyager environment
+# (default: all).
 # --parallel P runs P targets at once (default 1); --slice-minutes M stops each run after M minutes
 # and moves on, so that a session of limited length leaves every target's ledger current.
 # Runs at nice 19: the machine stays usable. --report prints the table (markdown) and exits.
@@ -26,7 +27,7 @@ while [ $# -gt 0 ]; do
     --parallel) parallel=$2; shift 2 ;;
     --slice-minutes) slice=$2; shift 2 ;;
     --report) report_only=1; shift ;;
-    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,/^[^#]/{/^#/p}' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "fuzz-depth: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) targets+=("$1"); shift ;;
   esac
@@ -34,13 +35,13 @@ done
 all=(mesh gltf path_file scene frame_range pixel_size caption_text texture voyager environment)
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 
-# The same -max_len as the CTest entries (fuzz/CMakeLists.txt).
+# The -max_len of each target's CTest entry, read from fuzz/CMakeLists.txt (declared once, there):
+# `meshtour_fuzz_target(fuzz_NAME CORPUS MAX_LEN ...)`.
 max_len() {
-  case "$1" in
-    mesh|scene|texture) echo 4096 ;; gltf) echo 16384 ;; path_file) echo 8192 ;;
-    frame_range|caption_text) echo 256 ;; pixel_size) echo 64 ;;
-    *) echo "fuzz-depth: no target '$1' (one of: ${all[*]})" >&2; return 2 ;;
-  esac
+  local n
+  n=$(sed -n "s/^meshtour_fuzz_target(fuzz_$1 [^ ]* \([0-9]*\).*/\1/p" fuzz/CMakeLists.txt)
+  [ -n "$n" ] || { echo "fuzz-depth: no target '$1' in fuzz/CMakeLists.txt (one of: ${all[*]})" >&2; return 2; }
+  echo "$n"
 }
 for t in "${targets[@]}"; do max_len "$t" >/dev/null; done
 mkdir -p "$work"
