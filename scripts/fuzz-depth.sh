@@ -9,8 +9,8 @@
 #   scripts/fuzz-depth.sh [--build DIR] [--work DIR] [--runs N] [--hours H] [--parallel P]
 #                         [--slice-minutes M] [--report] [TARGET...]
 #
-# TARGET: mesh gltf path_file scene frame_range pixel_size caption_text texture voyager environment
-# (default: all).
+# TARGET: a target of fuzz/CMakeLists.txt without its fuzz_ prefix: mesh, gltf, voyager, ... (default:
+# every target there).
 # --parallel P runs P targets at once (default 1); --slice-minutes M stops each run after M minutes
 # and moves on, so that a session of limited length leaves every target's ledger current.
 # Runs at nice 19: the machine stays usable. --report prints the table (markdown) and exits.
@@ -32,11 +32,11 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-all=(mesh gltf path_file scene frame_range pixel_size caption_text texture voyager environment)
+# The targets and each one's -max_len, as CTest's short runs take them: declared once, in
+# fuzz/CMakeLists.txt, as `meshtour_fuzz_target(fuzz_NAME CORPUS MAX_LEN ...)`.
+mapfile -t all < <(sed -n 's/^meshtour_fuzz_target(fuzz_\([a-z_]*\) .*/\1/p' fuzz/CMakeLists.txt)
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 
-# The -max_len of each target's CTest entry, read from fuzz/CMakeLists.txt (declared once, there):
-# `meshtour_fuzz_target(fuzz_NAME CORPUS MAX_LEN ...)`.
 max_len() {
   local n
   n=$(sed -n "s/^meshtour_fuzz_target(fuzz_$1 [^ ]* \([0-9]*\).*/\1/p" fuzz/CMakeLists.txt)
