@@ -3,11 +3,13 @@
 # Blender's Cycles on the CPU, render time only (the scene's set-up and the file's loading are not
 # timed), with Cycles' default light paths and no denoiser.
 #
-#   blender -b --factory-startup --python bench/cycles_frame.py -- MESH.ply OUT.exr [SPP] [THREADS] [WIDTH] [HEIGHT] [GROUND]
+#   blender -b --factory-startup --python bench/cycles_frame.py -- MESH.ply OUT.exr [SPP] [THREADS] [WIDTH] [HEIGHT] [GROUND] [SEED]
 #
 # GROUND: catcher (default: a shadow catcher, as meshtour's ground catches the model's shadows) or
 # none (the model on the world alone: less work for Cycles than meshtour's frame, the conservative
-# comparison).
+# comparison). SEED: Cycles' sampling seed (default 0); a converged reference takes another seed
+# than the frames measured against it, or their first samples would be the reference's too and
+# their error would read low (bench/cycles_equal_error.sh).
 #
 # Prints "cycles: S seconds" (the render alone). OUT.exr is the linear beauty, for the error against
 # a converged reference (the same command at 4096 spp).
@@ -27,7 +29,7 @@ from mathutils import Vector
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 if len(argv) < 2:
-    sys.exit("usage: blender -b --factory-startup --python cycles_frame.py -- MESH.ply OUT.exr [SPP] [THREADS] [WIDTH] [HEIGHT]")
+    sys.exit("usage: blender -b --factory-startup --python cycles_frame.py -- MESH.ply OUT.exr [SPP] [THREADS] [WIDTH] [HEIGHT] [GROUND] [SEED]")
 mesh_path, out_path = argv[0], argv[1]
 spp = int(argv[2]) if len(argv) > 2 else 16
 threads = int(argv[3]) if len(argv) > 3 else 2
@@ -36,6 +38,7 @@ height = int(argv[5]) if len(argv) > 5 else 720
 ground_mode = argv[6] if len(argv) > 6 else "catcher"
 if ground_mode not in ("catcher", "none"):
     sys.exit("GROUND must be catcher or none")
+seed = int(argv[7]) if len(argv) > 7 else 0
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.import_mesh.ply(filepath=mesh_path)
@@ -54,6 +57,7 @@ scene.cycles.device = "CPU"
 scene.cycles.samples = spp
 scene.cycles.use_adaptive_sampling = False
 scene.cycles.use_denoising = False
+scene.cycles.seed = seed
 scene.render.threads_mode = "FIXED"
 scene.render.threads = threads
 scene.render.resolution_x, scene.render.resolution_y = width, height
@@ -122,4 +126,4 @@ start = time.perf_counter()
 bpy.ops.render.render(write_still=False)
 seconds = time.perf_counter() - start
 bpy.data.images["Render Result"].save_render(out_path)
-print(f"cycles: {seconds:.3f} seconds ({width}x{height}, {spp} spp, {threads} threads, ground: {ground_mode})")
+print(f"cycles: {seconds:.3f} seconds ({width}x{height}, {spp} spp, {threads} threads, ground: {ground_mode}, seed {seed})")

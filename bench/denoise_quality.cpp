@@ -6,6 +6,12 @@
 //   build-test/bench/denoise_quality --case bunny --size 640x360    # another frame size (default 1280x720, the tours')
 //   build-test/bench/denoise_quality --compare-exr bunny=old/frame_000030.exr   # another renderer's raw frame vs the reference
 //   build-test/bench/denoise_quality --case bunny --dump /tmp/dq  # also write every frame (linear RGBA EXR) to look at
+//   build-test/bench/denoise_quality --error A.exr REFERENCE.exr  # A's relative RMSE against REFERENCE (any renderer's)
+//
+// Cases: bunny, default, textured and transparent are frame 30 of the tour `meshtour tour` makes;
+// vertex-colours a banded sphere; bunny-studio the frame of the speed comparisons (tracer_bench's,
+// bench/studio_frame.h), which also prints its default frame's time (denoised 16 spp, best of 3)
+// for the equal-error comparison with Cycles (bench/cycles_equal_error.sh).
 //
 // Per case (1280x720 unless --size): raw 4, 16, 64, 128, 256 spp and denoised 4, 16, 64 spp,
 // each with its relative RMSE (linear RGB:
@@ -19,6 +25,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +37,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -38,6 +46,7 @@
 #include "pathgen/camera_path.h"
 #include "scenes/scene.h"
 #include "scenes/scene_options.h"  // resolve_scene
+#include "studio_frame.h"
 #include "textured_cube.h"
 #include "tour/tour.h"
 #include "tracer/tracer.h"
@@ -270,6 +279,33 @@ Image read_exr(const fs::path& file, const Image& like) {
   return image;
 }
 
+// The relative RMSE of `file` against `reference_file` (the tables' definition, over R, G, B), for
+// frames of any renderer: each against its own converged reference.
+double relative_rmse_of_files(const fs::path& file, const fs::path& reference_file) {
+  const auto rgb = [](const fs::path& f, int* width, int* height) {
+    OIIO::ImageBuf buf(f.string());
+    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error("cannot read " + f.string() + ": " + buf.geterror());
+    const OIIO::ImageSpec& spec = buf.spec();
+    const int idx[3] = {spec.channelindex("R"), spec.channelindex("G"), spec.channelindex("B")};
+    if (idx[0] < 0 || idx[1] < 0 || idx[2] < 0) throw std::runtime_error(f.string() + " has no R, G, B channels");
+    std::vector<float> all(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels), out;
+    buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, all.data());
+    out.reserve(static_cast<std::size_t>(spec.width) * spec.height * 3);
+    for (std::size_t p = 0; p < all.size() / spec.nchannels; ++p)
+      for (int k = 0; k < 3; ++k) out.push_back(all[p * spec.nchannels + idx[k]]);
+    *width = spec.width, *height = spec.height;
+    return out;
+  };
+  int w = 0, h = 0, rw = 0, rh = 0;
+  const std::vector<float> a = rgb(file, &w, &h), r = rgb(reference_file, &rw, &rh);
+  if (w != rw || h != rh)
+    throw std::runtime_error(file.string() + " is " + std::to_string(w) + "x" + std::to_string(h) + ", its reference " +
+                             std::to_string(rw) + "x" + std::to_string(rh));
+  double err = 0, ref = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) err += (double(a[i]) - r[i]) * (double(a[i]) - r[i]), ref += double(r[i]) * r[i];
+  return std::sqrt(err / ref);
+}
+
 // A linear RGBA frame as a float EXR (for --dump).
 void write_rgba(const fs::path& file, int width, int height, const std::vector<float>& rgba) {
   auto out = OIIO::ImageOutput::create(file.string());
@@ -293,11 +329,19 @@ int main(int argc, char** argv) {
     else if (a == "--size" && i + 1 < argc && std::sscanf(argv[i + 1], "%dx%d", &g_width, &g_height) == 2 && g_width > 0 &&
              g_height > 0 && g_width % 2 == 0 && g_height % 2 == 0)
       ++i;
-    else if (a == "--compare-exr" && i + 1 < argc) {
+    else if (a == "--error" && i + 2 < argc) {
+      try {
+        std::printf("relative RMSE: %.4f %%\n", 100 * relative_rmse_of_files(argv[i + 1], argv[i + 2]));
+        return 0;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "denoise_quality: %s\n", e.what());
+        return 1;
+      }
+    } else if (a == "--compare-exr" && i + 1 < argc) {
       const std::string v = argv[++i];
       compare_exr[v.substr(0, v.find('='))] = v.substr(v.find('=') + 1);
     } else {
-      std::fprintf(stderr, "usage: denoise_quality [--case NAME] [--size WxH] [--compare-exr CASE=FILE.exr] [--dump DIR]\n");
+      std::fprintf(stderr, "usage: denoise_quality [--case NAME] [--size WxH] [--compare-exr CASE=FILE.exr] [--dump DIR] | --error A.exr REFERENCE.exr\n");
       return 2;
     }
   }
@@ -318,8 +362,15 @@ int main(int argc, char** argv) {
       [&] {
         Scene s = resolve_scene(bunny_file.string(), {{"background", "transparent"}});
         return tour_case("transparent", s);
+      },
+      [&] {
+        Case c{"bunny-studio", load_mesh(bunny_file), {}, {}};
+        const bench::StudioFrame frame = bench::studio_frame(c.mesh, g_width);
+        c.options = frame.options, c.camera = frame.camera;
+        c.options.height = g_height;
+        return c;
       }};
-  const char* names[] = {"bunny", "default", "textured", "vertex-colours", "transparent"};
+  const char* names[] = {"bunny", "default", "textured", "vertex-colours", "transparent", "bunny-studio"};
 
   std::printf("| case | frame | rel. RMSE | display RMSE (/255) | SSIM | s/frame |\n|---|---|---:|---:|---:|---:|\n");
   std::string extra;
@@ -361,6 +412,24 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
     extra += band_row + "\n";
+    if (c.name == "bunny-studio") {
+      // The default frame's time as a tour meets it: one renderer, its buffers kept (the first
+      // frame is not timed), best of 3; render and denoiser.
+      RenderOptions o = c.options;
+      o.samples_per_pixel = 16, o.denoise = true, o.sample_seed = 0;
+      const Renderer renderer(c.mesh, o);
+      (void)renderer.render(c.camera, kFrame);
+      double best = 1e30;
+      for (int round = 0; round < 3; ++round) {
+        const auto start = std::chrono::steady_clock::now();
+        (void)renderer.render(c.camera, kFrame);
+        best = std::min(best, seconds_since(start));
+      }
+      char line[160];
+      std::snprintf(line, sizeof line, "| %s (default frame: denoised 16 spp, render and denoiser, best of 3) | %.3f s/frame |\n",
+                    c.name.c_str(), best);
+      extra += line;
+    }
     const Image a = run(16, true, 0, nullptr), b = run(16, true, 1, nullptr);
     char line[256];
     std::snprintf(line, sizeof line, "| %s (flicker, mean |frame(seed 0) - frame(seed 1)|, /255) | raw 16: %.3f | denoised 16: %.3f |\n",

@@ -37,6 +37,7 @@
 
 #include "core/memory_policy.h"
 #include "bench_common.h"
+#include "studio_frame.h"
 #include "mesh/mesh.h"
 #include "tracer/renderer_internal.h"
 #include "tracer/tracer.h"
@@ -67,22 +68,11 @@ Fixture* fixture(int width) {
     auto fx = std::make_unique<Fixture>();
     const std::filesystem::path file = std::filesystem::path(MESHTOUR_SOURCE_DIR) / ".." / "shared" / "meshes" / "bunny.ply";
     fx->mesh = load_mesh(file);
-    fx->options.width = width;
-    fx->options.height = width * 9 / 16;
-    fx->options.samples_per_pixel = 16;
     // The ray tracing only, as bare Embree does it: the denoiser's cost is
     // bench/denoise_quality.cpp's figure.
-    fx->options.denoise = false;
-    fx->options.shading = look_preset("studio");
-    fx->options.world_up = Eigen::Vector3d::UnitY();
-    // The default tour's first frame: 18 degrees above the centre, the whole bunny in a 35 degree lens.
-    const Bounds b = fx->mesh.bounds();
-    const double fov = 35.0, elevation = 18.0 * std::numbers::pi / 180.0;
-    const double distance = 0.55 * b.diagonal() / std::tan(fov * std::numbers::pi / 360.0);
-    fx->camera.target = b.center();
-    fx->camera.eye = b.center() + distance * Eigen::Vector3d(0.0, std::sin(elevation), std::cos(elevation));
-    fx->camera.up = Eigen::Vector3d::UnitY();
-    fx->camera.vertical_fov_deg = fov;
+    const bench::StudioFrame frame = bench::studio_frame(fx->mesh, width);
+    fx->options = frame.options;
+    fx->camera = frame.camera;
     fx->renderer = std::make_unique<Renderer>(fx->mesh, fx->options);
     fx->recording.tile_stride = 8;
     RendererAccess::render(*fx->renderer, fx->camera, 0, nullptr, &fx->recording);
