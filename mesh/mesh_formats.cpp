@@ -122,6 +122,41 @@ void check_geometry(const TriangleMesh& mesh, const std::string& name) {
                      " faces are degenerate (zero area: their corners are collinear or coincide)");
 }
 
+// The map_Bump/bump images of the materials some face uses (obj_reader.h): a normal map is the
+// material's normal map (its -bm the scale); a height map is said and left out (meshtour does no
+// bump mapping from heights). One that cannot be read is an error or, with --missing-textures
+// grey, a warning, as any texture.
+void take_bump_normal_maps(obj_detail::ObjContents& obj, const std::string& name, const LoadOptions& load_options,
+                           std::vector<std::string>& warnings) {
+  std::vector<bool> used(obj.materials.size(), obj.triangle_materials.empty());
+  for (const int m : obj.triangle_materials)
+    if (m >= 0 && static_cast<std::size_t>(m) < used.size()) used[static_cast<std::size_t>(m)] = true;
+  for (std::size_t m = 0; m < obj.materials.size(); ++m) {
+    const obj_detail::MapStatement& bump = obj.bump_maps[m];
+    MeshMaterial& material = obj.materials[m];
+    if (bump.file.empty() || !used[m] || material.normal_texture.present()) continue;
+    MeshTexture map;
+    map.file = bump.file;
+    map.wrap_s = map.wrap_t = bump.clamp ? TextureWrap::clamp : TextureWrap::repeat;
+    try {
+      verify_texture(map, material.name, "bump map");
+      if (reads_as_normal_map(map, material.name)) {
+        material.normal_texture = map;
+        material.normal_scale = bump.bump_multiplier;
+      } else {
+        warnings.push_back(map.file.string() + ": the bump map of material '" + material.name +
+                           "' is a height map, not a normal map; meshtour does not bump-map from heights, so its faces are "
+                           "rendered without it");
+      }
+    } catch (const IoError& e) {
+      if (!load_options.missing_textures_grey)
+        throw IoError(name + ": " + e.what() + " (fix the path or the file, or pass --missing-textures grey to render its faces " +
+                      "without it)");
+      warnings.push_back(std::string(e.what()) + "; its faces are rendered without it (--missing-textures grey)");
+    }
+  }
+}
+
 ReadMesh read_obj_mesh(const std::filesystem::path& file, const LoadOptions& load_options) {
   const std::string name = file.string();
   obj_detail::ObjContents obj = obj_detail::read_obj(file, true);
@@ -138,6 +173,7 @@ ReadMesh read_obj_mesh(const std::filesystem::path& file, const LoadOptions& loa
     warnings.push_back(what + "; its materials' faces are rendered untextured (--missing-textures grey)");
   }
   warnings.insert(warnings.end(), obj.warnings.begin(), obj.warnings.end());
+  if (load_options.check_textures) take_bump_normal_maps(obj, name, load_options, warnings);
   const std::size_t polygons = obj.polygons;
   return {obj_mesh(obj), std::move(warnings), polygons};
 }

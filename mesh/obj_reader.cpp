@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string_view>
 
@@ -53,7 +54,79 @@ int add_material(ObjContents& faces, std::map<std::string, int>& by_name, const 
   m.name = name;
   faces.materials.push_back(m);
   faces.uv_transforms.push_back({1, 1, 0, 0});
+  faces.bump_maps.emplace_back();
   return index;
+}
+
+// What one material's statements said, turned into its MeshMaterial once the file is read
+// (statements may come in any order: Kd applies only when no map_Kd follows, d wins over Tr).
+struct MtlStatements {
+  std::optional<Eigen::Vector3f> kd, ks, ke;
+  std::optional<float> ns, d, tr, pr, pm;
+  std::optional<float> illum;  // an illumination model number, 0 to 10 (kept as read: 1e30 is no int)
+  std::filesystem::path map_d;
+};
+
+// Up to three numbers ("Kd 0.8 0.5 0.2"; "Kd 0.8" is grey, as the MTL specification allows), or
+// nothing when the statement is not that ("Kd spectral file.rfl", "Kd xyz ...").
+std::optional<Eigen::Vector3f> colour_of(const std::string& rest) {
+  std::istringstream words(rest);
+  std::vector<double> values;
+  for (std::string w; words >> w;) {
+    double v = 0.0;
+    // Finite as a float too (1e40 is a double, not a float).
+    if (!mesh_text::parse_double(w, v) || !std::isfinite(static_cast<float>(v))) return std::nullopt;
+    values.push_back(v);
+  }
+  if (values.empty() || values.size() > 3) return std::nullopt;
+  while (values.size() < 3) values.push_back(values[0]);
+  return Eigen::Vector3f(static_cast<float>(values[0]), static_cast<float>(values[1]), static_cast<float>(values[2]));
+}
+
+std::optional<float> number_of(const std::string& rest) {
+  double v = 0.0;
+  if (!mesh_text::parse_double(rest, v) || !std::isfinite(static_cast<float>(v))) return std::nullopt;
+  return static_cast<float>(v);
+}
+
+// The MTL statements beyond the maps, as the common readers take them (Blender's importer and
+// three.js's MTLLoader; docs/FORMATS.md, "OBJ materials"):
+// - Kd, when the material has no map_Kd: its colour, linear (Blender writes and reads it so).
+// - d (opacity), else Tr (transparency, 1 - d): below 1, a blended surface (glTF's BLEND). Tr 1
+//   is read as opaque: Agisoft Metashape writes "Tr 1" on every opaque scan material.
+// - map_d: when it names map_Kd's image, the surface takes that image's alpha channel (blended).
+// - Pr, Pm (the PBR extension): roughness and metallic; else Ns and Ks: Blender's roughness
+//   1 - sqrt(Ns / 1000), metallic 0; Ks black or illum 0/1 (no highlight) is roughness 1. The
+//   material then has glTF's metallic-roughness BRDF; without any of these statements it keeps
+//   the look's diffuse and highlight, as before.
+// - Ke: emitted radiance, linear.
+void apply_statements(MeshMaterial& m, const MtlStatements& st, std::vector<std::string>& warnings) {
+  const auto unit = [](float v) { return std::clamp(v, 0.0f, 1.0f); };
+  if (st.kd && !m.texture.present()) m.base_color = st.kd->cwiseMax(0.0f).cwiseMin(1.0f);
+  float alpha = 1.0f;
+  if (st.d) alpha = unit(*st.d);
+  else if (st.tr && *st.tr < 1.0f) alpha = 1.0f - unit(*st.tr);
+  if (!st.map_d.empty()) {
+    if (m.texture.present() && st.map_d == m.texture.file) {
+      m.alpha_mode = MeshMaterial::AlphaMode::blend;
+    } else {
+      warnings.push_back("material '" + m.name + "': map_d names " + st.map_d.filename().string() +
+                         ", another image than its map_Kd; a separate opacity map is not read (put the opacity in the alpha "
+                         "channel of the map_Kd image)");
+    }
+  }
+  if (alpha < 1.0f) m.alpha_mode = MeshMaterial::AlphaMode::blend;
+  m.alpha = alpha;
+  if (st.pr || st.pm || st.ns || st.ks) {
+    MeshMaterial::MetallicRoughness mr;
+    mr.metallic = st.pm ? unit(*st.pm) : 0.0f;
+    const bool no_highlight = (st.ks && !(st.ks->maxCoeff() > 0.0f)) || (st.illum && *st.illum < 2.0f);
+    if (st.pr) mr.roughness = unit(*st.pr);
+    else if (no_highlight || !st.ns) mr.roughness = 1.0f;
+    else mr.roughness = 1.0f - std::sqrt(std::clamp(*st.ns, 0.0f, 1000.0f) / 1000.0f);
+    m.metallic_roughness = mr;
+  }
+  if (st.ke) m.emissive = st.ke->cwiseMax(0.0f);
 }
 
 // Returns false when the file cannot be opened (missing, unreadable, a directory).
@@ -63,30 +136,78 @@ bool read_mtl(const std::filesystem::path& mtl_file, ObjContents& faces, std::ma
   std::ifstream in(mtl_file, std::ios::binary);
   if (!in) return false;
   int current = -1;
+  std::map<int, MtlStatements> statements;  // this file's materials
+  const auto image_path = [&](const std::string& file) {
+    const std::filesystem::path image = portable_path(file);
+    return image.is_absolute() ? image : mtl_file.parent_path() / image;
+  };
   for (std::string line; std::getline(in, line);) {
-    const auto [key, rest] = split_statement(line);
+    // Named, not bound: a lambda below uses them, and clang cannot capture structured bindings.
+    const auto statement = split_statement(line);
+    const std::string& key = statement.first;
+    const std::string& rest = statement.second;
     if (key == "newmtl") {
       if (by_name.count(rest)) {
         current = -1;  // a second definition of a name: ignored
         continue;
       }
       current = add_material(faces, by_name, rest);
-    } else if ((key == "map_Kd" || key == "norm") && current >= 0 && !rest.empty()) {
+      statements[current];
+      continue;
+    }
+    if (current < 0 || rest.empty()) continue;
+    MeshMaterial& m = faces.materials[static_cast<std::size_t>(current)];
+    MtlStatements& st = statements[current];
+    // A statement meshtour reads whose value it cannot: said once, then the statement is ignored.
+    const auto unreadable = [&](const char* what) {
+      faces.warnings.push_back(mtl_file.filename().string() + ": material '" + m.name + "': " + key + " '" + rest + "' is not " + what +
+                               "; ignored");
+    };
+    if (key == "map_Kd" || key == "norm") {
       // map_Kd: the colour map, whose -o/-s move the material's coordinates. norm: a tangent-space
       // normal map (the statement of tinyobjloader and the exporters that write it) on those
-      // coordinates, -bm its scale. map_Bump is a height map in the MTL specification and is not
-      // read as a normal map.
+      // coordinates, -bm its scale.
       const MapStatement map = parse_map_statement(rest);
       if (map.file.empty()) continue;
-      const std::filesystem::path image = portable_path(map.file);
-      MeshMaterial& m = faces.materials[static_cast<std::size_t>(current)];
       MeshTexture& texture = key == "norm" ? m.normal_texture : m.texture;
-      texture.file = image.is_absolute() ? image : mtl_file.parent_path() / image;
+      texture.file = image_path(map.file);
       texture.wrap_s = texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
-      if (key == "norm") m.normal_scale = map.bump_multiplier;
-      else faces.uv_transforms[static_cast<std::size_t>(current)] = map.uv_transform;
+      if (key == "norm") {
+        m.normal_scale = map.bump_multiplier;
+        faces.bump_maps[static_cast<std::size_t>(current)] = {};  // norm says what it is: any bump is not needed
+      } else {
+        faces.uv_transforms[static_cast<std::size_t>(current)] = map.uv_transform;
+      }
+    } else if (key == "map_Bump" || key == "map_bump" || key == "bump") {
+      MapStatement map = parse_map_statement(rest);
+      if (map.file.empty() || m.normal_texture.present()) continue;
+      map.file = image_path(map.file).string();
+      faces.bump_maps[static_cast<std::size_t>(current)] = map;
+    } else if (key == "map_d") {
+      const MapStatement map = parse_map_statement(rest);
+      if (!map.file.empty()) st.map_d = image_path(map.file);
+    } else if (key == "Kd" || key == "Ks" || key == "Ke") {
+      const auto colour = colour_of(rest);
+      if (!colour) {
+        unreadable("one to three numbers");
+        continue;
+      }
+      (key == "Kd" ? st.kd : key == "Ks" ? st.ks : st.ke) = colour;
+    } else if (key == "Ns" || key == "d" || key == "Tr" || key == "Pr" || key == "Pm" || key == "illum") {
+      const auto value = number_of(rest);
+      if (!value) {
+        unreadable("a number");
+        continue;
+      }
+      if (key == "Ns") st.ns = value;
+      else if (key == "d") st.d = value;
+      else if (key == "Tr") st.tr = value;
+      else if (key == "Pr") st.pr = value;
+      else if (key == "Pm") st.pm = value;
+      else st.illum = value;
     }
   }
+  for (const auto& [index, st] : statements) apply_statements(faces.materials[static_cast<std::size_t>(index)], st, faces.warnings);
   return true;
 }
 

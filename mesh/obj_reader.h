@@ -22,6 +22,14 @@
 
 namespace meshtour::obj_detail {
 
+/// One MTL map statement's file and the options meshtour uses (parse_map_statement).
+struct MapStatement {
+  std::string file;
+  bool clamp = false;
+  std::array<float, 4> uv_transform{1, 1, 0, 0};  // scale u, v; offset u, v
+  float bump_multiplier = 1.0f;                   // -bm: a normal map's scale
+};
+
 struct ObjContents {
   MeshFileSummary summary;  ///< counts as stored (faces before triangulation)
   std::vector<Eigen::Vector3d> positions;
@@ -43,6 +51,11 @@ struct ObjContents {
   std::vector<MeshMaterial> materials;
   /// Per material: the map_Kd's -s (scale u, v) and -o (offset u, v) options.
   std::vector<std::array<float, 4>> uv_transforms;
+  /// Per material: the image of its map_Bump or bump statement (and -bm) when it has no `norm`.
+  /// The MTL specification's bump map is a height map, but exporters (Blender's among them) write
+  /// tangent-space normal maps there: load_mesh() looks at the image and takes it as the normal
+  /// map only if it is one (mesh/textures.h, reads_as_normal_map). Empty file: none.
+  std::vector<MapStatement> bump_maps;
   std::vector<std::string> warnings;
   /// The MTL files the OBJ names (mtllib) that are missing or unreadable, as the OBJ names them.
   /// Their materials' faces are untextured; load_mesh() decides whether that is an error.
@@ -56,12 +69,6 @@ ObjContents read_obj(const std::filesystem::path& file, bool read);
 
 /// Parses the argument of an MTL map statement ("-clamp on -s 2 2 1 my texture.jpg"): the file
 /// name (the rest of the line after the options, so names may hold spaces) and the options used.
-struct MapStatement {
-  std::string file;
-  bool clamp = false;
-  std::array<float, 4> uv_transform{1, 1, 0, 0};  // scale u, v; offset u, v
-  float bump_multiplier = 1.0f;                   // -bm: a normal map's scale
-};
 MapStatement parse_map_statement(const std::string& argument);
 
 }  // namespace meshtour::obj_detail

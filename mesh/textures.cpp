@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <memory>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -305,6 +307,50 @@ void verify_texture(const MeshTexture& map, const std::string& material_name, co
   if (fault.empty()) fault = decode_fault(*in);
   in->close();
   if (!fault.empty()) throw IoError(what + " is damaged: " + fault);
+}
+
+bool reads_as_normal_map(const MeshTexture& map, const std::string& material_name) {
+  const std::string what = map_description(map, material_name, "bump map");
+  std::unique_ptr<ImageBytesReader> memory;
+  double file_size = 0;
+  const auto in = open_checked(map.file.string(), what, map.bytes.get(), memory, file_size);
+  const OIIO::ImageSpec spec = in->spec();
+  if (spec.nchannels < 3) return false;
+  // Every step-th row and column: rows are decoded in order anyway (PNG, JPEG), one at a time.
+  const int step = std::max(1, std::max(spec.width, spec.height) / 256);
+  std::vector<float> row(static_cast<std::size_t>(spec.width) * spec.nchannels);
+  std::size_t pixels = 0, blue_largest = 0;
+  double blue = 0.0, off_grey = 0.0;
+  // A tiled image (EXR, TIFF) is read whole, a byte per channel: no scanline access there.
+  std::vector<std::uint8_t> whole;
+  if (spec.tile_width > 0) {
+    whole.resize(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, whole.data()))
+      throw IoError(what + " could not be read: " + in->geterror());
+  }
+  for (int y = 0; y < spec.height; ++y) {
+    if (y % step != 0 && whole.empty()) {  // scanlines are decoded in order: read, not looked at
+      if (!in->read_scanline(y, 0, OIIO::TypeDesc::FLOAT, row.data())) throw IoError(what + " could not be read: " + in->geterror());
+      continue;
+    }
+    if (y % step != 0) continue;
+    if (whole.empty()) {
+      if (!in->read_scanline(y, 0, OIIO::TypeDesc::FLOAT, row.data())) throw IoError(what + " could not be read: " + in->geterror());
+    } else {
+      for (std::size_t i = 0; i < row.size(); ++i) row[i] = whole[static_cast<std::size_t>(y) * row.size() + i] / 255.0f;
+    }
+    for (int x = 0; x < spec.width; x += step) {
+      const float* p = &row[static_cast<std::size_t>(x) * spec.nchannels];
+      ++pixels;
+      blue += p[2];
+      off_grey += std::abs(p[2] - p[0]) + std::abs(p[2] - p[1]);
+      blue_largest += p[2] >= p[0] && p[2] >= p[1];
+    }
+  }
+  in->close();
+  if (pixels == 0) return false;
+  const double n = static_cast<double>(pixels);
+  return blue_largest >= 0.9 * n && blue / n >= 0.6 && off_grey / n >= 0.1;
 }
 
 void check_material_textures(TriangleMesh& mesh, const std::string& name, const LoadOptions& options,

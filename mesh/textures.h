@@ -13,6 +13,12 @@ namespace meshtour {
 /// what is wrong with it.
 void verify_texture(const MeshTexture& map, const std::string& material_name, const char* kind = "texture");
 
+/// Whether the image of `map` is a tangent-space normal map rather than a height map: three or
+/// more channels, blue the largest of the three in at least 90 % of the pixels, mean blue at least
+/// 0.6 and not grey (a height map saved as RGB has R = G = B). Looks at up to 256 x 256 pixels
+/// spread over the image. Call after verify_texture(). \throw IoError when the image cannot be read.
+bool reads_as_normal_map(const MeshTexture& map, const std::string& material_name);
+
 /// Opens the texture of every material some triangle uses. A missing or unreadable one is an
 /// IoError naming the texture, the material and the model `name`, or, with
 /// options.missing_textures_grey, a warning appended to `warnings` and a material without texture.

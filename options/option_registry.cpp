@@ -154,7 +154,8 @@ std::vector<Option> make_registry() {
   add({.id = "materials", .flag = "--materials", .kind = Kind::choice, .choices = {"file", "look"}, .ignore_case = true,
        .default_text = "file",
        .help = "Whose shading a surface gets: file (default: a glTF material's own metallic-roughness BRDF, emission\n"
-               "and unlit flag, as the glTF specification's Appendix B says) or look (the look's diffuse base and\n"
+               "and unlit flag, as the glTF specification's Appendix B says; an OBJ material's roughness from its\n"
+               "MTL's Pr or Ns/Ks, its Ke and opacity, docs/FORMATS.md) or look (the look's diffuse base and\n"
                "highlight everywhere, on the file's colours and maps: the studio look of a clay scan)",
        .scene_key = "look.materials", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "crease-angle", .flag = "--crease-angle", .kind = Kind::number, .lo = 0, .hi = 180, .default_text = "60",

@@ -162,11 +162,14 @@ fs::path big_texture_cube(const fs::path& dir) {
 
 // ---- hostile textures ---------------------------------------------------------------------
 
-// The textured cube with its material's map_Kd replaced by `texture` (file name) holding `bytes`.
-fs::path cube_with_texture(const fs::path& dir, const std::string& texture, const std::string& bytes) {
+// The textured cube with its material's map_Kd replaced by `texture` (file name) holding `bytes`,
+// or with `as_bump` that texture as a map_Bump beside its own colour map: a bump image is opened
+// to see whether it is a normal map (mesh/obj_reader.h), so it gets every texture check first.
+fs::path cube_with_texture(const fs::path& dir, const std::string& texture, const std::string& bytes, bool as_bump = false) {
   fs::create_directories(dir);
   const fs::path obj = meshtour::test::write_textured_cube(dir);
-  std::ofstream(dir / "cube.mtl") << "newmtl checker\nKd 0.8 0.5 0.2\nmap_Kd " << texture << "\n";
+  std::ofstream(dir / "cube.mtl") << "newmtl checker\n"
+                                  << (as_bump ? "map_Kd checker.png\nmap_Bump -bm 1 " : "Kd 0.8 0.5 0.2\nmap_Kd ") << texture << "\n";
   write(dir / texture, bytes);
   return obj;
 }
@@ -461,6 +464,8 @@ TEST_F(BadInputCorpus, HostileTextures) {
       {"KTX2 bytes behind a .png name", "tour",
        cube_with_texture(d / "ktx2-named-png", "atlas.png", std::string("\xabKTX 20\xbb\r\n\x1a\n", 12) + std::string(68, '\0')), extra, 3,
        {"atlas.png", "KTX2 / Basis Universal"}},
+      {"PNG bomb as an OBJ's map_Bump", "tour", cube_with_texture(d / "bump-bomb", "bump.png", png_bomb(), true), extra, 3,
+       {"bump.png", "bump map", "decompression bomb", "--missing-textures grey"}},
       {"EXR with 5 channels", "tour", cube_with_texture(d / "five", "five.exr", image_bytes(d / "scratch", ".exr", 5)), extra, 3,
        {"five.exr", "5 channels", "save it as RGB"}},
   };
