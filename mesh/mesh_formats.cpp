@@ -30,6 +30,10 @@ TriangleMesh obj_mesh(obj_detail::ObjContents& obj) {
   const std::size_t triangles = obj.triangles.size();
   mesh.triangles = std::move(obj.triangles);
   if (obj.materials.empty()) return mesh;
+  // Vertex colours are the scan's colour: an MTL's Kd (exporters write 0.8 or 1 by default) does
+  // not tint them (docs/FORMATS.md, OBJ materials).
+  if (!mesh.colors.empty())
+    for (MeshMaterial& m : obj.materials) m.base_color.reset();
   // Faces before any usemtl get a material of their own, untextured (the look's colour).
   const auto material_of = [&](std::size_t t) { return obj.triangle_materials.empty() ? -1 : obj.triangle_materials[t]; };
   const bool unassigned = obj.triangle_materials.empty() ||

@@ -76,6 +76,13 @@ TEST(MeshMtl, KdIsTheColourWhenThereIsNoMap) {
   mesh = quad_with(dir, "map_Kd albedo.png\nKd 0.1 0.1 0.1\n");
   EXPECT_FALSE(mesh.materials[0].base_color);
   EXPECT_TRUE(mesh.materials[0].texture.present());
+  // Vertex colours are the colour: Kd does not tint them.
+  std::ofstream(dir / "coloured.obj", std::ios::binary) << "mtllib m.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nusemtl m\nf 1 2 3\n";
+  std::ofstream(dir / "m.mtl", std::ios::binary) << "newmtl m\nKd 0.8 0.8 0.8\n";
+  mesh = load_mesh(dir / "coloured.obj");
+  ASSERT_EQ(mesh.materials.size(), 1u);
+  EXPECT_FALSE(mesh.materials[0].base_color);
+  EXPECT_TRUE(mesh.has_colors());
   // Without Kd, nothing: the look's colour, as before.
   mesh = quad_with(dir, "illum 2\n");
   EXPECT_FALSE(mesh.materials[0].base_color);
