@@ -92,6 +92,11 @@ nlohmann::json describe(const std::string& input) {
     }
     if (material.emissive.squaredNorm() > 0.0f) jm["emissive"] = {material.emissive.x(), material.emissive.y(), material.emissive.z()};
     if (material.unlit) jm["unlit"] = true;
+    if (material.alpha_mode != MeshMaterial::AlphaMode::opaque) {
+      jm["alpha_mode"] = material.alpha_mode == MeshMaterial::AlphaMode::blend ? "blend" : "mask";
+      jm["alpha"] = material.alpha;
+      if (material.alpha_mode == MeshMaterial::AlphaMode::mask) jm["alpha_cutoff"] = material.alpha_cutoff;
+    }
     if (material.normal_texture.present()) jm["normal_scale"] = material.normal_scale;
     if (material.occlusion_texture.present()) jm["occlusion_strength"] = material.occlusion_strength;
     j["materials"].push_back(jm);
@@ -149,6 +154,12 @@ void print_text(const nlohmann::json& j) {
       const auto& size = m[map + "_size"];
       std::printf(", %s %s (%dx%d, %d channels)", kind, m[map].get<std::string>().c_str(), size[0].get<int>(), size[1].get<int>(),
                   size[2].get<int>());
+    }
+    if (m.contains("base_color"))
+      std::printf(", colour (%g %g %g)", m["base_color"][0].get<double>(), m["base_color"][1].get<double>(), m["base_color"][2].get<double>());
+    if (m.contains("alpha_mode")) {
+      std::printf(", %s, alpha %g", m["alpha_mode"].get<std::string>().c_str(), m["alpha"].get<double>());
+      if (m.contains("alpha_cutoff")) std::printf(" (cut-off %g)", m["alpha_cutoff"].get<double>());
     }
     if (m.contains("metallic")) std::printf(", metallic %g, roughness %g", m["metallic"].get<double>(), m["roughness"].get<double>());
     if (m.contains("emissive"))

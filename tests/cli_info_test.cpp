@@ -67,6 +67,25 @@ void write_plinth_glb(const std::filesystem::path& file, int up) {  // up: 1 (y)
   b.write_glb(file);
 }
 
+// An OBJ's MTL statements, as the renderer will take them (docs/FORMATS.md, OBJ materials).
+TEST(InfoCommand, ShowsWhatAnObjMaterialBecame) {
+  const auto dir = test::scratch_dir();
+  std::ofstream(dir / "two.mtl") << "newmtl red\nKd 0.8 0.1 0.1\nNs 250\nKs 0.5 0.5 0.5\nnewmtl glass\nKd 0.2 0.4 0.9\nd 0.4\n";
+  std::ofstream(dir / "two.obj") << "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\nf 1 2 3\nusemtl glass\nf 1 3 4\n";
+  auto r = test::run_meshtour("info '" + (dir / "two.obj").string() + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  ASSERT_EQ(j["materials"].size(), 2u);
+  EXPECT_NEAR(j["materials"][0]["base_color"][1].get<double>(), 0.1, 1e-6);
+  EXPECT_NEAR(j["materials"][0]["roughness"].get<double>(), 0.5, 1e-6);
+  EXPECT_FALSE(j["materials"][0].contains("alpha_mode"));
+  EXPECT_EQ(j["materials"][1]["alpha_mode"], "blend");
+  EXPECT_NEAR(j["materials"][1]["alpha"].get<double>(), 0.4, 1e-6);
+  r = test::run_meshtour("info '" + (dir / "two.obj").string() + "'");
+  EXPECT_NE(r.output.find("material 'red': 1 triangles, colour (0.8 0.1 0.1), metallic 0, roughness 0.5"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("material 'glass': 1 triangles, colour (0.2 0.4 0.9), blend, alpha 0.4"), std::string::npos) << r.output;
+}
+
 TEST(InfoCommand, GltfKeepsItsUpUnlessTheShapeClearlyDisagrees) {
   const auto dir = test::scratch_dir();
   write_plinth_glb(dir / "upright.glb", 1);
