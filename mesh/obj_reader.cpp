@@ -99,7 +99,7 @@ std::optional<float> number_of(const std::string& rest) {
 //   1 - sqrt(Ns / 1000), metallic 0; Ks black or illum 0/1 (no highlight) is roughness 1. The
 //   material then has glTF's metallic-roughness BRDF; without any of these statements it keeps
 //   the look's diffuse and highlight, as before.
-// - Ke: emitted radiance, linear.
+// - Ke: emitted radiance, linear; map_Ke its image (sRGB), times Ke, or as it is without Ke.
 void apply_statements(MeshMaterial& m, const MtlStatements& st, std::vector<std::string>& warnings) {
   const auto unit = [](float v) { return std::clamp(v, 0.0f, 1.0f); };
   if (st.kd && !m.texture.present()) m.base_color = st.kd->cwiseMax(0.0f).cwiseMin(1.0f);
@@ -127,6 +127,7 @@ void apply_statements(MeshMaterial& m, const MtlStatements& st, std::vector<std:
     m.metallic_roughness = mr;
   }
   if (st.ke) m.emissive = st.ke->cwiseMax(0.0f);
+  else if (m.emissive_texture.present()) m.emissive = Eigen::Vector3f::Ones();
 }
 
 // Returns false when the file cannot be opened (missing, unreadable, a directory).
@@ -183,6 +184,12 @@ bool read_mtl(const std::filesystem::path& mtl_file, ObjContents& faces, std::ma
       if (map.file.empty() || m.normal_texture.present()) continue;
       map.file = image_path(map.file).string();
       faces.bump_maps[static_cast<std::size_t>(current)] = map;
+    } else if (key == "map_Ke") {
+      // The emission's image (sRGB, on the colour map's coordinates), times Ke, or as it is without Ke.
+      const MapStatement map = parse_map_statement(rest);
+      if (map.file.empty()) continue;
+      m.emissive_texture.file = image_path(map.file);
+      m.emissive_texture.wrap_s = m.emissive_texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
     } else if (key == "map_d") {
       const MapStatement map = parse_map_statement(rest);
       if (!map.file.empty()) st.map_d = image_path(map.file);

@@ -143,8 +143,18 @@ TEST(MeshMtl, SpecularStatementsGiveARoughness) {
 
 TEST(MeshMtl, KeIsEmission) {
   const auto dir = test::scratch_dir();
-  const TriangleMesh mesh = quad_with(dir, "Ke 2 1 0\n");
+  TriangleMesh mesh = quad_with(dir, "Ke 2 1 0\n");
   EXPECT_EQ(mesh.materials[0].emissive, Eigen::Vector3f(2.0f, 1.0f, 0.0f));
+  EXPECT_FALSE(mesh.materials[0].emissive_texture.present());
+  // map_Ke: the emission's image, as it is without Ke, times Ke with it.
+  write_png(dir / "glow.png", 3, [](int x, int) { return std::vector<std::uint8_t>{static_cast<std::uint8_t>(x * 8), 0, 0}; });
+  mesh = quad_with(dir, "map_Ke glow.png\n");
+  EXPECT_EQ(mesh.materials[0].emissive_texture.file.filename(), "glow.png");
+  EXPECT_EQ(mesh.materials[0].emissive, Eigen::Vector3f(1.0f, 1.0f, 1.0f));
+  mesh = quad_with(dir, "map_Ke glow.png\nKe 0.5 0.5 0.5\n");
+  EXPECT_EQ(mesh.materials[0].emissive, Eigen::Vector3f(0.5f, 0.5f, 0.5f));
+  // A missing map_Ke is an error naming it, as any map.
+  EXPECT_THROW(quad_with(dir, "map_Ke gone.png\n"), IoError);
 }
 
 TEST(MeshMtl, UnreadableValuesAreSaidAndIgnored) {
