@@ -136,27 +136,17 @@ void take_bump_normal_maps(obj_detail::ObjContents& obj, const std::string& name
   for (const int m : obj.triangle_materials)
     if (m >= 0 && static_cast<std::size_t>(m) < used.size()) used[static_cast<std::size_t>(m)] = true;
   for (std::size_t m = 0; m < obj.materials.size(); ++m) {
-    const obj_detail::MapStatement& bump = obj.bump_maps[m];
+    const obj_detail::ObjContents::BumpMap& bump = obj.bump_maps[m];
     MeshMaterial& material = obj.materials[m];
-    if (bump.file.empty() || !used[m] || material.normal_texture.present()) continue;
-    MeshTexture map;
-    map.file = bump.file;
-    map.wrap_s = map.wrap_t = bump.clamp ? TextureWrap::clamp : TextureWrap::repeat;
-    try {
-      verify_texture(map, material.name, "bump map");
-      if (reads_as_normal_map(map, material.name)) {
-        material.normal_texture = map;
-        material.normal_scale = bump.bump_multiplier;
-      } else {
-        warnings.push_back(map.file.string() + ": the bump map of material '" + material.name +
-                           "' is a height map, not a normal map; meshtour does not bump-map from heights, so its faces are "
-                           "rendered without it");
-      }
-    } catch (const IoError& e) {
-      if (!load_options.missing_textures_grey)
-        throw IoError(name + ": " + e.what() + " (fix the path or the file, or pass --missing-textures grey to render its faces " +
-                      "without it)");
-      warnings.push_back(std::string(e.what()) + "; its faces are rendered without it (--missing-textures grey)");
+    if (!bump.map.present() || !used[m] || material.normal_texture.present()) continue;
+    if (!verify_or_warn(bump.map, material.name, "bump map", "without it", name, load_options, warnings)) continue;
+    if (reads_as_normal_map(bump.map, material.name)) {
+      material.normal_texture = bump.map;
+      material.normal_scale = bump.scale;
+    } else {
+      warnings.push_back(bump.map.file.string() + ": the bump map of material '" + material.name +
+                         "' is a height map, not a normal map; meshtour does not bump-map from heights, so its faces are "
+                         "rendered without it");
     }
   }
 }

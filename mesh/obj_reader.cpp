@@ -138,9 +138,13 @@ bool read_mtl(const std::filesystem::path& mtl_file, ObjContents& faces, std::ma
   if (!in) return false;
   int current = -1;
   std::map<int, MtlStatements> statements;  // this file's materials
-  const auto image_path = [&](const std::string& file) {
-    const std::filesystem::path image = portable_path(file);
-    return image.is_absolute() ? image : mtl_file.parent_path() / image;
+  // A map statement's image, relative to the MTL, with its -clamp.
+  const auto texture_of = [&](const MapStatement& map) {
+    MeshTexture texture;
+    const std::filesystem::path image = portable_path(map.file);
+    texture.file = image.is_absolute() ? image : mtl_file.parent_path() / image;
+    texture.wrap_s = texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
+    return texture;
   };
   for (std::string line; std::getline(in, line);) {
     // Named, not bound: a lambda below uses them, and clang cannot capture structured bindings.
@@ -170,9 +174,7 @@ bool read_mtl(const std::filesystem::path& mtl_file, ObjContents& faces, std::ma
       // coordinates, -bm its scale.
       const MapStatement map = parse_map_statement(rest);
       if (map.file.empty()) continue;
-      MeshTexture& texture = key == "norm" ? m.normal_texture : m.texture;
-      texture.file = image_path(map.file);
-      texture.wrap_s = texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
+      (key == "norm" ? m.normal_texture : m.texture) = texture_of(map);
       if (key == "norm") {
         m.normal_scale = map.bump_multiplier;
         faces.bump_maps[static_cast<std::size_t>(current)] = {};  // norm says what it is: any bump is not needed
@@ -180,19 +182,17 @@ bool read_mtl(const std::filesystem::path& mtl_file, ObjContents& faces, std::ma
         faces.uv_transforms[static_cast<std::size_t>(current)] = map.uv_transform;
       }
     } else if (key == "map_Bump" || key == "map_bump" || key == "bump") {
-      MapStatement map = parse_map_statement(rest);
+      const MapStatement map = parse_map_statement(rest);
       if (map.file.empty() || m.normal_texture.present()) continue;
-      map.file = image_path(map.file).string();
-      faces.bump_maps[static_cast<std::size_t>(current)] = map;
+      faces.bump_maps[static_cast<std::size_t>(current)] = {texture_of(map), map.bump_multiplier};
     } else if (key == "map_Ke") {
       // The emission's image (sRGB, on the colour map's coordinates), times Ke, or as it is without Ke.
       const MapStatement map = parse_map_statement(rest);
       if (map.file.empty()) continue;
-      m.emissive_texture.file = image_path(map.file);
-      m.emissive_texture.wrap_s = m.emissive_texture.wrap_t = map.clamp ? TextureWrap::clamp : TextureWrap::repeat;
+      m.emissive_texture = texture_of(map);
     } else if (key == "map_d") {
       const MapStatement map = parse_map_statement(rest);
-      if (!map.file.empty()) st.map_d = image_path(map.file);
+      if (!map.file.empty()) st.map_d = texture_of(map).file;
     } else if (key == "Kd" || key == "Ks" || key == "Ke") {
       const auto colour = colour_of(rest);
       if (!colour) {

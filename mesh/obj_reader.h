@@ -55,7 +55,11 @@ struct ObjContents {
   /// The MTL specification's bump map is a height map, but exporters (Blender's among them) write
   /// tangent-space normal maps there: load_mesh() looks at the image and takes it as the normal
   /// map only if it is one (mesh/textures.h, reads_as_normal_map). Empty file: none.
-  std::vector<MapStatement> bump_maps;
+  struct BumpMap {
+    MeshTexture map;     ///< no file: none
+    float scale = 1.0f;  ///< -bm
+  };
+  std::vector<BumpMap> bump_maps;
   std::vector<std::string> warnings;
   /// The MTL files the OBJ names (mtllib) that are missing or unreadable, as the OBJ names them.
   /// Their materials' faces are untextured; load_mesh() decides whether that is an error.

@@ -329,16 +329,12 @@ bool reads_as_normal_map(const MeshTexture& map, const std::string& material_nam
       throw IoError(what + " could not be read: " + in->geterror());
   }
   for (int y = 0; y < spec.height; ++y) {
-    if (y % step != 0 && whole.empty()) {  // scanlines are decoded in order: read, not looked at
-      if (!in->read_scanline(y, 0, OIIO::TypeDesc::FLOAT, row.data())) throw IoError(what + " could not be read: " + in->geterror());
-      continue;
-    }
+    // Scanlines are decoded in order: every row is read, every step-th looked at.
+    if (whole.empty() && !in->read_scanline(y, 0, OIIO::TypeDesc::FLOAT, row.data()))
+      throw IoError(what + " could not be read: " + in->geterror());
     if (y % step != 0) continue;
-    if (whole.empty()) {
-      if (!in->read_scanline(y, 0, OIIO::TypeDesc::FLOAT, row.data())) throw IoError(what + " could not be read: " + in->geterror());
-    } else {
+    if (!whole.empty())
       for (std::size_t i = 0; i < row.size(); ++i) row[i] = whole[static_cast<std::size_t>(y) * row.size() + i] / 255.0f;
-    }
     for (int x = 0; x < spec.width; x += step) {
       const float* p = &row[static_cast<std::size_t>(x) * spec.nchannels];
       ++pixels;
@@ -351,6 +347,20 @@ bool reads_as_normal_map(const MeshTexture& map, const std::string& material_nam
   if (pixels == 0) return false;
   const double n = static_cast<double>(pixels);
   return blue_largest >= 0.9 * n && blue / n >= 0.6 && off_grey / n >= 0.1;
+}
+
+bool verify_or_warn(const MeshTexture& map, const std::string& material_name, const char* kind, const std::string& without,
+                    const std::string& name, const LoadOptions& options, std::vector<std::string>& warnings) {
+  try {
+    verify_texture(map, material_name, kind);
+    return true;
+  } catch (const IoError& e) {
+    if (!options.missing_textures_grey)
+      throw IoError(name + ": " + e.what() + " (fix the path or the file, or pass --missing-textures grey to render its faces " +
+                    without + ")");
+    warnings.push_back(std::string(e.what()) + "; its faces are rendered " + without + " (--missing-textures grey)");
+    return false;
+  }
 }
 
 void check_material_textures(TriangleMesh& mesh, const std::string& name, const LoadOptions& options,
@@ -378,15 +388,7 @@ void check_material_textures(TriangleMesh& mesh, const std::string& name, const 
         const std::string name = kind;
         without = "without their " + name.substr(0, name.rfind(" texture")) + " map";
       }
-      try {
-        verify_texture(*map, material.name, kind);
-      } catch (const IoError& e) {
-        if (!options.missing_textures_grey)
-          throw IoError(name + ": " + e.what() + " (fix the path or the file, or pass --missing-textures grey to render its faces " +
-                        without + ")");
-        warnings.push_back(std::string(e.what()) + "; its faces are rendered " + without + " (--missing-textures grey)");
-        *map = MeshTexture{};
-      }
+      if (!verify_or_warn(*map, material.name, kind, without, name, options, warnings)) *map = MeshTexture{};
     }
   }
 }

@@ -19,6 +19,12 @@ void verify_texture(const MeshTexture& map, const std::string& material_name, co
 /// spread over the image. Call after verify_texture(). \throw IoError when the image cannot be read.
 bool reads_as_normal_map(const MeshTexture& map, const std::string& material_name);
 
+/// verify_texture(), and where it fails the --missing-textures policy: an IoError naming the model
+/// `name` and how to go on, or with options.missing_textures_grey a warning that its faces are
+/// rendered `without` it ("untextured", "without their normal map", ...) and false.
+bool verify_or_warn(const MeshTexture& map, const std::string& material_name, const char* kind, const std::string& without,
+                    const std::string& name, const LoadOptions& options, std::vector<std::string>& warnings);
+
 /// Opens the texture of every material some triangle uses. A missing or unreadable one is an
 /// IoError naming the texture, the material and the model `name`, or, with
 /// options.missing_textures_grey, a warning appended to `warnings` and a material without texture.
