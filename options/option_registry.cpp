@@ -151,6 +151,14 @@ std::vector<Option> make_registry() {
                "shadows) in place of the look's gradient; hidden (default) keeps the gradient. Transparent\n"
                "frames stay transparent",
        .scene_key = "look.environment_background", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
+  add({.id = "bounces", .flag = "--bounces", .kind = Kind::integer, .lo = 0, .hi = 4, .default_text = "0",
+       .help = "Diffuse interreflections (0-4, default 0): where a sample's occlusion ray meets the model, the light\n"
+               "that point reflects (the lights through a shadow ray, the sky or --environment through an occlusion\n"
+               "ray of its own, and so on up to N surfaces deep) in place of darkness: crevices and the insides of\n"
+               "shells brighten and take the colour of their walls. Each bounce adds up to two rays per sample\n"
+               "where it applies. No effect without occlusion rays (the plain look); the floor reflects nothing\n"
+               "(it only catches shadows). docs/RENDERING.md says how many a look needs",
+       .scene_key = "look.bounces", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "materials", .flag = "--materials", .kind = Kind::choice, .choices = {"file", "look"}, .ignore_case = true,
        .default_text = "file",
        .help = "Whose shading a surface gets: file (default: a glTF material's own metallic-roughness BRDF, emission\n"

@@ -67,6 +67,7 @@ void set_environment(Shading& sh, const std::string& text) { sh.environment = te
 void set_environment_rotation(Shading& sh, const std::string& text) { sh.environment_rotation_deg = std::stof(text); }
 void set_environment_intensity(Shading& sh, const std::string& text) { sh.environment_intensity = std::stof(text); }
 void set_environment_background(Shading& sh, const std::string& text) { sh.environment_background = text == "shown"; }
+void set_bounces(Shading& sh, const std::string& text) { sh.bounces = std::stoi(text); }
 
 // One registered look key: checked by its row, then set.
 void read_look_value(JsonReader& look, const std::string& key, std::string_view id, Shading& sh,
@@ -130,6 +131,7 @@ void apply_look_values(JsonReader& look, const std::string& source, Shading& sh,
   read_look_value(look, "environment_rotation", "environment-rotation", sh, set_environment_rotation);
   read_look_value(look, "environment_intensity", "environment-intensity", sh, set_environment_intensity);
   read_look_value(look, "environment_background", "environment-background", sh, set_environment_background);
+  read_look_value(look, "bounces", "bounces", sh, set_bounces);
 }
 
 // The "look" object: its preset, then its values; kept as the scene's file_look, so that a preset
@@ -221,6 +223,7 @@ const std::map<std::string_view, SceneSetter>& scene_bindings() {
       {"environment-rotation", [](S s, T t) { set_environment_rotation(s.render.shading, t); }},
       {"environment-intensity", [](S s, T t) { set_environment_intensity(s.render.shading, t); }},
       {"environment-background", [](S s, T t) { set_environment_background(s.render.shading, t); }},
+      {"bounces", [](S s, T t) { set_bounces(s.render.shading, t); }},
       {"exr-layers",
        [](S s, T t) {
          ExtraLayers& layers = s.render.layers;

@@ -134,7 +134,7 @@ std::string scene_fingerprint(const Scene& s) {
                       {"denoise", s.render.denoise}, {"tone", int(s.render.shading.tone_mapping)},
                       {"env", s.render.shading.environment ? s.render.shading.environment->source : ""},
                       {"env_turn", s.render.shading.environment_rotation_deg}, {"env_scale", s.render.shading.environment_intensity},
-                      {"env_shown", s.render.shading.environment_background},
+                      {"env_shown", s.render.shading.environment_background}, {"bounces", s.render.shading.bounces},
                       {"layers", {s.render.layers.albedo, s.render.layers.normal, s.render.layers.depth}}, {"crf", s.crf},
                       {"file", s.path_file ? s.path_file->string() : ""}, {"grey", s.missing_textures_grey},
                       {"quality", s.quality}};

@@ -578,6 +578,8 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::
                      " triangles, not " + std::to_string(mesh.triangles.size()) + ")");
 
   s.up = options.world_up.normalized().cast<float>();
+  if (options.shading.bounces < 0 || options.shading.bounces > render_detail::kMaxBounces)
+    throw InputError("bounces must be 0 to " + std::to_string(render_detail::kMaxBounces) + ", got " + std::to_string(options.shading.bounces));
   if (const Shading& sh = options.shading; sh.environment) {
     if (!(sh.environment_intensity >= 0.0f) || !std::isfinite(sh.environment_intensity))
       throw InputError("the environment's intensity must be 0 or more, got " + std::to_string(sh.environment_intensity));
@@ -669,6 +671,7 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   f.background_bottom = sh.background_bottom;
   f.shadows = sh.shadows;
   f.ambient_occlusion = sh.ambient_occlusion;
+  f.bounces = sh.ambient_occlusion ? sh.bounces : 0;
   // Blinn-Phong exponent from roughness (alpha = roughness^2, Walter et al.'s mapping n = 2/alpha^2 - 2),
   // normalised so that the highlight's energy stays the same as it widens.
   const float alpha = std::max(0.02f, mat.roughness * mat.roughness);

@@ -46,6 +46,9 @@ struct FrameLight {
   float cos_half_angle, sin_half_angle;
 };
 
+// The most interreflections a sample follows (Shading::bounces).
+constexpr int kMaxBounces = 4;
+
 // Everything about a frame that its tiles share: camera, lights, material, ground and sampling.
 struct Frame {
   std::uint64_t index = 0;
@@ -71,6 +74,7 @@ struct Frame {
   // gradient. One lookup a pixel, not a sample (the image is at most 512 x 256: finer than it).
   std::vector<float> backdrop_rgb;
   bool shadows = true, ambient_occlusion = true;
+  int bounces = 0;  // Shading::bounces where there are occlusion rays, else 0
   float shininess = 1.0f, spec_scale = 0.0f, spec_cutoff = 1.0f;
   float eps = 0.0f, ao_length = 0.0f, model_radius = 0.0f, ground_ao_reach2 = 0.0f;
   float pixel_angle = 0.0f, inv_height = 0.0f;
@@ -85,6 +89,7 @@ struct Frame {
 struct Scratch {
   RTCRayHit16 primary;
   RTCRay16 shadow, sky;
+  RTCRayHit16 bounce;  // occlusion rays that find what they meet, with interreflections
   OIIO::TextureSystem::Perthread* texture_thread = nullptr;
 };
 

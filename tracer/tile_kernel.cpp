@@ -112,6 +112,35 @@ MESHTOUR_SIMD_INLINE V3 light_direction(const LaneLight& l, F16 u, F16 v) {
           cos_t * l.direction.z + a * l.tangent.z + b * l.bitangent.z};
 }
 
+// One shadow ray to one light, chosen in proportion to `weights` (the luminance of the light
+// each brings unshadowed) and weighted by 1/probability: unbiased, exact in luminance wherever no
+// light is blocked, and the light that matters most gets most of the rays. `valid`: the lanes
+// that trace it (in `lanes` and with some light).
+struct OneLightSample {
+  V3 light;  // the chosen light's contribution over its probability
+  V3 dir;    // towards a point on its disc
+  I16 valid;
+};
+MESHTOUR_SIMD_INLINE OneLightSample sample_one_light(const std::vector<FrameLight>& lights, const V3 (&contributions)[8], const F16 (&weights)[8],
+                                                     F16 total, I16 lanes, F16 u_light, F16 v_light) {
+  const F16 zero = simd::broadcast(0.0f);
+  F16 u_disc;
+  const I16 chosen = choose(weights, lights.size(), total, u_light, u_disc);
+  F16 chosen_weight = zero;
+  V3 c{zero, zero, zero};
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const I16 m = simd::eq(chosen, static_cast<int>(i));
+    chosen_weight = simd::select(m, weights[i], chosen_weight);
+    c = select(m, contributions[i], c);
+  }
+  OneLightSample out;
+  out.valid = simd::both(lanes, simd::gt(total, 0.0f));
+  const F16 inverse_probability = total / simd::select(out.valid, chosen_weight, simd::broadcast(1.0f));
+  out.light = {c.x * inverse_probability, c.y * inverse_probability, c.z * inverse_probability};
+  out.dir = light_direction(lane_light(lights, chosen), u_disc, v_light);
+  return out;
+}
+
 // A cosine-weighted direction over the hemisphere around n (tangents t1, t2): the fraction of
 // unblocked rays is then exactly the occlusion of a diffuse surface's sky light.
 MESHTOUR_SIMD_INLINE V3 sky_direction(const V3& n, const V3& t1, const V3& t2, F16 u, F16 v) {
@@ -313,6 +342,7 @@ public:
     const std::uint64_t key = rng::pixel_key(f.index ^ f.seed, sampler::block_of(film.x0, film.y0));
     const simd::U16 block_key = simd::U16{} + static_cast<std::uint32_t>(key ^ (key >> 32));
     for (std::uint32_t pair = 0; pair < 3; ++pair) seeds_[pair] = sampler::pair_seeds(block_key, pair);
+    for (int pair = 0; pair < 2 * f.bounces; ++pair) bounce_seeds_[pair] = sampler::pair_seeds(block_key, 3 + static_cast<std::uint32_t>(pair));
   }
   int sample_count() const { return sample_count_; }
 
@@ -363,6 +393,13 @@ public:
     sampler::pair(s.sample_reversed, seeds_[2], s.u_sky, s.v_sky);
   }
 
+  // The numbers of interreflection `bounce`'s (0 first) light and sky rays: two more pairs of
+  // dimensions per bounce, after the three above.
+  MESHTOUR_SIMD_INLINE void bounce(const PacketSamples& s, int bounce, F16& u_light, F16& v_light, F16& u_sky, F16& v_sky) const {
+    sampler::pair(s.sample_reversed, bounce_seeds_[2 * bounce], u_light, v_light);
+    sampler::pair(s.sample_reversed, bounce_seeds_[2 * bounce + 1], u_sky, v_sky);
+  }
+
 private:
   MESHTOUR_SIMD_INLINE void start_pixel_if_due() {
     if (next_sample_ != 0) return;
@@ -375,6 +412,7 @@ private:
   int spp_, tile_w_, sample_count_, log2_spp_ = 0;
   I16 lane_index_;
   sampler::PairSeeds seeds_[3];  // the tile's block's seeds of the three pairs (camera, light, sky)
+  sampler::PairSeeds bounce_seeds_[2 * kMaxBounces];  // and of the interreflections' pairs
   // The sample after the last one set up: its pixel (within the tile) and index in the pixel,
   // and the pixel's first index in the block's sequence.
   int next_pixel_ = 0, next_sample_ = 0;
@@ -482,6 +520,11 @@ struct ShadedSamples {
   // noise-free and stays sharp).
   V3 guide_normal, guide_unshadowed;
   F16 guide_depth;
+  // Interreflections (Frame::bounces): the lanes whose occlusion ray, where the model blocks
+  // it, brings back the light of the point it meets, and the factor on that light (the BRDF
+  // times cos over the density of the ray's direction, the occlusion map's factor included).
+  I16 bounce_valid;
+  V3 bounce_weight;
 };
 
 // The backdrop behind the samples (none in transparent frames), and the shading of a sample
@@ -510,6 +553,8 @@ MESHTOUR_SIMD_INLINE void shade_background(const Frame& f, const V3& bg, ShadedS
   sh.guide_normal = {zero, zero, zero};
   sh.guide_unshadowed = f.transparent ? V3{one, one, one} : bg;
   sh.guide_depth = simd::broadcast(std::numeric_limits<float>::infinity());
+  sh.bounce_valid = simd::broadcast_int(0);
+  sh.bounce_weight = {zero, zero, zero};
 }
 
 // One lookup of a map at `uv` (OBJ's convention, v up) with a footprint of `width_uv`: RGB, or
@@ -543,8 +588,10 @@ struct SurfacePoint {
   V3 emission;
   bool any_metallic_roughness = false, any_unlit = false, any_emission = false;
 };
+// `footprint_angle`: the width of a sample's footprint per unit of distance along its ray
+// (radians), which picks the maps' mip level.
 MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scratch& scratch, const RTCRayHit16& primary, const Hits& h,
-                                            const V3& dir) {
+                                            const V3& dir, float footprint_angle) {
   const F16 one = simd::broadcast(1.0f);
   alignas(64) float nx[16] = {}, ny[16] = {}, nz[16] = {}, ar[16], ag[16], ab[16];
   // The normal before its normal map: which of its sides faces the camera decides the side of
@@ -586,11 +633,10 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
           surface.emissive_map.handle) {
         lane_surface[l] = &surface;
         lane_uv[l] = bw * r.corner_uvs[3 * prim] + bu * r.corner_uvs[3 * prim + 1] + bv * r.corner_uvs[3 * prim + 2];
-        // Isotropic footprint of one sample in texture space: the pixel's width at this
-        // distance, stretched by the slant, divided by sqrt(spp) because the samples already
-        // average over the pixel.
+        // Isotropic footprint of one sample in texture space: the footprint's width at this
+        // distance, stretched by the slant.
         const float slant = std::max(0.2f, std::abs(h.ng.x[l] * dir.x[l] + h.ng.y[l] * dir.y[l] + h.ng.z[l] * dir.z[l]));
-        lane_width[l] = r.uv_scale[prim] * h.t[l] * f.pixel_angle / slant / std::sqrt(static_cast<float>(f.spp));
+        lane_width[l] = r.uv_scale[prim] * h.t[l] * footprint_angle / slant;
         lane_b[l][0] = bw, lane_b[l][1] = bu, lane_b[l][2] = bv;
       }
       if (!surface.texture.handle && surface.replaces_base_color)
@@ -832,30 +878,17 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
   V3 model_light{zero, zero, zero};
   I16 model_shadow = simd::broadcast_int(0);
   if (f.shadows) {
-    // One shadow ray to one light, chosen in proportion to the light it brings here
-    // unshadowed (the luminance of its whole contribution, highlight included) and weighted
-    // by 1/probability: unbiased, exact in luminance wherever no light is blocked, and the
-    // light that matters most here gets most of the rays.
+    // The light chosen by the luminance of its whole contribution here, highlight included.
     F16 weights[8];
     F16 total = zero;
     for (std::size_t i = 0; i < nlights; ++i) {
       weights[i] = luminance(contributions[i].x, contributions[i].y, contributions[i].z);
       total += weights[i];
     }
-    F16 u_disc;
-    const I16 chosen = choose(weights, nlights, total, s.u_light, u_disc);
-    F16 chosen_weight = zero;
-    V3 c{zero, zero, zero};
-    for (std::size_t i = 0; i < nlights; ++i) {
-      const I16 m = simd::eq(chosen, static_cast<int>(i));
-      chosen_weight = simd::select(m, weights[i], chosen_weight);
-      c = select(m, contributions[i], c);
-    }
-    model_shadow = simd::both(on_model, simd::gt(total, 0.0f));
-    const LaneLight light = lane_light(f.lights, chosen);
-    const F16 inverse_probability = total / simd::select(model_shadow, chosen_weight, one);
-    model_light = {c.x * inverse_probability, c.y * inverse_probability, c.z * inverse_probability};
-    sh.shadow_dir = light_direction(light, u_disc, s.v_light);
+    const OneLightSample one_light = sample_one_light(f.lights, contributions, weights, total, on_model, s.u_light, s.v_light);
+    model_shadow = one_light.valid;
+    model_light = one_light.light;
+    sh.shadow_dir = one_light.dir;
   } else {
     for (std::size_t i = 0; i < nlights; ++i)
       model_base = {model_base.x + contributions[i].x, model_base.y + contributions[i].y, model_base.z + contributions[i].z};
@@ -866,6 +899,9 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
   // The sky's light on glTF materials: its expected value (for the guides, and as it is
   // without occlusion rays), and one sample of it along the occlusion ray's direction.
   V3 sky_expected = sky, ggx_sky = sky, ggx_sky_dir{zero, zero, one};
+  // The factor on an interreflection's light: the diffuse look's albedo (its sky ray is cosine
+  // distributed), or the chosen glTF lobe's weight.
+  V3 bounce_weight{albedo.x * open, albedo.y * open, albedo.z * open};
   if (any_ggx) {
     // Expected: the diffuse share under the irradiance at n, and the specular share (Schlick
     // at the view with the roughness's fade, after Fdez-Aguera 2019) under the irradiance about
@@ -917,6 +953,11 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
       const V3 diffuse_value{diffuse_keep * albedo.x * sky_light.x, diffuse_keep * albedo.y * sky_light.y, diffuse_keep * albedo.z * sky_light.z};
       ggx_sky = select(ggx, select(specular_lane, spec_value, diffuse_value), sky);
       ggx_sky_dir = select(specular_lane, spec_dir, diffuse_dir);
+      if (f.bounces > 0) {
+        const V3 spec_bounce{weight.x * spec_scale, weight.y * spec_scale, weight.z * spec_scale};
+        const V3 diffuse_bounce{diffuse_keep * albedo.x, diffuse_keep * albedo.y, diffuse_keep * albedo.z};
+        bounce_weight = select(ggx, select(specular_lane, spec_bounce, diffuse_bounce), bounce_weight);
+      }
     }
   }
   if (guides) {
@@ -953,6 +994,10 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
   }
   sh.sky_valid = simd::either(sh.sky_valid, model_sky_valid);
   sh.shadow_valid = simd::either(sh.shadow_valid, model_shadow);
+  if (f.bounces > 0) {
+    sh.bounce_valid = simd::either(sh.bounce_valid, model_sky_valid);
+    sh.bounce_weight = select(on_model, bounce_weight, sh.bounce_weight);
+  }
   sh.base[0] = simd::select(on_model, model_base.x, sh.base[0]);
   sh.base[1] = simd::select(on_model, model_base.y, sh.base[1]);
   sh.base[2] = simd::select(on_model, model_base.z, sh.base[2]);
@@ -1065,10 +1110,12 @@ MESHTOUR_SIMD_INLINE void add_to_extra_layers(const FilmTile& film, const Frame&
 }
 
 // 4. Shadow and occlusion rays, one rtcOccluded16 each (incoherent): Embree stops at the first
-// hit. The samples' RGBA, now that the visibility is known.
-MESHTOUR_SIMD_INLINE void trace_shadow_and_occlusion_rays(const Impl& r, const Frame& f, RTCIntersectContext& incoherent, Scratch& scratch,
-                                                          const Hits& h, const ShadedSamples& sh, RayRecording::Packet* rec,
-                                                          TileCounts& counts, F16 (&rgba)[4]) {
+// hit. The samples' RGBA, now that the visibility is known. With interreflections, the occlusion
+// rays that may bounce go through rtcIntersect16 instead (the same visibility, and where they
+// stop: scratch.bounce), and the result is the lanes whose ray met the model there.
+MESHTOUR_SIMD_INLINE I16 trace_shadow_and_occlusion_rays(const Impl& r, const Frame& f, RTCIntersectContext& incoherent, Scratch& scratch,
+                                                         const Hits& h, const ShadedSamples& sh, RayRecording::Packet* rec,
+                                                         TileCounts& counts, F16 (&rgba)[4]) {
   // The ground blocks what goes below it (the plane, intersected here); the rest is traced
   // against the model.
   I16 shadow_valid = sh.shadow_valid, sky_valid = sh.sky_valid;
@@ -1081,23 +1128,144 @@ MESHTOUR_SIMD_INLINE void trace_shadow_and_occlusion_rays(const Impl& r, const F
   simd::store_int(shadow_lanes.data(), shadow_valid);
   simd::store_int(sky_lanes.data(), sky_valid);
   const bool any_shadow = simd::any(shadow_valid), any_sky = simd::any(sky_valid);
+  const bool bounce = f.bounces > 0 && simd::any(simd::both(sky_valid, sh.bounce_valid));
   if (any_shadow) set_rays(scratch.shadow, shadow_valid, h.org, sh.shadow_dir, std::numeric_limits<float>::infinity(), kModelMask);
-  if (any_sky) set_rays(scratch.sky, sky_valid, h.org, sh.sky_dir, f.ao_length, kModelMask);
+  if (bounce) {
+    set_rays(scratch.bounce.ray, sky_valid, h.org, sh.sky_dir, f.ao_length, kModelMask);
+    simd::store_int(scratch.bounce.hit.geomID, simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
+    simd::store_int(scratch.bounce.hit.instID[0], simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
+  } else if (any_sky) {
+    set_rays(scratch.sky, sky_valid, h.org, sh.sky_dir, f.ao_length, kModelMask);
+  }
   if (rec) {
     if (any_shadow) rec->shadow = scratch.shadow;
-    if (any_sky) rec->sky = scratch.sky;
+    if (any_sky) rec->sky = bounce ? scratch.bounce.ray : scratch.sky;
     rec->shadow_valid = shadow_lanes;
     rec->sky_valid = sky_lanes;
   }
   if (any_shadow) rtcOccluded16(shadow_lanes.data(), r.rays->scene(), &incoherent, &scratch.shadow);
-  if (any_sky) rtcOccluded16(sky_lanes.data(), r.rays->scene(), &incoherent, &scratch.sky);
+  if (bounce) rtcIntersect16(sky_lanes.data(), r.rays->scene(), &incoherent, &scratch.bounce);
+  else if (any_sky) rtcOccluded16(sky_lanes.data(), r.rays->scene(), &incoherent, &scratch.sky);
   counts.secondary += static_cast<std::uint64_t>(popcount(shadow_valid) + popcount(sky_valid));
-  // rtcOccluded16 sets tfar to -inf where the ray is blocked.
+  // rtcOccluded16 sets tfar to -inf where the ray is blocked; rtcIntersect16 sets the geometry
+  // it stopped at.
   const I16 light_seen = any_shadow ? simd::both(shadow_valid, simd::ge(simd::load(scratch.shadow.tfar), 0.0f)) : shadow_valid;
-  const I16 sky_seen = any_sky ? simd::both(sky_valid, simd::ge(simd::load(scratch.sky.tfar), 0.0f)) : sky_valid;
+  const I16 sky_blocked = bounce ? simd::eq(simd::load_int(scratch.bounce.hit.geomID), static_cast<int>(kModelGeometry))
+                                 : simd::lt(simd::load(scratch.sky.tfar), 0.0f);
+  const I16 sky_seen = any_sky ? simd::both(sky_valid, ~sky_blocked) : sky_valid;
   const F16 zero = simd::broadcast(0.0f);
   for (int ch = 0; ch < 4; ++ch)
     rgba[ch] = sh.base[ch] + simd::select(light_seen, sh.with_light[ch], zero) + simd::select(sky_seen, sh.with_sky[ch], zero);
+  return bounce ? simd::both(simd::both(sky_valid, sh.bounce_valid), sky_blocked) : simd::broadcast_int(0);
+}
+
+// 4b. Interreflections (Frame::bounces): from each point where an occlusion ray of `alive`
+// met the model, the light it reflects back along that ray, added to the samples' RGB times
+// `throughput`. The point is shaded as a diffuse surface of its base colour (glTF materials
+// too: the glossy part of a second surface is left out), lit as a camera sample is lit: one
+// shadow ray to one light chosen in proportion to its unshadowed light, the sky (or the
+// environment's irradiance) through one cosine-distributed occlusion ray, the occlusion map
+// on that sky, its emission, and, where that ray meets the model again, the next bounce.
+// The floor is not a surface here (it only catches shadows): rays that meet it stop.
+MESHTOUR_SIMD_INLINE void interreflect(const Impl& r, const Frame& f, RTCIntersectContext& incoherent, Scratch& scratch, const TileSampler& sampler,
+                                       const PacketSamples& s, V3 org, V3 dir, V3 throughput, I16 alive, TileCounts& counts, F16 (&rgba)[4]) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  const std::size_t nlights = f.lights.size();
+  // A wide footprint for the maps' lookups: a bounce's light is an average over a wide cone.
+  constexpr float kBounceFootprint = 0.1f;
+  for (int bounce = 0; bounce < f.bounces && simd::any(alive); ++bounce) {
+    // The point met, as read_hits reads a camera ray's.
+    Hits h;
+    h.on_model = alive;
+    h.on_ground = simd::broadcast_int(0);
+    h.any = true;
+    h.t = simd::select(alive, simd::load(scratch.bounce.ray.tfar), zero);
+    const V3 ng{simd::load(scratch.bounce.hit.Ng_x), simd::load(scratch.bounce.hit.Ng_y), simd::load(scratch.bounce.hit.Ng_z)};
+    const F16 ng_len2 = dot(ng, ng);
+    const F16 ng_scale = simd::select(simd::gt(dot(ng, dir), 0.0f), -one, one) / simd::select(simd::gt(ng_len2, 0.0f), simd::sqrt(ng_len2), one);
+    h.ng = {ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale};
+    h.org = {org.x + h.t * dir.x + f.eps * h.ng.x, org.y + h.t * dir.y + f.eps * h.ng.y, org.z + h.t * dir.z + f.eps * h.ng.z};
+    const SurfacePoint p = surface_at(r, f, scratch, scratch.bounce, h, dir, kBounceFootprint);
+    const V3& n = p.n;
+    const V3& albedo = p.albedo;
+    F16 u_light, v_light, u_sky, v_sky;
+    sampler.bounce(s, bounce, u_light, v_light, u_sky, v_sky);
+    // Unlit lanes show their base colour and stop; the others may trace both rays.
+    const I16 lit_lanes = p.any_unlit ? simd::both(alive, ~p.unlit) : alive;
+    V3 emitted = p.emission;
+    if (p.any_unlit) emitted = select(p.unlit, albedo, emitted);
+    // The lights, diffusely (what each brings unshadowed; 0 from behind).
+    V3 contributions[8];
+    F16 weights[8];
+    F16 total = zero;
+    V3 unshadowed_lights{zero, zero, zero};
+    for (std::size_t i = 0; i < nlights; ++i) {
+      const F16 cos_i = simd::max(zero, dot(n, broadcast(f.lights[i].direction)));
+      const Eigen::Vector3f& radiance = f.lights[i].radiance;
+      contributions[i] = {albedo.x * radiance.x() * cos_i, albedo.y * radiance.y() * cos_i, albedo.z * radiance.z() * cos_i};
+      weights[i] = luminance(contributions[i].x, contributions[i].y, contributions[i].z);
+      total += weights[i];
+      unshadowed_lights = {unshadowed_lights.x + contributions[i].x, unshadowed_lights.y + contributions[i].y, unshadowed_lights.z + contributions[i].z};
+    }
+    V3 light{zero, zero, zero};
+    I16 shadow_valid = simd::broadcast_int(0);
+    V3 shadow_dir{zero, zero, one};
+    if (f.shadows && nlights > 0) {
+      const OneLightSample one_light = sample_one_light(f.lights, contributions, weights, total, lit_lanes, u_light, v_light);
+      shadow_valid = one_light.valid;
+      light = one_light.light;
+      shadow_dir = one_light.dir;
+    } else {
+      const V3 unshadowed = select(lit_lanes, unshadowed_lights, V3{zero, zero, zero});
+      emitted = {emitted.x + unshadowed.x, emitted.y + unshadowed.y, emitted.z + unshadowed.z};
+    }
+    const V3 sky_light = f.environment ? environment_light(f, n) : broadcast(f.ambient);
+    const F16 open = p.sky_occlusion;
+    const V3 sky{albedo.x * sky_light.x * open, albedo.y * sky_light.y * open, albedo.z * sky_light.z * open};
+    V3 t1, t2;
+    basis(n, t1, t2);
+    const V3 sky_dir = sky_direction(n, t1, t2, u_sky, v_sky);
+    I16 sky_valid = lit_lanes;
+    if (f.has_ground) {
+      F16 t;
+      shadow_valid = simd::both(shadow_valid, ~ground_hit(f, h.org, shadow_dir, simd::broadcast(std::numeric_limits<float>::infinity()), t));
+      sky_valid = simd::both(sky_valid, ~ground_hit(f, h.org, sky_dir, simd::broadcast(f.ao_length), t));
+    }
+    const bool last = bounce + 1 == f.bounces;
+    ValidMask shadow_lanes, sky_lanes;
+    simd::store_int(shadow_lanes.data(), shadow_valid);
+    simd::store_int(sky_lanes.data(), sky_valid);
+    const bool any_shadow = simd::any(shadow_valid), any_sky = simd::any(sky_valid);
+    if (any_shadow) {
+      set_rays(scratch.shadow, shadow_valid, h.org, shadow_dir, std::numeric_limits<float>::infinity(), kModelMask);
+      rtcOccluded16(shadow_lanes.data(), r.rays->scene(), &incoherent, &scratch.shadow);
+    }
+    I16 sky_blocked = simd::broadcast_int(0);
+    if (any_sky && last) {
+      set_rays(scratch.sky, sky_valid, h.org, sky_dir, f.ao_length, kModelMask);
+      rtcOccluded16(sky_lanes.data(), r.rays->scene(), &incoherent, &scratch.sky);
+      sky_blocked = simd::lt(simd::load(scratch.sky.tfar), 0.0f);
+    } else if (any_sky) {
+      set_rays(scratch.bounce.ray, sky_valid, h.org, sky_dir, f.ao_length, kModelMask);
+      simd::store_int(scratch.bounce.hit.geomID, simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
+      simd::store_int(scratch.bounce.hit.instID[0], simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
+      rtcIntersect16(sky_lanes.data(), r.rays->scene(), &incoherent, &scratch.bounce);
+      sky_blocked = simd::eq(simd::load_int(scratch.bounce.hit.geomID), static_cast<int>(kModelGeometry));
+    }
+    counts.secondary += static_cast<std::uint64_t>(popcount(shadow_valid) + popcount(sky_valid));
+    const I16 light_seen = any_shadow ? simd::both(shadow_valid, simd::ge(simd::load(scratch.shadow.tfar), 0.0f)) : shadow_valid;
+    const I16 sky_seen = simd::both(sky_valid, ~sky_blocked);
+    const V3 reflected{emitted.x + simd::select(light_seen, light.x, zero) + simd::select(sky_seen, sky.x, zero),
+                       emitted.y + simd::select(light_seen, light.y, zero) + simd::select(sky_seen, sky.y, zero),
+                       emitted.z + simd::select(light_seen, light.z, zero) + simd::select(sky_seen, sky.z, zero)};
+    rgba[0] += simd::select(alive, throughput.x * reflected.x, zero);
+    rgba[1] += simd::select(alive, throughput.y * reflected.y, zero);
+    rgba[2] += simd::select(alive, throughput.z * reflected.z, zero);
+    throughput = {throughput.x * albedo.x * open, throughput.y * albedo.y * open, throughput.z * albedo.z * open};
+    alive = simd::both(sky_valid, sky_blocked);
+    org = h.org;
+    dir = sky_dir;
+  }
 }
 
 // 5. Splat: every sample onto the pixels within the filter's radius of it, on the tile's sums,
@@ -1206,14 +1374,18 @@ void Renderer::Impl::render_tile(const Frame& f, Scratch& scratch, const FilmTil
       sampler.secondary(samples);
       shaded.guide_depth = simd::select(simd::either(hits.on_model, hits.on_ground), hits.t * dot(camera.dir, broadcast(f.forward)), shaded.guide_depth);
       if (simd::any(hits.on_model)) {
-        const SurfacePoint surface = surface_at(*this, f, scratch, scratch.primary, hits, camera.dir);
+        // A camera sample's footprint: the pixel's width divided by sqrt(spp), because the
+        // samples already average over the pixel.
+        const SurfacePoint surface = surface_at(*this, f, scratch, scratch.primary, hits, camera.dir, f.pixel_angle / std::sqrt(static_cast<float>(f.spp)));
         shade_model(f, samples, hits, camera.dir, surface, film.guides != nullptr, shaded);
         add_to_extra_layers(film, f, samples, hits, camera.dir, surface);
       }
       if (simd::any(hits.on_ground)) shade_ground(f, samples, hits, bg, shaded);
     }
     F16 rgba[4];
-    trace_shadow_and_occlusion_rays(*this, f, incoherent, scratch, hits, shaded, rec, counts, rgba);
+    const I16 bounced = trace_shadow_and_occlusion_rays(*this, f, incoherent, scratch, hits, shaded, rec, counts, rgba);
+    if (f.bounces > 0 && simd::any(bounced))
+      interreflect(*this, f, incoherent, scratch, sampler, samples, hits.org, shaded.sky_dir, shaded.bounce_weight, bounced, counts, rgba);
     splat(filter, f, film, samples, hits, shaded, bg, rgba);
   }
 }

@@ -83,6 +83,10 @@ struct Shading {
   bool environment_background = false;
   bool ambient_occlusion = true;  ///< the sky light is occluded by nearby geometry
   float ao_distance = 0.3f;       ///< AO ray length, fraction of the model's bounding-box diagonal
+  /// Diffuse interreflections: where a sample's occlusion ray meets the model, the light that
+  /// point reflects towards it (lights and sky, through further occlusion rays, up to this many
+  /// surfaces deep) instead of darkness. 0: occlusion only, as before. Needs ambient_occlusion.
+  int bounces = 0;
   bool ground = true;             ///< a shadow-catching floor under the model (perpendicular to RenderOptions::world_up)
   float ground_shadow = 0.85f;    ///< 0 = the floor shows nothing, 1 = full-strength shadows on it
   BackgroundKind background = BackgroundKind::gradient;
