@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/portable_math.h"
 #include "mesh/image_probe.h"
 #include "tracer/color.h"
 
@@ -102,8 +103,10 @@ EnvironmentRadiance environment_radiance(std::shared_ptr<const EnvironmentImage>
 Eigen::Vector3f EnvironmentRadiance::operator()(const Eigen::Vector3f& world) const {
   const EnvironmentImage& env = *image;
   const Eigen::Vector3f d = environment_from_world * world;
-  // pixel_direction() inverted: theta from the zenith, phi from -z towards +x.
-  const float theta = std::acos(std::clamp(d.y(), -1.0f, 1.0f)), phi = std::atan2(d.x(), -d.z());
+  // pixel_direction() inverted: theta from the zenith, phi from -z towards +x (portable: the
+  // same bits on every CPU).
+  const double sin_theta = std::sqrt(static_cast<double>(d.x()) * d.x() + static_cast<double>(d.z()) * d.z());
+  const float theta = static_cast<float>(portable_atan2(sin_theta, d.y())), phi = static_cast<float>(portable_atan2(d.x(), -d.z()));
   const float x = (phi / (2.0f * kPi) + 0.5f) * static_cast<float>(env.width) - 0.5f;
   const float y = std::clamp(theta / kPi * static_cast<float>(env.height) - 0.5f, 0.0f, static_cast<float>(env.height - 1));
   const float fx = std::floor(x), fy = std::floor(y);
@@ -116,6 +119,90 @@ Eigen::Vector3f EnvironmentRadiance::operator()(const Eigen::Vector3f& world) co
   };
   const Eigen::Vector3f top = (1.0f - ax) * at(i0, j0) + ax * at(i0 + 1, j0), bottom = (1.0f - ax) * at(i0, j1) + ax * at(i0 + 1, j1);
   return intensity * ((1.0f - ay) * top + ay * bottom);
+}
+
+EnvironmentDistribution environment_distribution(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg) {
+  EnvironmentDistribution out;
+  out.world_from_environment = world_from_environment(up, rotation_deg);
+  out.environment_from_world = out.world_from_environment.transpose();
+  const int w = env.width, h = env.height;
+  if (w <= 0 || h <= 0) return out;
+  // Luminance times the row's sin(theta) (the pixel's solid angle but for constant factors), in
+  // double: the sums must not lose the dim rows under a bright sun.
+  std::vector<double> weight(static_cast<std::size_t>(w) * h);
+  std::vector<double> row_sum(static_cast<std::size_t>(h), 0.0);
+  double total = 0.0;
+  for (int j = 0; j < h; ++j) {
+    // sin of the row centre's polar angle (half a turn from the zenith to the nadir).
+    double sin_theta = 0.0, cos_theta = 0.0;
+    portable_sincos_turns(0.5 * (j + 0.5) / h, sin_theta, cos_theta);
+    for (int i = 0; i < w; ++i) {
+      const float* p = &env.rgb[(static_cast<std::size_t>(j) * w + i) * 3];
+      const double value = (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) * sin_theta;
+      weight[static_cast<std::size_t>(j) * w + i] = value;
+      row_sum[static_cast<std::size_t>(j)] += value;
+    }
+    total += row_sum[static_cast<std::size_t>(j)];
+  }
+  if (!(total > 0.0) || !std::isfinite(total)) return out;
+  out.width = w;
+  out.height = h;
+  out.row_cdf.resize(static_cast<std::size_t>(h) + 1);
+  out.column_cdf.resize(static_cast<std::size_t>(h) * (w + 1));
+  out.pixel_probability.resize(weight.size());
+  double acc = 0.0;
+  for (int j = 0; j < h; ++j) {
+    out.row_cdf[static_cast<std::size_t>(j)] = static_cast<float>(acc / total);
+    acc += row_sum[static_cast<std::size_t>(j)];
+    float* cdf = &out.column_cdf[static_cast<std::size_t>(j) * (w + 1)];
+    double in_row = 0.0;
+    const double rs = row_sum[static_cast<std::size_t>(j)];
+    for (int i = 0; i < w; ++i) {
+      cdf[i] = rs > 0.0 ? static_cast<float>(in_row / rs) : static_cast<float>(i) / static_cast<float>(w);
+      in_row += weight[static_cast<std::size_t>(j) * w + i];
+      out.pixel_probability[static_cast<std::size_t>(j) * w + i] = static_cast<float>(weight[static_cast<std::size_t>(j) * w + i] / total);
+    }
+    cdf[w] = 1.0f;
+  }
+  out.row_cdf[static_cast<std::size_t>(h)] = 1.0f;
+  return out;
+}
+
+namespace {
+// The index k in [0, n) with cdf[k] <= u < cdf[k + 1] (cdf[0] = 0 <= u < 1 = cdf[n]): never an
+// empty bin. `within` is where u falls in bin k, in [0, 1).
+int invert_cdf(const float* cdf, int n, float u, float& within) {
+  int lo = 0, hi = n;  // cdf[lo] <= u < cdf[hi] (cdf[n] = 1 > u)
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (cdf[mid] <= u) lo = mid;
+    else hi = mid;
+  }
+  const float width = cdf[lo + 1] - cdf[lo];
+  within = width > 0.0f ? std::clamp((u - cdf[lo]) / width, 0.0f, 0x1.fffffep-1f) : 0.5f;
+  return lo;
+}
+}  // namespace
+
+void EnvironmentDistribution::pick(float u, float v, int& i, int& j, float& fu, float& fv) const {
+  j = invert_cdf(row_cdf.data(), height, u, fv);
+  i = invert_cdf(&column_cdf[static_cast<std::size_t>(j) * (width + 1)], width, v, fu);
+}
+
+float EnvironmentDistribution::density_times_sin(int i, int j) const {
+  // p / (d_phi d_theta) with d_phi = 2 pi / width, d_theta = pi / height.
+  return pixel_probability[static_cast<std::size_t>(j) * width + i] * static_cast<float>(width) * static_cast<float>(height) /
+         (2.0f * kPi * kPi);
+}
+
+float EnvironmentDistribution::density(const Eigen::Vector3f& world) const {
+  if (empty()) return 0.0f;
+  const Eigen::Vector3f d = environment_from_world * world;
+  const double sin_theta = std::sqrt(static_cast<double>(d.x()) * d.x() + static_cast<double>(d.z()) * d.z());
+  const double theta = portable_atan2(sin_theta, d.y()), phi = portable_atan2(d.x(), -d.z());
+  const int j = std::clamp(static_cast<int>(theta / std::numbers::pi * height), 0, height - 1);
+  const int i = std::clamp(static_cast<int>((phi / (2.0 * std::numbers::pi) + 0.5) * width), 0, width - 1);
+  return density_times_sin(i, j) / static_cast<float>(std::max(sin_theta, 1e-6));
 }
 
 IrradianceSH irradiance_sh(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg, float intensity) {

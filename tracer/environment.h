@@ -65,6 +65,33 @@ struct EnvironmentRadiance {
 EnvironmentRadiance environment_radiance(std::shared_ptr<const EnvironmentImage> env, const Eigen::Vector3f& up, float rotation_deg,
                                          float intensity);
 
+/// Where an environment's light comes from, for importance sampling the glossy reflections of
+/// glTF materials: its pixels in proportion to their luminance times their solid angle (a
+/// distribution over rows, and within each row over its columns), the image as placed in the
+/// world (as EnvironmentRadiance).
+struct EnvironmentDistribution {
+  int width = 0, height = 0;
+  std::vector<float> row_cdf;            ///< height + 1 values from 0 to 1
+  std::vector<float> column_cdf;         ///< per row, width + 1 values from 0 to 1
+  std::vector<float> pixel_probability;  ///< per pixel (row-major), its share of the whole
+  Eigen::Matrix3f world_from_environment = Eigen::Matrix3f::Identity();
+  Eigen::Matrix3f environment_from_world = Eigen::Matrix3f::Identity();
+
+  /// Whether there is light to sample (an all-black environment has none).
+  bool empty() const { return row_cdf.empty(); }
+  /// The pixel (column i, row j from the zenith) that numbers u (rows) and v (columns) in [0, 1)
+  /// pick, and where in it they fall (fu across, fv down, each in [0, 1)): u and v are stretched
+  /// within the chosen row's and column's share, so a net of (u, v) stays a net over the pixel.
+  void pick(float u, float v, int& i, int& j, float& fu, float& fv) const;
+  /// The pick's density per unit solid angle at a world direction (unit), from IEEE-exact
+  /// operations only; 0 where the environment has no light.
+  float density(const Eigen::Vector3f& world) const;
+  /// Pixel (i, j)'s probability over its solid angle but for the 1 / sin(theta) of its row:
+  /// density = this / sin(theta) at the direction's polar angle theta.
+  float density_times_sin(int i, int j) const;
+};
+EnvironmentDistribution environment_distribution(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg);
+
 /// The world direction of the environment's direction `d` (its own frame: +y up), under the same
 /// placement as irradiance_sh().
 Eigen::Vector3f environment_to_world(const Eigen::Vector3f& d, const Eigen::Vector3f& up, float rotation_deg);

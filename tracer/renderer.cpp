@@ -22,6 +22,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/portable_math.h"
 #include "tracer/color.h"
 #include "tracer/denoiser.h"
 #include "tracer/film.h"
@@ -45,24 +46,6 @@ void basis(const Eigen::Vector3f& n, Eigen::Vector3f& t, Eigen::Vector3f& b) {
   const float c = n.x() * n.y() * a;
   t = Eigen::Vector3f(1.0f + sign * n.x() * n.x() * a, sign * c, -sign * n.x());
   b = Eigen::Vector3f(c, sign + n.y() * n.y() * a, -n.y());
-}
-
-// atan2(y, x) for y >= 0 from IEEE-exact operations only: glibc picks its atan2 by the CPU's
-// features, and the normals must be the same bits on every machine. Two half-angle steps bring the
-// argument under 0.2, where 7 terms of the series leave an error below 1e-12 (weights only need
-// a few digits).
-double portable_atan2(double y, double x) {
-  const double ax = std::abs(x);
-  if (!(y > 0.0)) return x < 0.0 ? std::numbers::pi : 0.0;
-  const bool steep = y > ax;
-  double t = steep ? ax / y : y / ax;  // in [0, 1]
-  for (int k = 0; k < 2; ++k) t = t / (1.0 + std::sqrt(1.0 + t * t));
-  const double t2 = t * t;
-  double series = 1.0 / 13.0;
-  for (const double c : {-1.0 / 11.0, 1.0 / 9.0, -1.0 / 7.0, 1.0 / 5.0, -1.0 / 3.0, 1.0}) series = c + t2 * series;
-  double angle = 4.0 * t * series;
-  if (steep) angle = 0.5 * std::numbers::pi - angle;
-  return x < 0.0 ? std::numbers::pi - angle : angle;
 }
 
 // The widest instruction set this CPU runs (all give the same pixels). The variable
@@ -585,6 +568,10 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::
       throw InputError("the environment's intensity must be 0 or more, got " + std::to_string(sh.environment_intensity));
     s.environment_light = irradiance_sh(*sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
     s.environment_radiance = environment_radiance(sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
+    if (sh.sample_environment && sh.environment_intensity > 0.0f) {
+      s.environment_distribution = environment_distribution(*sh.environment, s.up, sh.environment_rotation_deg);
+      if (s.environment_distribution->empty()) s.environment_distribution.reset();
+    }
   }
   if (options.shading.ground) {
     float lowest = std::numeric_limits<float>::infinity();
@@ -667,6 +654,7 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   f.environment = environment_light.has_value();
   if (environment_light) f.sky_light = *environment_light;
   if (environment_radiance) f.sky_radiance = &*environment_radiance;
+  if (environment_distribution) f.sky_distribution = &*environment_distribution;
   f.background_top = sh.background_top;
   f.background_bottom = sh.background_bottom;
   f.shadows = sh.shadows;

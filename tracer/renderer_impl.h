@@ -69,6 +69,8 @@ struct Frame {
   bool environment = false;
   IrradianceSH sky_light;
   const EnvironmentRadiance* sky_radiance = nullptr;
+  // Where glossy reflections sample the environment's light beside their BRDF (null: the BRDF alone).
+  const EnvironmentDistribution* sky_distribution = nullptr;
   // Shading::environment_background: per pixel, the environment's radiance along the camera ray
   // through the pixel's centre (RGB), the backdrop of every sample of the pixel; empty: the
   // gradient. One lookup a pixel, not a sample (the image is at most 512 x 256: finer than it).
@@ -189,6 +191,7 @@ struct Renderer::Impl {
   // The environment's irradiance in the world frame (Shading::environment), once per job.
   std::optional<IrradianceSH> environment_light;
   std::optional<EnvironmentRadiance> environment_radiance;
+  std::optional<EnvironmentDistribution> environment_distribution;  // unset: nothing to sample
   ReconstructionFilter filter;
   // The Film's and the denoiser's memory, kept between frames (one per concurrent render()).
   mutable FilmMemory film_memory;

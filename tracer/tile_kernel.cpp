@@ -842,6 +842,52 @@ MESHTOUR_SIMD_INLINE V3 ggx_sample(const GgxLobe& g, const V3& n, const V3& t1, 
   return l;
 }
 
+// The specular lobe at a given direction of reflection l (unit): `weight` as ggx_sample's (F
+// G2 / G1, 0 below the surface), and the density ggx_sample picks l with per unit solid angle
+// (the visible normals' D_v(h) / (4 v.h) = G1 D / (4 n.v)), 0 below the surface.
+MESHTOUR_SIMD_INLINE F16 ggx_evaluate(const GgxLobe& g, const V3& n, const V3& view, const V3& l, V3& weight) {
+  const F16 zero = simd::broadcast(0.0f);
+  const V3 sum{l.x + view.x, l.y + view.y, l.z + view.z};
+  const F16 inv = 1.0f / simd::sqrt(simd::max(dot(sum, sum), simd::broadcast(1e-12f)));
+  const V3 h{sum.x * inv, sum.y * inv, sum.z * inv};
+  const F16 cos_l = dot(n, l), n_dot_h = simd::max(dot(n, h), zero), v_dot_h = dot(view, h);
+  const I16 above = simd::gt(cos_l, 0.0f);
+  const F16 g2_over_g1 = simd::select(above, (1.0f + g.lambda_v) / (1.0f + g.lambda_v + smith_lambda(g.alpha2, simd::max(cos_l, simd::broadcast(1e-6f)))), zero);
+  V3 specular, diffuse;
+  ggx_colours(g, schlick_weight(v_dot_h), specular, diffuse);
+  weight = {specular.x * g2_over_g1, specular.y * g2_over_g1, specular.z * g2_over_g1};
+  const F16 q = n_dot_h * n_dot_h * (g.alpha2 - 1.0f) + 1.0f;
+  const F16 distribution = g.alpha2 / (std::numbers::pi_v<float> * q * q);
+  return simd::select(above, distribution / (4.0f * g.n_dot_v * (1.0f + g.lambda_v)), zero);
+}
+
+// Directions towards the environment's light, picked by its luminance (EnvironmentDistribution)
+// for the lanes in `lanes`, numbers (u, v) in [0, 1); `density` per unit solid angle. The polar
+// and azimuthal angles come from sincos_turns, the same bits on every CPU.
+MESHTOUR_SIMD_INLINE V3 environment_sample(const EnvironmentDistribution& d, I16 lanes, F16 u, F16 v, F16& density) {
+  alignas(64) float theta_turns[16], phi_turns[16], density_sin[16];
+  for (int l = 0; l < simd::kLanes; ++l) {
+    theta_turns[l] = 0.25f, phi_turns[l] = 0.0f, density_sin[l] = 0.0f;
+    if (!lanes[l]) continue;
+    int i = 0, j = 0;
+    float fu = 0.0f, fv = 0.0f;
+    d.pick(u[l], v[l], i, j, fu, fv);
+    theta_turns[l] = 0.5f * (static_cast<float>(j) + fv) / static_cast<float>(d.height);  // half a turn, zenith to nadir
+    phi_turns[l] = (static_cast<float>(i) + fu) / static_cast<float>(d.width);            // from -pi, as the image's u
+    density_sin[l] = d.density_times_sin(i, j);
+  }
+  F16 sin_t, cos_t, sin_p, cos_p;
+  simd::sincos_turns(simd::load(theta_turns), sin_t, cos_t);
+  simd::sincos_turns(simd::load(phi_turns), sin_p, cos_p);
+  // phi = 2 pi t - pi: sin phi = -sin 2 pi t, cos phi = -cos 2 pi t; the environment's direction
+  // (sin theta sin phi, cos theta, -sin theta cos phi), as pixel_direction() lays it out.
+  const V3 e{-sin_t * sin_p, cos_t, sin_t * cos_p};
+  const Eigen::Matrix3f& m = d.world_from_environment;
+  density = simd::load(density_sin) / simd::max(sin_t, simd::broadcast(1e-6f));
+  return {m(0, 0) * e.x + m(0, 1) * e.y + m(0, 2) * e.z, m(1, 0) * e.x + m(1, 1) * e.y + m(1, 2) * e.z,
+          m(2, 0) * e.x + m(2, 1) * e.y + m(2, 2) * e.z};
+}
+
 // The samples on the model: what each light would bring unshadowed (diffuse and a Blinn-Phong
 // highlight), one of them chosen for the shadow ray, and the sky for the occlusion ray.
 MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, const Hits& h, const V3& dir, const SurfacePoint& surface,
@@ -935,7 +981,30 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
       V3 t1, t2;
       basis(n, t1, t2);
       V3 weight;
-      const V3 spec_dir = ggx_sample(lobe, n, t1, t2, view, u, s.v_sky, weight);
+      V3 spec_dir = ggx_sample(lobe, n, t1, t2, view, u, s.v_sky, weight);
+      if (f.sky_distribution) {
+        // The specular direction from the BRDF's visible normals or from the environment's
+        // light, one of the two per sample (the environment with probability c, more for rougher
+        // lobes: a mirror's own lobe is already where its light comes from), weighted by the
+        // density of the mixture: one-sample multiple importance sampling with the balance
+        // heuristic (Veach 1997, section 9.2.4), unbiased, and a small bright sun that the BRDF's
+        // samples would find once in many is found by the environment's.
+        const F16 c = 0.5f * simd::min(one, surface.roughness * 4.0f);
+        const I16 env_lane = simd::both(simd::both(ggx, specular_lane), simd::lt(u, c));
+        const F16 u2 = simd::min(top, simd::select(env_lane, u / simd::select(simd::gt(c, 0.0f), c, one), (u - c) / (1.0f - c)));
+        const V3 brdf_dir = ggx_sample(lobe, n, t1, t2, view, u2, s.v_sky, weight);
+        F16 env_density;
+        const V3 env_dir = environment_sample(*f.sky_distribution, env_lane, u2, s.v_sky, env_density);
+        spec_dir = select(env_lane, env_dir, brdf_dir);
+        const F16 brdf_density = ggx_evaluate(lobe, n, view, spec_dir, weight);
+        alignas(64) float picked_density[16];
+        for (int l = 0; l < simd::kLanes; ++l)
+          picked_density[l] = ggx[l] && specular_lane[l] && !env_lane[l] ? f.sky_distribution->density(Eigen::Vector3f(spec_dir.x[l], spec_dir.y[l], spec_dir.z[l])) : 0.0f;
+        const F16 mixture = (1.0f - c) * brdf_density + c * simd::select(env_lane, env_density, simd::load(picked_density));
+        const I16 weighed = simd::gt(mixture, 0.0f);
+        const F16 scale = simd::select(weighed, brdf_density / simd::select(weighed, mixture, one), zero);
+        weight = {weight.x * scale, weight.y * scale, weight.z * scale};
+      }
       const V3 diffuse_dir = sky_direction(n, t1, t2, u, s.v_sky);
       // The diffuse lobe's Fresnel at its own half vector.
       const V3 half{diffuse_dir.x + view.x, diffuse_dir.y + view.y, diffuse_dir.z + view.z};

@@ -87,6 +87,9 @@ struct Shading {
   /// point reflects towards it (lights and sky, through further occlusion rays, up to this many
   /// surfaces deep) instead of darkness. 0: occlusion only, as before. Needs ambient_occlusion.
   int bounces = 0;
+  /// Glossy reflections of glTF materials sample the environment's light as well as their BRDF
+  /// (multiple importance sampling). false: the BRDF alone, for measurements and tests.
+  bool sample_environment = true;
   bool ground = true;             ///< a shadow-catching floor under the model (perpendicular to RenderOptions::world_up)
   float ground_shadow = 0.85f;    ///< 0 = the floor shows nothing, 1 = full-strength shadows on it
   BackgroundKind background = BackgroundKind::gradient;
