@@ -479,9 +479,18 @@ MESHTOUR_SIMD_INLINE I16 ground_hit(const Frame& f, const V3& org, const V3& dir
   return simd::both(simd::both(towards, inside), simd::both(simd::gt(t, 0.0f), simd::lt(t, tfar)));
 }
 
+// The unit geometric normal of the hits in `hit`, turned to face the rays (along `dir`) that
+// met it: two-sided, open scans show their inside.
+MESHTOUR_SIMD_INLINE V3 facing_normal(const RTCHit16& hit, const V3& dir) {
+  const F16 one = simd::broadcast(1.0f);
+  const V3 ng{simd::load(hit.Ng_x), simd::load(hit.Ng_y), simd::load(hit.Ng_z)};
+  const F16 ng_len2 = dot(ng, ng);
+  const F16 ng_scale = simd::select(simd::gt(dot(ng, dir), 0.0f), -one, one) / simd::select(simd::gt(ng_len2, 0.0f), simd::sqrt(ng_len2), one);
+  return {ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale};
+}
+
 MESHTOUR_SIMD_INLINE Hits read_hits(const Frame& f, const RTCRayHit16& primary, const PacketSamples& s, const V3& eye, const V3& dir) {
   Hits h;
-  const F16 one = simd::broadcast(1.0f);
   const I16 geom = simd::load_int(primary.hit.geomID);
   h.on_model = simd::both(s.valid, simd::eq(geom, static_cast<int>(kModelGeometry)));
   F16 t = simd::load(primary.ray.tfar);  // +inf where the ray missed the model
@@ -495,11 +504,7 @@ MESHTOUR_SIMD_INLINE Hits read_hits(const Frame& f, const RTCRayHit16& primary, 
   h.org = eye;
   if (h.any) {
     h.t = simd::select(h.on_ground, t_ground, t);
-    V3 ng{simd::load(primary.hit.Ng_x), simd::load(primary.hit.Ng_y), simd::load(primary.hit.Ng_z)};
-    const F16 ng_len2 = dot(ng, ng);
-    // Two-sided: open scans show their inside.
-    const F16 ng_scale = simd::select(simd::gt(dot(ng, dir), 0.0f), -one, one) / simd::select(simd::gt(ng_len2, 0.0f), simd::sqrt(ng_len2), one);
-    h.ng = select(h.on_ground, broadcast(f.up), V3{ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale});
+    h.ng = select(h.on_ground, broadcast(f.up), facing_normal(primary.hit, dir));
     h.org = {eye.x + h.t * dir.x + f.eps * h.ng.x, eye.y + h.t * dir.y + f.eps * h.ng.y, eye.z + h.t * dir.z + f.eps * h.ng.z};
   }
   return h;
@@ -1019,8 +1024,10 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
       V3 t1, t2;
       basis(n, t1, t2);
       V3 weight;
-      V3 spec_dir = ggx_sample(lobe, n, t1, t2, view, u, s.v_sky, weight);
-      if (f.sky_distribution) {
+      V3 spec_dir;
+      if (!f.sky_distribution) {
+        spec_dir = ggx_sample(lobe, n, t1, t2, view, u, s.v_sky, weight);
+      } else {
         // The specular direction from the BRDF's visible normals or from the environment's
         // light, one of the two per sample (the environment with probability c, more for rougher
         // lobes: a mirror's own lobe is already where its light comes from), weighted by the
@@ -1286,10 +1293,7 @@ MESHTOUR_SIMD_INLINE void interreflect(const Impl& r, const Frame& f, RTCInterse
     h.on_ground = simd::broadcast_int(0);
     h.any = true;
     h.t = simd::select(alive, simd::load(scratch.bounce.ray.tfar), zero);
-    const V3 ng{simd::load(scratch.bounce.hit.Ng_x), simd::load(scratch.bounce.hit.Ng_y), simd::load(scratch.bounce.hit.Ng_z)};
-    const F16 ng_len2 = dot(ng, ng);
-    const F16 ng_scale = simd::select(simd::gt(dot(ng, dir), 0.0f), -one, one) / simd::select(simd::gt(ng_len2, 0.0f), simd::sqrt(ng_len2), one);
-    h.ng = {ng.x * ng_scale, ng.y * ng_scale, ng.z * ng_scale};
+    h.ng = facing_normal(scratch.bounce.hit, dir);
     h.org = {org.x + h.t * dir.x + f.eps * h.ng.x, org.y + h.t * dir.y + f.eps * h.ng.y, org.z + h.t * dir.z + f.eps * h.ng.z};
     const SurfacePoint p = surface_at(r, f, scratch, scratch.bounce, h, dir, kBounceFootprint);
     const V3& n = p.n;
