@@ -352,11 +352,14 @@ class Faults:
             # The short stages (encode, poster: milliseconds for these small items) more often. Not
             # "check": every bad item passes it in every run, so kills there would stop every run
             # before the end (and the page).
-            p = {"page": 0.5, "render": 0.2, "encode": 0.25, "poster": 0.15, "bvh": 0.02, "shading": 0.02}.get(stage, 0.12)
+            # The poster stage is reached once per valid item that gets that far (a handful of
+            # passes in the short form, not one per round): at 0.15 a short soak missed it in one
+            # run of 120 rounds (2026-12-04, fresh clone), so it is killed there half the time.
+            p = {"page": 0.5, "render": 0.2, "encode": 0.25, "poster": 0.5, "bvh": 0.02, "shading": 0.02}.get(stage, 0.12)
             if stage not in short:
                 p = 0.0 if short == ["page"] else 0.01  # enough of these; only the page left: let runs reach it
             elif stage != "page" and len(short) <= 3:
-                p = 0.3  # the stages still short of kills (the short ones: render, encode, poster)
+                p = max(p, 0.3)  # the stages still short of kills (the short ones: render, encode, poster)
             plan.append("%s:%g" % (stage, p))
         e.update({"MESHTOUR_FAULT_DISK_FULL": self.flag, "MESHTOUR_FAULT_KILL": ",".join(plan),
                   "MESHTOUR_FAULT_KILL_DELAY_MS": str(rng.choice([0, 5, 40])),
