@@ -135,9 +135,10 @@ std::vector<Option> make_registry() {
        .scene_key = "look.preset", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "environment", .flag = "--environment", .kind = Kind::text, .type_name = "FILE", .default_text = "none",
        .help = "Image-based light in place of the look's uniform sky: an equirectangular HDR or EXR image (2:1), or\n"
-               "neutral (a built-in studio: softbox above, strips at the sides, a grey room). Its light, occluded\n"
-               "like the sky, lights the model (diffusely, and in the reflections of glTF materials); the look's\n"
-               "lights stay; the background stays the look's (--environment-background shown shows it)",
+               "neutral (a built-in studio: softbox above, strips at the sides, a grey room). Its light lights the\n"
+               "model along the occlusion rays (importance-sampled by the image's luminance: a sun casts its own\n"
+               "shadow, on the model and the ground) and in the reflections of glTF materials; the look's lights\n"
+               "stay; the background stays the look's (--environment-background shown shows it)",
        .scene_key = "look.environment", .manifest_column = true, .commands = kRendering, .farm = kToTasks});
   add({.id = "environment-rotation", .flag = "--environment-rotation", .kind = Kind::number, .lo = -360, .hi = 360,
        .default_text = "0", .help = "Turns the environment about the up axis (degrees)", .scene_key = "look.environment_rotation",

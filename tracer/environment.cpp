@@ -145,6 +145,23 @@ EnvironmentDistribution environment_distribution(const EnvironmentImage& env, co
     total += row_sum[static_cast<std::size_t>(j)];
   }
   if (!(total > 0.0) || !std::isfinite(total)) return out;
+  // The peak: pixels whose luminance (weight / sin) exceeds four times the solid-angle mean.
+  double sin_sum = 0.0, peak = 0.0;
+  for (int j = 0; j < h; ++j) {
+    double sin_theta = 0.0, cos_theta = 0.0;
+    portable_sincos_turns(0.5 * (j + 0.5) / h, sin_theta, cos_theta);
+    sin_sum += sin_theta * w;
+  }
+  const double mean_luminance = total / sin_sum;
+  for (int j = 0; j < h; ++j) {
+    double sin_theta = 0.0, cos_theta = 0.0;
+    portable_sincos_turns(0.5 * (j + 0.5) / h, sin_theta, cos_theta);
+    for (int i = 0; i < w; ++i) {
+      const double value = weight[static_cast<std::size_t>(j) * w + i];
+      if (value > 4.0 * mean_luminance * sin_theta) peak += value;
+    }
+  }
+  out.peak_share = static_cast<float>(peak / total);
   out.width = w;
   out.height = h;
   out.row_cdf.resize(static_cast<std::size_t>(h) + 1);
@@ -166,6 +183,23 @@ EnvironmentDistribution environment_distribution(const EnvironmentImage& env, co
   }
   out.row_cdf[static_cast<std::size_t>(h)] = 1.0f;
   return out;
+}
+
+Eigen::Vector3f upward_irradiance(const EnvironmentImage& env, float intensity) {
+  // Sum of L cos(theta) sin(theta) dtheta dphi / pi over the upper rows: (pi / h)(2 pi / w) / pi.
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  const int w = env.width, h = env.height;
+  for (int j = 0; j < h / 2 + (h % 2); ++j) {
+    double sin_theta = 0.0, cos_theta = 0.0;
+    portable_sincos_turns(0.5 * (j + 0.5) / h, sin_theta, cos_theta);
+    if (!(cos_theta > 0.0)) continue;
+    for (int i = 0; i < w; ++i) {
+      const float* p = &env.rgb[(static_cast<std::size_t>(j) * w + i) * 3];
+      sum += Eigen::Vector3d(p[0], p[1], p[2]) * (cos_theta * sin_theta);
+    }
+  }
+  return w > 0 && h > 0 ? Eigen::Vector3f((sum * (2.0 * std::numbers::pi / (static_cast<double>(w) * h)) * intensity).cast<float>())
+                        : Eigen::Vector3f::Zero();
 }
 
 namespace {

@@ -1,11 +1,12 @@
 #pragma once
 // Image-based light: an equirectangular (latitude-longitude) environment that lights the model
-// in place of the look's uniform sky. Its diffuse light is the environment's irradiance, held as
-// nine spherical-harmonic coefficients (Ramamoorthi and Hanrahan 2001, "An efficient
-// representation for irradiance environment maps"), times the occlusion the sky rays measure:
-// exact on convex surfaces for any environment up to the second band (on average within about
-// 1 % of the true irradiance; a small bright sun is spread over a wide lobe, so it casts no
-// shadow of its own: the look's lights do).
+// in place of the look's uniform sky. Where there are occlusion rays, a sample's light from it is
+// the image's radiance along its ray (cosine-distributed, mixed with directions picked by the
+// image's own light: EnvironmentDistribution), so a sun in an HDR casts its own sharp shadow. Its
+// irradiance, held as nine spherical-harmonic coefficients (Ramamoorthi and Hanrahan 2001, "An
+// efficient representation for irradiance environment maps"; within about 1 % of the true
+// irradiance on average), stands in where a value must be noise-free: the denoiser's guides, the
+// plain look without occlusion rays, and the surfaces interreflections meet.
 #include <Eigen/Core>
 
 #include <array>
@@ -65,8 +66,8 @@ struct EnvironmentRadiance {
 EnvironmentRadiance environment_radiance(std::shared_ptr<const EnvironmentImage> env, const Eigen::Vector3f& up, float rotation_deg,
                                          float intensity);
 
-/// Where an environment's light comes from, for importance sampling the glossy reflections of
-/// glTF materials: its pixels in proportion to their luminance times their solid angle (a
+/// Where an environment's light comes from, for importance sampling its light on diffuse surfaces
+/// and in the glossy reflections of glTF materials: its pixels in proportion to their luminance times their solid angle (a
 /// distribution over rows, and within each row over its columns), the image as placed in the
 /// world (as EnvironmentRadiance).
 struct EnvironmentDistribution {
@@ -76,6 +77,10 @@ struct EnvironmentDistribution {
   std::vector<float> pixel_probability;  ///< per pixel (row-major), its share of the whole
   Eigen::Matrix3f world_from_environment = Eigen::Matrix3f::Identity();
   Eigen::Matrix3f environment_from_world = Eigen::Matrix3f::Identity();
+  /// The share of the light that comes from pixels brighter than four times the mean luminance
+  /// (weighted by solid angle): 0 for an even sky, near 1 for a small sun. Cosine-distributed
+  /// rays find such light rarely; it sets how often a diffuse surface's sky ray is picked here.
+  float peak_share = 0.0f;
 
   /// Whether there is light to sample (an all-black environment has none).
   bool empty() const { return row_cdf.empty(); }
@@ -91,6 +96,11 @@ struct EnvironmentDistribution {
   float density_times_sin(int i, int j) const;
 };
 EnvironmentDistribution environment_distribution(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg);
+
+/// E(up) / pi, the irradiance over pi of a surface facing the environment's up (+y, the world's
+/// up), from the image's pixels (no spherical-harmonic truncation), times `intensity`: the mean of
+/// what the ground's occlusion rays see where nothing blocks them.
+Eigen::Vector3f upward_irradiance(const EnvironmentImage& env, float intensity);
 
 /// The world direction of the environment's direction `d` (its own frame: +y up), under the same
 /// placement as irradiance_sh().

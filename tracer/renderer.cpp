@@ -568,6 +568,7 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::
       throw InputError("the environment's intensity must be 0 or more, got " + std::to_string(sh.environment_intensity));
     s.environment_light = irradiance_sh(*sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
     s.environment_radiance = environment_radiance(sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
+    s.environment_upward = luminance(upward_irradiance(*sh.environment, sh.environment_intensity));
     if (sh.sample_environment && sh.environment_intensity > 0.0f) {
       s.environment_distribution = environment_distribution(*sh.environment, s.up, sh.environment_rotation_deg);
       if (s.environment_distribution->empty()) s.environment_distribution.reset();
@@ -676,6 +677,14 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   f.ao_length = sh.ao_distance * scale;
   f.model_radius = 0.5f * scale * 1.001f;  // bounding sphere around the box's centre (the origin)
   f.ground_ao_reach2 = (f.model_radius + f.ao_length) * (f.model_radius + f.ao_length);
+  f.sample_sky = environment_radiance && sh.ambient_occlusion;
+  f.sky_length = f.sample_sky ? std::numeric_limits<float>::infinity() : f.ao_length;
+  if (f.sample_sky) {
+    // Half the sky rays at most go to the environment's light: the cosine half keeps an even
+    // sky's light free of the mixture's noise (an even sky has no peak and gets none).
+    if (environment_distribution) f.sky_environment_share = 0.5f * environment_distribution->peak_share;
+    f.sky_upward = environment_upward;
+  }
   f.pixel_angle = 2.0f * tan_half / static_cast<float>(height);  // texture filter footprint
   f.inv_height = 1.0f / static_cast<float>(height);
 

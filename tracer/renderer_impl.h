@@ -71,6 +71,13 @@ struct Frame {
   const EnvironmentRadiance* sky_radiance = nullptr;
   // Where glossy reflections sample the environment's light beside their BRDF (null: the BRDF alone).
   const EnvironmentDistribution* sky_distribution = nullptr;
+  // With an environment image and occlusion rays: the sky's light on a sample is the image's
+  // radiance along its occlusion ray (traced to any distance: a sun's shadow is long), not the
+  // irradiance times the ray's visibility. A diffuse sample's ray is picked from the
+  // environment's distribution with probability sky_environment_share (else cosine-distributed)
+  // and weighed by the mixture's density; sky_upward is E(up) / pi, the ground's unblocked mean.
+  bool sample_sky = false;
+  float sky_environment_share = 0.0f, sky_length = 0.0f, sky_upward = 0.0f;
   // Shading::environment_background: per pixel, the environment's radiance along the camera ray
   // through the pixel's centre (RGB), the backdrop of every sample of the pixel; empty: the
   // gradient. One lookup a pixel, not a sample (the image is at most 512 x 256: finer than it).
@@ -192,6 +199,7 @@ struct Renderer::Impl {
   std::optional<IrradianceSH> environment_light;
   std::optional<EnvironmentRadiance> environment_radiance;
   std::optional<EnvironmentDistribution> environment_distribution;  // unset: nothing to sample
+  float environment_upward = 0.0f;  // luminance of upward_irradiance(): the ground's unblocked sky
   ReconstructionFilter filter;
   // The Film's and the denoiser's memory, kept between frames (one per concurrent render()).
   mutable FilmMemory film_memory;

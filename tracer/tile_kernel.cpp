@@ -931,6 +931,50 @@ MESHTOUR_SIMD_INLINE V3 environment_sample(const EnvironmentDistribution& d, I16
           m(2, 0) * e.x + m(2, 1) * e.y + m(2, 2) * e.z};
 }
 
+// The environment's radiance along unit world directions, for the lanes in `lanes` (0 elsewhere):
+// EnvironmentRadiance per lane (bilinear; portable angles, the same bits on every CPU).
+MESHTOUR_SIMD_INLINE V3 environment_radiance_at(const Frame& f, I16 lanes, const V3& dir) {
+  alignas(64) float lr[16], lg[16], lb[16];
+  for (int l = 0; l < simd::kLanes; ++l) {
+    Eigen::Vector3f radiance = Eigen::Vector3f::Zero();
+    if (lanes[l]) radiance = (*f.sky_radiance)(Eigen::Vector3f(dir.x[l], dir.y[l], dir.z[l]));
+    lr[l] = radiance.x(), lg[l] = radiance.y(), lb[l] = radiance.z();
+  }
+  return {simd::load(lr), simd::load(lg), simd::load(lb)};
+}
+
+// A diffuse surface's occlusion ray under an environment image (Frame::sample_sky): its direction
+// and `scale`, the factor on the radiance it meets, (cos / pi) / density, so that albedo x
+// radiance x scale is an unbiased sample of the reflected light. The direction is picked from the
+// environment's distribution with probability c = Frame::sky_environment_share, else
+// cosine-distributed about n (u stretched within the chosen share), and weighed by the density
+// of the mixture, (1 - c) cos / pi + c p_env: one-sample multiple importance sampling with the
+// balance heuristic, as the glossy lobe's (Veach 1997, 9.2.4). With c = 0 it is the plain
+// cosine-distributed ray and scale is 1. Directions below the surface get scale 0.
+struct SkySample {
+  V3 dir;
+  F16 scale;
+};
+MESHTOUR_SIMD_INLINE SkySample diffuse_sky_sample(const Frame& f, const V3& n, const V3& t1, const V3& t2, I16 lanes, F16 u, F16 v) {
+  const F16 zero = simd::broadcast(0.0f), one = simd::broadcast(1.0f);
+  if (!(f.sky_environment_share > 0.0f)) return {sky_direction(n, t1, t2, u, v), one};
+  const float c = f.sky_environment_share;
+  const I16 env_lane = simd::both(lanes, simd::lt(u, c));
+  const F16 top = simd::broadcast(0x1.fffffep-1f);
+  const F16 u2 = simd::min(top, simd::select(env_lane, u * (1.0f / c), (u - c) * (1.0f / (1.0f - c))));
+  F16 env_density;
+  const V3 env_dir = environment_sample(*f.sky_distribution, env_lane, u2, v, env_density);
+  SkySample out;
+  out.dir = select(env_lane, env_dir, sky_direction(n, t1, t2, u2, v));
+  const F16 cos_l = dot(n, out.dir);
+  const F16 other_density = environment_density(*f.sky_distribution, simd::both(lanes, ~env_lane), out.dir);
+  const F16 cosine_density = simd::max(cos_l, zero) * std::numbers::inv_pi_v<float>;
+  const F16 mixture = (1.0f - c) * cosine_density + c * simd::select(env_lane, env_density, other_density);
+  const I16 weighed = simd::both(simd::gt(cos_l, 0.0f), simd::gt(mixture, 0.0f));
+  out.scale = simd::select(weighed, cosine_density / simd::select(weighed, mixture, one), zero);
+  return out;
+}
+
 // The samples on the model: what each light would bring unshadowed (diffuse and a Blinn-Phong
 // highlight), one of them chosen for the shadow ray, and the sky for the occlusion ray.
 MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, const Hits& h, const V3& dir, const SurfacePoint& surface,
@@ -988,6 +1032,8 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
   // The sky's light on glTF materials: its expected value (for the guides, and as it is
   // without occlusion rays), and one sample of it along the occlusion ray's direction.
   V3 sky_expected = sky, ggx_sky = sky, ggx_sky_dir{zero, zero, one};
+  // With Frame::sample_sky, what multiplies the radiance met along ggx_sky_dir, per glTF lane.
+  V3 ggx_sky_factor{zero, zero, zero};
   // The factor on an interreflection's light: the diffuse look's albedo (its sky ray is cosine
   // distributed), or the chosen glTF lobe's weight.
   V3 bounce_weight{albedo.x * open, albedo.y * open, albedo.z * open};
@@ -1049,27 +1095,39 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
         const F16 scale = simd::select(weighed, brdf_density / simd::select(weighed, mixture, one), zero);
         weight = {weight.x * scale, weight.y * scale, weight.z * scale};
       }
-      const V3 diffuse_dir = sky_direction(n, t1, t2, u, s.v_sky);
+      V3 diffuse_dir;
+      F16 diffuse_scale = one;
+      if (f.sample_sky) {
+        const SkySample diffuse = diffuse_sky_sample(f, n, t1, t2, simd::both(ggx, ~specular_lane), u, s.v_sky);
+        diffuse_dir = diffuse.dir;
+        diffuse_scale = diffuse.scale;
+      } else {
+        diffuse_dir = sky_direction(n, t1, t2, u, s.v_sky);
+      }
       // The diffuse lobe's Fresnel at its own half vector.
       const V3 half{diffuse_dir.x + view.x, diffuse_dir.y + view.y, diffuse_dir.z + view.z};
       const F16 v_dot_h = dot(view, half) / simd::sqrt(simd::max(dot(half, half), simd::broadcast(1e-12f)));
       const F16 diffuse_keep = (1.0f - m) * (1.0f - (0.04f + 0.96f * schlick_weight(v_dot_h))) * open / simd::select(simd::lt(p, 1.0f), 1.0f - p, one);
-      // The radiance the specular rays would see where unblocked: the environment's image, else the ambient.
-      alignas(64) float lr[16], lg[16], lb[16];
-      for (int l = 0; l < simd::kLanes; ++l) {
-        Eigen::Vector3f radiance = f.ambient;
-        if (f.sky_radiance && ggx[l] && specular_lane[l]) radiance = (*f.sky_radiance)(Eigen::Vector3f(spec_dir.x[l], spec_dir.y[l], spec_dir.z[l]));
-        lr[l] = radiance.x(), lg[l] = radiance.y(), lb[l] = radiance.z();
-      }
       const F16 spec_scale = open / simd::select(simd::gt(p, 0.0f), p, one);
-      const V3 spec_value{weight.x * simd::load(lr) * spec_scale, weight.y * simd::load(lg) * spec_scale, weight.z * simd::load(lb) * spec_scale};
-      const V3 diffuse_value{diffuse_keep * albedo.x * sky_light.x, diffuse_keep * albedo.y * sky_light.y, diffuse_keep * albedo.z * sky_light.z};
-      ggx_sky = select(ggx, select(specular_lane, spec_value, diffuse_value), sky);
       ggx_sky_dir = select(specular_lane, spec_dir, diffuse_dir);
-      if (f.bounces > 0) {
-        const V3 spec_bounce{weight.x * spec_scale, weight.y * spec_scale, weight.z * spec_scale};
-        const V3 diffuse_bounce{diffuse_keep * albedo.x, diffuse_keep * albedo.y, diffuse_keep * albedo.z};
-        bounce_weight = select(ggx, select(specular_lane, spec_bounce, diffuse_bounce), bounce_weight);
+      if (f.sample_sky) {
+        // Both lobes' rays meet the environment's image: its radiance is looked up once, with the
+        // look's lanes (below).
+        const V3 spec_factor{weight.x * spec_scale, weight.y * spec_scale, weight.z * spec_scale};
+        const F16 keep = diffuse_keep * diffuse_scale;
+        ggx_sky_factor = select(specular_lane, spec_factor, V3{keep * albedo.x, keep * albedo.y, keep * albedo.z});
+        bounce_weight = select(ggx, ggx_sky_factor, bounce_weight);
+      } else {
+        // No image: the specular rays see the look's uniform sky where unblocked.
+        const V3 ambient = broadcast(f.ambient);
+        const V3 spec_value{weight.x * ambient.x * spec_scale, weight.y * ambient.y * spec_scale, weight.z * ambient.z * spec_scale};
+        const V3 diffuse_value{diffuse_keep * albedo.x * sky_light.x, diffuse_keep * albedo.y * sky_light.y, diffuse_keep * albedo.z * sky_light.z};
+        ggx_sky = select(ggx, select(specular_lane, spec_value, diffuse_value), sky);
+        if (f.bounces > 0) {
+          const V3 spec_bounce{weight.x * spec_scale, weight.y * spec_scale, weight.z * spec_scale};
+          const V3 diffuse_bounce{diffuse_keep * albedo.x, diffuse_keep * albedo.y, diffuse_keep * albedo.z};
+          bounce_weight = select(ggx, select(specular_lane, spec_bounce, diffuse_bounce), bounce_weight);
+        }
       }
     }
   }
@@ -1081,7 +1139,25 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
   }
   V3 model_sky{zero, zero, zero};
   I16 model_sky_valid = on_model;
-  if (f.ambient_occlusion) {
+  if (f.ambient_occlusion && f.sample_sky) {
+    // The image's radiance along each lane's ray, times its lobe's factor; a ray that can
+    // bring nothing (below the surface, a zero weight) is not traced.
+    V3 t1, t2;
+    basis(n, t1, t2);
+    const SkySample look = diffuse_sky_sample(f, n, t1, t2, any_ggx ? simd::both(on_model, ~ggx) : on_model, s.u_sky, s.v_sky);
+    const F16 keep = open * look.scale;
+    V3 factor{keep * albedo.x, keep * albedo.y, keep * albedo.z};
+    V3 dir = look.dir;
+    if (any_ggx) {
+      factor = select(ggx, ggx_sky_factor, factor);
+      dir = select(ggx, ggx_sky_dir, dir);
+    }
+    const V3 radiance = environment_radiance_at(f, on_model, dir);
+    model_sky = {factor.x * radiance.x, factor.y * radiance.y, factor.z * radiance.z};
+    model_sky_valid = simd::both(on_model, simd::gt(simd::max(factor.x, simd::max(factor.y, factor.z)), 0.0f));
+    bounce_weight = factor;
+    sh.sky_dir = select(on_model, dir, sh.sky_dir);
+  } else if (f.ambient_occlusion) {
     model_sky = any_ggx ? ggx_sky : sky;
     V3 t1, t2;
     basis(n, t1, t2);
@@ -1176,7 +1252,31 @@ MESHTOUR_SIMD_INLINE void shade_ground(const Frame& f, const PacketSamples& s, c
       sh.shadow_valid = simd::either(sh.shadow_valid, traced);
     }
   }
-  if (f.ground_sky_share > 0.0f) {
+  if (f.ground_sky_share > 0.0f && f.sample_sky && f.sky_upward > 0.0f) {
+    // Under an environment image: the share the model takes away is estimated, not the share
+    // that stays, w (1 - V) with w = the radiance's luminance x the ray's scale / E(up) / pi
+    // (mean 1 over the unblocked sky, so the estimate is unbiased), so that the ground is exact
+    // and noise-free wherever the ray cannot meet the model's bounding sphere, and a sun's sharp
+    // shadow falls where its light is blocked, at any distance.
+    const V3 up = broadcast(f.up);
+    const SkySample ray = diffuse_sky_sample(f, up, broadcast(f.up_t1), broadcast(f.up_t2), on_ground, s.u_sky, s.v_sky);
+    const F16 b = dot(org, ray.dir), c = dist2 - radius2;
+    const I16 may_hit = simd::either(simd::lt(c, 0.0f), simd::both(simd::lt(b, 0.0f), simd::ge(b * b, c)));
+    const I16 traced = simd::both(simd::both(on_ground, may_hit), simd::gt(ray.scale, 0.0f));
+    if (!simd::any(traced)) {
+      unshadowed += f.ground_sky_share;
+    } else {
+      const V3 radiance = environment_radiance_at(f, traced, ray.dir);
+      const F16 w = simd::select(traced, luminance(radiance.x, radiance.y, radiance.z) * ray.scale * (1.0f / f.sky_upward), zero);
+      const F16 share = f.ground_sky_share * w;
+      unshadowed += f.ground_sky_share - share;
+      for (int ch = 0; ch < 3; ++ch)
+        sh.with_sky[ch] = simd::select(traced, (ch == 0 ? bg.x : ch == 1 ? bg.y : bg.z) * share, sh.with_sky[ch]);
+      sh.with_sky[3] = simd::select(traced, alpha_sign * share, sh.with_sky[3]);
+      sh.sky_dir = select(traced, ray.dir, sh.sky_dir);
+      sh.sky_valid = simd::either(sh.sky_valid, traced);
+    }
+  } else if (f.ground_sky_share > 0.0f) {
     // Beyond the AO length from the model's bounding sphere nothing can occlude the sky.
     const I16 traced = f.ambient_occlusion ? simd::both(on_ground, simd::lt(dist2, f.ground_ao_reach2)) : simd::broadcast_int(0);
     if (!simd::any(traced)) {
@@ -1235,7 +1335,7 @@ MESHTOUR_SIMD_INLINE I16 trace_shadow_and_occlusion_rays(const Impl& r, const Fr
   if (f.has_ground) {
     F16 t;
     shadow_valid = simd::both(shadow_valid, ~ground_hit(f, h.org, sh.shadow_dir, simd::broadcast(std::numeric_limits<float>::infinity()), t));
-    sky_valid = simd::both(sky_valid, ~ground_hit(f, h.org, sh.sky_dir, simd::broadcast(f.ao_length), t));
+    sky_valid = simd::both(sky_valid, ~ground_hit(f, h.org, sh.sky_dir, simd::broadcast(f.sky_length), t));
   }
   ValidMask shadow_lanes, sky_lanes;
   simd::store_int(shadow_lanes.data(), shadow_valid);
@@ -1244,11 +1344,11 @@ MESHTOUR_SIMD_INLINE I16 trace_shadow_and_occlusion_rays(const Impl& r, const Fr
   const bool bounce = f.bounces > 0 && simd::any(simd::both(sky_valid, sh.bounce_valid));
   if (any_shadow) set_rays(scratch.shadow, shadow_valid, h.org, sh.shadow_dir, std::numeric_limits<float>::infinity(), kModelMask);
   if (bounce) {
-    set_rays(scratch.bounce.ray, sky_valid, h.org, sh.sky_dir, f.ao_length, kModelMask);
+    set_rays(scratch.bounce.ray, sky_valid, h.org, sh.sky_dir, f.sky_length, kModelMask);
     simd::store_int(scratch.bounce.hit.geomID, simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
     simd::store_int(scratch.bounce.hit.instID[0], simd::broadcast_int(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)));
   } else if (any_sky) {
-    set_rays(scratch.sky, sky_valid, h.org, sh.sky_dir, f.ao_length, kModelMask);
+    set_rays(scratch.sky, sky_valid, h.org, sh.sky_dir, f.sky_length, kModelMask);
   }
   if (rec) {
     if (any_shadow) rec->shadow = scratch.shadow;
