@@ -71,7 +71,7 @@ struct Scene {
   /// fitted to the model over the whole tour; the turntable keeps vertical_fov_deg and fits its
   /// radius instead.
   bool auto_fov = true;
-  double elevation_deg = 15.0;  ///< turntable only
+  double elevation_deg = 18.0;  ///< turntable only (the registry's --elevation default)
   OrbitStart orbit_start = FeatureOrbitOptions{}.start;  ///< feature orbit only: its first view (--first-view)
   int fps = 30;
   int frames = 120;

@@ -295,6 +295,7 @@ TEST(OptionRegistry, DefaultsShownAreTheSettingsDefaults) {
   EXPECT_EQ(shown("frame-count"), options::number_text(scene.frames));
   EXPECT_EQ(shown("spp"), options::number_text(scene.render.samples_per_pixel));
   EXPECT_EQ(shown("elevation"), options::number_text(scene.elevation_deg));
+  EXPECT_EQ(shown("elevation"), options::number_text(Scene{}.elevation_deg)) << "a scene file without camera.elevation";
   EXPECT_EQ(shown("path"), std::string(path_mode_name(scene.path_mode)));
   EXPECT_EQ(shown("rows"), options::number_text(scene.path_search.rows));
   EXPECT_EQ(shown("columns"), options::number_text(scene.path_search.columns));
