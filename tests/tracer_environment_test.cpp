@@ -144,12 +144,64 @@ TEST(Environment, ShownAsTheBackgroundAlongTheCameraRays) {
 TEST(Environment, NeutralLightsAWhiteSurfaceFacingUpAsOne) {
   const EnvironmentImage env = neutral_environment();
   EXPECT_EQ(env.width, 2 * env.height);
-  const IrradianceSH sh = irradiance_sh(env, Eigen::Vector3f::UnitY(), 0.0f, 1.0f);
-  EXPECT_NEAR(sh(Eigen::Vector3f::UnitY()).x(), 1.0f, 1e-4f);
+  EXPECT_NEAR(upward_irradiance(env, 1.0f).x(), 1.0f, 1e-4f);
+  const IrradianceMap map = irradiance_map(env, Eigen::Vector3f::UnitY(), 0.0f, 1.0f);
+  EXPECT_NEAR(map(Eigen::Vector3f::UnitY()).x(), 1.0f, 0.01f);
   // Darker below than above, brighter in front (the softbox) than behind, and lit from the left
   // more than from the right (the strips).
-  EXPECT_LT(sh(-Eigen::Vector3f::UnitY()).x(), 0.5f * sh(Eigen::Vector3f::UnitY()).x());
-  EXPECT_GT(sh(-Eigen::Vector3f::UnitZ()).x(), sh(Eigen::Vector3f::UnitZ()).x());
+  EXPECT_LT(map(-Eigen::Vector3f::UnitY()).x(), 0.5f * map(Eigen::Vector3f::UnitY()).x());
+  EXPECT_GT(map(-Eigen::Vector3f::UnitZ()).x(), map(Eigen::Vector3f::UnitZ()).x());
+}
+
+// The irradiance map against a numerical integral of the radiance the rays see
+// (EnvironmentRadiance, bilinear in the full image) on a grid far finer than the map, for normals
+// all round, under a small sun (a sharp kink at its terminator) and the neutral studio: within 1 %
+// of the largest irradiance everywhere, and within 2 % of the value where it is at least a tenth.
+TEST(Environment, TheIrradianceMapIsTheIntegralOfTheRadiance) {
+  auto sun = std::make_shared<EnvironmentImage>();
+  sun->width = 256;
+  sun->height = 128;
+  sun->rgb.assign(256 * 128 * 3, 0.2f);
+  for (int j = 30; j < 36; ++j)
+    for (int i = 180; i < 186; ++i)
+      for (int c = 0; c < 3; ++c) sun->rgb[(static_cast<std::size_t>(j) * 256 + i) * 3 + c] = 400.0f;
+  const auto neutral = std::make_shared<EnvironmentImage>(neutral_environment());
+  const Eigen::Vector3f up = Eigen::Vector3f(0.2f, 1.0f, -0.1f).normalized();
+  for (const auto& env : {sun, neutral}) {
+    const IrradianceMap map = irradiance_map(*env, up, 25.0f, 1.5f);
+    const EnvironmentRadiance radiance = environment_radiance(env, up, 25.0f, 1.5f);
+    const int nt = 512, np = 1024;
+    std::vector<std::pair<Eigen::Vector3f, float>> directions;  // world direction, solid angle
+    for (int a = 0; a < nt; ++a)
+      for (int b = 0; b < np; ++b) {
+        const double theta = (a + 0.5) / nt * std::numbers::pi, phi = (b + 0.5) / np * 2.0 * std::numbers::pi;
+        const Eigen::Vector3f w(static_cast<float>(std::sin(theta) * std::cos(phi)), static_cast<float>(std::cos(theta)),
+                                static_cast<float>(std::sin(theta) * std::sin(phi)));
+        directions.emplace_back(w, static_cast<float>(std::sin(theta) * (std::numbers::pi / nt) * (2.0 * std::numbers::pi / np)));
+      }
+    std::vector<float> lum(directions.size());
+    for (std::size_t k = 0; k < directions.size(); ++k) lum[k] = radiance(directions[k].first).x();
+    double largest = 0.0;
+    std::vector<std::pair<double, double>> pairs;
+    for (int k = 0; k < 40; ++k) {
+      const double t = std::acos(1.0 - 2.0 * (k + 0.5) / 40), p = k * 2.399963;  // a spiral of normals
+      const Eigen::Vector3f n(static_cast<float>(std::sin(t) * std::cos(p)), static_cast<float>(std::cos(t)), static_cast<float>(std::sin(t) * std::sin(p)));
+      double e = 0.0;
+      for (std::size_t d = 0; d < directions.size(); ++d) e += lum[d] * std::max(0.0f, n.dot(directions[d].first)) * directions[d].second;
+      e /= std::numbers::pi;
+      pairs.emplace_back(map(n).x(), e);
+      largest = std::max(largest, e);
+    }
+    double worst = 0.0;
+    for (const auto& [mapped, integral] : pairs) {
+      EXPECT_NEAR(mapped, integral, 0.01 * largest) << env->source;
+      if (integral > 0.1 * largest) {
+        EXPECT_NEAR(mapped, integral, 0.02 * integral) << env->source;
+      }
+      worst = std::max(worst, std::abs(mapped - integral) / largest);
+    }
+    std::printf("%s: the map's worst departure from the integral %.4f of the largest irradiance\n", env->source.empty() ? "sun" : env->source.c_str(), worst);
+  }
 }
 
 TEST(Environment, BadImagesAreRefusedByName) {

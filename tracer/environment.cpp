@@ -35,26 +35,20 @@ Eigen::Matrix3f world_from_environment(const Eigen::Vector3f& up_in, float rotat
 }
 
 // The direction (environment frame) through the centre of pixel (i, j), and its solid angle.
+// IEEE-exact angles (portable_sincos_turns), so that what is built from it (the irradiance map)
+// is the same on every node of a farm.
 Eigen::Vector3f pixel_direction(const EnvironmentImage& env, int i, int j, float& solid_angle) {
-  const float theta = (static_cast<float>(j) + 0.5f) / static_cast<float>(env.height) * kPi;  // from the zenith
-  const float phi = ((static_cast<float>(i) + 0.5f) / static_cast<float>(env.width) - 0.5f) * 2.0f * kPi;
-  solid_angle = (2.0f * kPi / static_cast<float>(env.width)) * (kPi / static_cast<float>(env.height)) * std::sin(theta);
+  double sin_theta = 0.0, cos_theta = 0.0, sin_phi = 0.0, cos_phi = 0.0;
+  portable_sincos_turns(0.5 * (j + 0.5) / env.height, sin_theta, cos_theta);  // from the zenith
+  portable_sincos_turns((i + 0.5) / env.width - 0.5, sin_phi, cos_phi);
+  solid_angle = static_cast<float>((2.0 * std::numbers::pi / env.width) * (std::numbers::pi / env.height) * sin_theta);
   // u = 0.5 (phi 0) looks along -z; phi grows towards +x.
-  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+  return Eigen::Vector3d(sin_theta * sin_phi, cos_theta, -sin_theta * cos_phi).cast<float>();
 }
 
-// The real spherical harmonics of bands 0-2 at unit direction d, in the order of IrradianceSH.
-std::array<float, 9> sh_basis(const Eigen::Vector3f& d) {
-  const float x = d.x(), y = d.y(), z = d.z();
-  return {0.282095f, 0.488603f * y, 0.488603f * z, 0.488603f * x, 1.092548f * x * y, 1.092548f * y * z,
-          0.315392f * (3.0f * z * z - 1.0f), 1.092548f * x * z, 0.546274f * (x * x - y * y)};
-}
-
-// The light of an environment needs no more than 512 x 256 pixels (its nine coefficients change
-// by less than 1e-4 of the mean from 4k): each smaller pixel averages the pixels it covers,
+// An environment at most `kWidth` pixels wide: each smaller pixel averages the pixels it covers,
 // weighted by their solid angle, so that the light's energy stays as it was.
-EnvironmentImage downsampled(EnvironmentImage env) {
-  constexpr int kWidth = 512;
+EnvironmentImage downsampled(EnvironmentImage env, int kWidth) {
   if (env.width <= kWidth) return env;
   EnvironmentImage small;
   small.width = kWidth;
@@ -79,12 +73,22 @@ EnvironmentImage downsampled(EnvironmentImage env) {
 
 }  // namespace
 
-Eigen::Vector3f IrradianceSH::operator()(const Eigen::Vector3f& n) const {
-  const float x = n.x(), y = n.y(), z = n.z();
-  const float b[9] = {1.0f, y, z, x, x * y, y * z, 3.0f * z * z - 1.0f, x * z, x * x - y * y};
-  Eigen::Vector3f e = Eigen::Vector3f::Zero();
-  for (int k = 0; k < 9; ++k) e += b[k] * coefficient[static_cast<std::size_t>(k)];
-  return e.cwiseMax(0.0f);
+Eigen::Vector3f IrradianceMap::at(float row, float column) const {
+  const float r = std::clamp(row, 0.0f, static_cast<float>(height - 1));
+  const int j0 = std::min(static_cast<int>(r), height - 2), j1 = j0 + 1;
+  const float fr = std::clamp(r - static_cast<float>(j0), 0.0f, 1.0f);
+  const float c = column - std::floor(column / static_cast<float>(width)) * static_cast<float>(width);  // in [0, width]
+  const int i0 = std::min(static_cast<int>(c), width - 1), i1 = (i0 + 1) % width;
+  const float fc = std::clamp(c - static_cast<float>(i0), 0.0f, 1.0f);
+  const auto texel = [&](int i, int j) { return Eigen::Map<const Eigen::Vector3f>(&rgb[(static_cast<std::size_t>(j) * width + i) * 3]); };
+  return (1.0f - fr) * ((1.0f - fc) * texel(i0, j0) + fc * texel(i1, j0)) + fr * ((1.0f - fc) * texel(i0, j1) + fc * texel(i1, j1));
+}
+
+Eigen::Vector3f IrradianceMap::operator()(const Eigen::Vector3f& n) const {
+  const Eigen::Vector3f d = environment_from_world * n;
+  const double theta = portable_atan2(std::sqrt(double(d.x()) * d.x() + double(d.z()) * d.z()), d.y());
+  const double phi = portable_atan2(d.x(), -d.z());  // u = 0.5 (phi 0) looks along -z
+  return at(static_cast<float>(theta / std::numbers::pi * (height - 1)), static_cast<float>((phi / (2.0 * std::numbers::pi) + 0.5) * width - 0.5));
 }
 
 Eigen::Vector3f environment_to_world(const Eigen::Vector3f& d, const Eigen::Vector3f& up, float rotation_deg) {
@@ -127,41 +131,54 @@ EnvironmentDistribution environment_distribution(const EnvironmentImage& env, co
   out.environment_from_world = out.world_from_environment.transpose();
   const int w = env.width, h = env.height;
   if (w <= 0 || h <= 0) return out;
-  // Luminance times the row's sin(theta) (the pixel's solid angle but for constant factors), in
-  // double: the sums must not lose the dim rows under a bright sun.
-  std::vector<double> weight(static_cast<std::size_t>(w) * h);
-  std::vector<double> row_sum(static_cast<std::size_t>(h), 0.0);
-  double total = 0.0;
+  std::vector<double> luminance(static_cast<std::size_t>(w) * h), sin_row(static_cast<std::size_t>(h));
   for (int j = 0; j < h; ++j) {
     // sin of the row centre's polar angle (half a turn from the zenith to the nadir).
-    double sin_theta = 0.0, cos_theta = 0.0;
-    portable_sincos_turns(0.5 * (j + 0.5) / h, sin_theta, cos_theta);
+    double cos_theta = 0.0;
+    portable_sincos_turns(0.5 * (j + 0.5) / h, sin_row[static_cast<std::size_t>(j)], cos_theta);
     for (int i = 0; i < w; ++i) {
       const float* p = &env.rgb[(static_cast<std::size_t>(j) * w + i) * 3];
-      const double value = (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) * sin_theta;
+      luminance[static_cast<std::size_t>(j) * w + i] = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    }
+  }
+  // A pixel's weight: the largest luminance of it and its eight neighbours (wrapping round the up
+  // axis, clamped at the poles) times the row's sin(theta) (its solid angle but for constant
+  // factors), in double (the sums must not lose the dim rows under a bright sun). The radiance is
+  // looked up bilinearly between pixel centres, so a sun's light reaches half a pixel beyond its
+  // pixels: a density of the pixels' own luminance would be the dim sky's there, and the few
+  // rays that land in that fringe would carry the sun's radiance over the sky's density (white
+  // fireflies). The neighbours' largest bounds the bilinear value anywhere in the pixel.
+  std::vector<double> weight(static_cast<std::size_t>(w) * h);
+  std::vector<double> row_sum(static_cast<std::size_t>(h), 0.0);
+  double total = 0.0, plain_total = 0.0, sin_sum = 0.0;
+  for (int j = 0; j < h; ++j) {
+    const double sin_theta = sin_row[static_cast<std::size_t>(j)];
+    for (int i = 0; i < w; ++i) {
+      double largest = 0.0;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int jj = std::clamp(j + dj, 0, h - 1), ii = (i + di + w) % w;
+          largest = std::max(largest, luminance[static_cast<std::size_t>(jj) * w + ii]);
+        }
+      const double value = largest * sin_theta;
       weight[static_cast<std::size_t>(j) * w + i] = value;
       row_sum[static_cast<std::size_t>(j)] += value;
+      plain_total += luminance[static_cast<std::size_t>(j) * w + i] * sin_theta;
     }
     total += row_sum[static_cast<std::size_t>(j)];
-  }
-  if (!(total > 0.0) || !std::isfinite(total)) return out;
-  // The peak: pixels whose luminance (weight / sin) exceeds four times the solid-angle mean.
-  double sin_sum = 0.0, peak = 0.0;
-  for (int j = 0; j < h; ++j) {
-    double sin_theta = 0.0, cos_theta = 0.0;
-    portable_sincos_turns(0.5 * (j + 0.5) / h, sin_theta, cos_theta);
     sin_sum += sin_theta * w;
   }
-  const double mean_luminance = total / sin_sum;
-  for (int j = 0; j < h; ++j) {
-    double sin_theta = 0.0, cos_theta = 0.0;
-    portable_sincos_turns(0.5 * (j + 0.5) / h, sin_theta, cos_theta);
+  if (!(total > 0.0) || !std::isfinite(total)) return out;
+  // The peak: the share of the light (the pixels' own luminance) in pixels brighter than four
+  // times the solid-angle mean.
+  const double mean_luminance = plain_total / sin_sum;
+  double peak = 0.0;
+  for (int j = 0; j < h; ++j)
     for (int i = 0; i < w; ++i) {
-      const double value = weight[static_cast<std::size_t>(j) * w + i];
-      if (value > 4.0 * mean_luminance * sin_theta) peak += value;
+      const double value = luminance[static_cast<std::size_t>(j) * w + i];
+      if (value > 4.0 * mean_luminance) peak += value * sin_row[static_cast<std::size_t>(j)];
     }
-  }
-  out.peak_share = static_cast<float>(peak / total);
+  out.peak_share = static_cast<float>(peak / plain_total);
   out.width = w;
   out.height = h;
   out.row_cdf.resize(static_cast<std::size_t>(h) + 1);
@@ -239,28 +256,47 @@ float EnvironmentDistribution::density(const Eigen::Vector3f& world) const {
   return density_times_sin(i, j) / static_cast<float>(std::max(sin_theta, 1e-6));
 }
 
-IrradianceSH irradiance_sh(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg, float intensity) {
-  const Eigen::Matrix3f m = world_from_environment(up, rotation_deg);
-  // L_k = integral of L(w) Y_k(w) dw, in double: a 4k image sums 8 million terms.
-  std::array<Eigen::Vector3d, 9> l;
-  l.fill(Eigen::Vector3d::Zero());
+IrradianceMap irradiance_map(const EnvironmentImage& full, const Eigen::Vector3f& up, float rotation_deg, float intensity) {
+  // 256 x 128 pixels hold an environment's irradiance: it is the image blurred by a cosine lobe.
+  const EnvironmentImage env = downsampled(full, 256);
+  struct Pixel {
+    Eigen::Vector3f direction;
+    Eigen::Vector3f radiance_times_solid_angle;
+  };
+  std::vector<Pixel> pixels;
+  pixels.reserve(static_cast<std::size_t>(env.width) * env.height);
   for (int j = 0; j < env.height; ++j)
     for (int i = 0; i < env.width; ++i) {
       float d_omega = 0.0f;
-      const Eigen::Vector3f w = m * pixel_direction(env, i, j, d_omega);
+      const Eigen::Vector3f d = pixel_direction(env, i, j, d_omega);
       const float* p = &env.rgb[(static_cast<std::size_t>(j) * env.width + i) * 3];
-      const Eigen::Vector3d radiance(p[0], p[1], p[2]);
-      const std::array<float, 9> y = sh_basis(w);
-      for (std::size_t k = 0; k < 9; ++k) l[k] += radiance * static_cast<double>(y[k] * d_omega);
+      if (p[0] > 0.0f || p[1] > 0.0f || p[2] > 0.0f) pixels.push_back({d, Eigen::Vector3f(p[0], p[1], p[2]) * d_omega});
     }
-  // E(n) = sum_l A_l sum_m L_lm Y_lm(n), A = (pi, 2 pi / 3, pi / 4); divided by pi, with the
-  // basis' constants folded in (Y20's -1 term stays in the basis 3z^2 - 1).
-  const double a[3] = {1.0, 2.0 / 3.0, 0.25};
-  const double c[9] = {0.282095, 0.488603, 0.488603, 0.488603, 1.092548, 1.092548, 0.315392, 1.092548, 0.546274};
-  const int band[9] = {0, 1, 1, 1, 2, 2, 2, 2, 2};
-  IrradianceSH sh;
-  for (std::size_t k = 0; k < 9; ++k) sh.coefficient[k] = (l[k] * (a[band[k]] * c[k] * intensity)).cast<float>();
-  return sh;
+  IrradianceMap map;
+  map.width = IrradianceMap::kWidth;
+  map.height = IrradianceMap::kHeight;
+  map.environment_from_world = world_from_environment(up, rotation_deg).transpose();  // a rotation
+  map.rgb.resize(static_cast<std::size_t>(map.width) * map.height * 3);
+  for (int j = 0; j < map.height; ++j) {
+    double sin_theta = 0.0, cos_theta = 0.0;
+    portable_sincos_turns(0.5 * j / (map.height - 1), sin_theta, cos_theta);  // rows from the zenith to the nadir
+    for (int i = 0; i < map.width; ++i) {
+      double sin_phi = 0.0, cos_phi = 0.0;
+      portable_sincos_turns((i + 0.5) / map.width - 0.5, sin_phi, cos_phi);
+      const Eigen::Vector3f n = Eigen::Vector3d(sin_theta * sin_phi, cos_theta, -sin_theta * cos_phi).cast<float>();
+      // Per texel in float, summed in double per row of pixels (a sum of 32768 terms).
+      Eigen::Vector3d e = Eigen::Vector3d::Zero();
+      for (std::size_t start = 0; start < pixels.size(); start += static_cast<std::size_t>(env.width)) {
+        Eigen::Vector3f row = Eigen::Vector3f::Zero();
+        for (std::size_t k = start; k < std::min(pixels.size(), start + static_cast<std::size_t>(env.width)); ++k)
+          row += pixels[k].radiance_times_solid_angle * std::max(0.0f, n.dot(pixels[k].direction));
+        e += row.cast<double>();
+      }
+      const Eigen::Vector3f value = (e * (static_cast<double>(intensity) / std::numbers::pi)).cast<float>();
+      std::copy(value.data(), value.data() + 3, &map.rgb[(static_cast<std::size_t>(j) * map.width + i) * 3]);
+    }
+  }
+  return map;
 }
 
 EnvironmentImage read_environment(const std::filesystem::path& file) {
@@ -307,7 +343,7 @@ EnvironmentImage read_environment(const std::filesystem::path& file) {
                          ", " + std::to_string(p / env.width));
       env.rgb[p * 3 + static_cast<std::size_t>(c)] = v;
     }
-  return downsampled(std::move(env));
+  return downsampled(std::move(env), 512);
 }
 
 EnvironmentImage neutral_environment() {
@@ -338,7 +374,7 @@ EnvironmentImage neutral_environment() {
       for (int c = 0; c < 3; ++c) env.rgb[(static_cast<std::size_t>(j) * env.width + i) * 3 + static_cast<std::size_t>(c)] = v;
     }
   // Scale: a surface facing up receives pi (E / pi = 1).
-  const float up = irradiance_sh(env, Eigen::Vector3f::UnitY(), 0.0f, 1.0f)(Eigen::Vector3f::UnitY()).x();
+  const float up = upward_irradiance(env, 1.0f).x();
   for (float& v : env.rgb) v /= up;
   return env;
 }

@@ -3,10 +3,10 @@
 // in place of the look's uniform sky. Where there are occlusion rays, a sample's light from it is
 // the image's radiance along its ray (cosine-distributed, mixed with directions picked by the
 // image's own light: EnvironmentDistribution), so a sun in an HDR casts its own sharp shadow. Its
-// irradiance, held as nine spherical-harmonic coefficients (Ramamoorthi and Hanrahan 2001, "An
-// efficient representation for irradiance environment maps"; within about 1 % of the true
-// irradiance on average), stands in where a value must be noise-free: the denoiser's guides, the
-// plain look without occlusion rays, and the surfaces interreflections meet.
+// irradiance (IrradianceMap) is what a diffuse surface gets where its ray is unblocked (the ray
+// then only takes away what the model blocks: no noise in the open), and stands in where a value
+// must be noise-free: the denoiser's guides, the plain look without occlusion rays, and the
+// surfaces interreflections meet.
 #include <Eigen/Core>
 
 #include <array>
@@ -40,18 +40,28 @@ EnvironmentImage neutral_environment();
 /// "neutral" or a file: what --environment names.
 std::shared_ptr<const EnvironmentImage> environment_named(const std::string& name_or_file);
 
-/// Nine coefficients per channel of the irradiance E(n) / pi for world normals n, in the world
-/// frame: E(n) / pi = sum_k coefficient[k] * basis_k(n), with basis (1, y, z, x, xy, yz,
-/// 3z^2 - 1, xz, x^2 - y^2) of the world's own axes.
-struct IrradianceSH {
-  std::array<Eigen::Vector3f, 9> coefficient{};
-  /// E(n) / pi for a unit normal, clamped at 0 (the second band can dip below near a bright spot).
+/// The environment's irradiance over pi, E(n) / pi, at every unit normal: a 128 x 65 map over the
+/// normal's angles in the environment's own layout (rows from its zenith to its nadir, both
+/// poles included; columns from u = 0, texel centres), each texel the sum over the image's
+/// pixels (averaged down to at most 256 x 128, their energy kept) of radiance x max(0, cos) x
+/// solid angle / pi at the texel's normal, bilinear in between. No band limit: a small sun's
+/// irradiance keeps its shape (tests/tracer_environment_test.cpp measures it against a fine
+/// numerical integral).
+struct IrradianceMap {
+  static constexpr int kWidth = 128, kHeight = 65;
+  int width = 0, height = 0;
+  std::vector<float> rgb;  ///< width * height * 3
+  Eigen::Matrix3f environment_from_world = Eigen::Matrix3f::Identity();
+  /// E / pi at fractional texel coordinates (whole numbers at texels; `row` 0 at the zenith,
+  /// height - 1 at the nadir, `column` from u = 0): bilinear, wrapping round the up axis.
+  Eigen::Vector3f at(float row, float column) const;
+  /// E / pi for a unit world normal (angles in double, IEEE-exact: the same on every CPU).
   Eigen::Vector3f operator()(const Eigen::Vector3f& n) const;
 };
 
-/// The environment's irradiance with its +y on the world's `up` and turned `rotation_deg` about
-/// it (right-handed, seen from above), times `intensity`.
-IrradianceSH irradiance_sh(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg, float intensity);
+/// The environment's irradiance map with its +y on the world's `up` and turned `rotation_deg`
+/// about it (right-handed, seen from above), times `intensity`.
+IrradianceMap irradiance_map(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg, float intensity);
 
 /// The environment's radiance in world directions, for the rays of glossy reflections: the image
 /// as placed in the world, times its intensity.
@@ -98,12 +108,12 @@ struct EnvironmentDistribution {
 EnvironmentDistribution environment_distribution(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg);
 
 /// E(up) / pi, the irradiance over pi of a surface facing the environment's up (+y, the world's
-/// up), from the image's pixels (no spherical-harmonic truncation), times `intensity`: the mean of
+/// up), from the image's full pixels, times `intensity`: the mean of
 /// what the ground's occlusion rays see where nothing blocks them.
 Eigen::Vector3f upward_irradiance(const EnvironmentImage& env, float intensity);
 
 /// The world direction of the environment's direction `d` (its own frame: +y up), under the same
-/// placement as irradiance_sh().
+/// placement as irradiance_map().
 Eigen::Vector3f environment_to_world(const Eigen::Vector3f& d, const Eigen::Vector3f& up, float rotation_deg);
 
 }  // namespace meshtour

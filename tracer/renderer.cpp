@@ -566,7 +566,7 @@ Renderer::Renderer(const TriangleMesh& mesh, const RenderOptions& options, std::
   if (const Shading& sh = options.shading; sh.environment) {
     if (!(sh.environment_intensity >= 0.0f) || !std::isfinite(sh.environment_intensity))
       throw InputError("the environment's intensity must be 0 or more, got " + std::to_string(sh.environment_intensity));
-    s.environment_light = irradiance_sh(*sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
+    s.environment_light = irradiance_map(*sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
     s.environment_radiance = environment_radiance(sh.environment, s.up, sh.environment_rotation_deg, sh.environment_intensity);
     s.environment_upward = luminance(upward_irradiance(*sh.environment, sh.environment_intensity));
     if (sh.sample_environment && sh.environment_intensity > 0.0f) {
@@ -653,7 +653,7 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   f.base_color = mat.base_color;
   f.ambient = sh.ambient;
   f.environment = environment_light.has_value();
-  if (environment_light) f.sky_light = *environment_light;
+  if (environment_light) f.sky_light = &*environment_light;
   if (environment_radiance) f.sky_radiance = &*environment_radiance;
   if (environment_distribution) f.sky_distribution = &*environment_distribution;
   f.background_top = sh.background_top;
@@ -682,7 +682,7 @@ Frame Renderer::Impl::frame_for(const Camera& camera, std::uint64_t frame) const
   if (f.sample_sky) {
     // Half the sky rays at most go to the environment's light: the cosine half keeps an even
     // sky's light free of the mixture's noise (an even sky has no peak and gets none).
-    if (environment_distribution) f.sky_environment_share = 0.5f * environment_distribution->peak_share;
+    if (environment_distribution) f.sky_environment_share = std::min(0.9f, environment_distribution->peak_share);
     f.sky_upward = environment_upward;
   }
   f.pixel_angle = 2.0f * tan_half / static_cast<float>(height);  // texture filter footprint

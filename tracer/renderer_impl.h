@@ -65,9 +65,9 @@ struct Frame {
   std::vector<FrameLight> lights;
   Eigen::Vector3f base_color, ambient, background_top, background_bottom;
   // With an environment, the sky's light at normal n is sky_light(n) (E(n) / pi) instead of
-  // `ambient`, and glossy reflections see `sky_radiance` in the directions they sample.
+  // `ambient`, and the rays see `sky_radiance` in the directions they sample.
   bool environment = false;
-  IrradianceSH sky_light;
+  const IrradianceMap* sky_light = nullptr;
   const EnvironmentRadiance* sky_radiance = nullptr;
   // Where glossy reflections sample the environment's light beside their BRDF (null: the BRDF alone).
   const EnvironmentDistribution* sky_distribution = nullptr;
@@ -196,7 +196,7 @@ struct Renderer::Impl {
   std::vector<std::shared_ptr<const std::vector<unsigned char>>> embedded_bytes;
   TextureSystemPtr textures;
   // The environment's irradiance in the world frame (Shading::environment), once per job.
-  std::optional<IrradianceSH> environment_light;
+  std::optional<IrradianceMap> environment_light;
   std::optional<EnvironmentRadiance> environment_radiance;
   std::optional<EnvironmentDistribution> environment_distribution;  // unset: nothing to sample
   float environment_upward = 0.0f;  // luminance of upward_irradiance(): the ground's unblocked sky

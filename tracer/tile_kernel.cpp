@@ -739,19 +739,6 @@ MESHTOUR_SIMD_INLINE SurfacePoint surface_at(const Impl& r, const Frame& f, Scra
   return p;
 }
 
-// The environment's diffuse light at unit normals n: E(n) / pi from its nine coefficients
-// (tracer/environment.h), at least 0.
-MESHTOUR_SIMD_INLINE V3 environment_light(const Frame& f, const V3& n) {
-  const F16 zero = simd::broadcast(0.0f);
-  const F16 basis[9] = {simd::broadcast(1.0f), n.y, n.z, n.x, n.x * n.y, n.y * n.z, 3.0f * n.z * n.z - 1.0f, n.x * n.z, n.x * n.x - n.y * n.y};
-  V3 e{zero, zero, zero};
-  for (std::size_t k = 0; k < 9; ++k) {
-    const Eigen::Vector3f& c = f.sky_light.coefficient[k];
-    e = {e.x + basis[k] * c.x(), e.y + basis[k] * c.y(), e.z + basis[k] * c.z()};
-  }
-  return {simd::max(e.x, zero), simd::max(e.y, zero), simd::max(e.z, zero)};
-}
-
 // ---- glTF's metallic-roughness BRDF (the specification's Appendix B): the Trowbridge-Reitz
 // (GGX) distribution, Smith's height-correlated masking-shadowing, Schlick's Fresnel, and the mix
 // by metalness of a dielectric (F0 0.04 over the diffuse base colour) and a metal (F0 the base
@@ -881,6 +868,28 @@ MESHTOUR_SIMD_INLINE F16 atan2_upper(F16 y, F16 x) {
   constexpr float kPi = std::numbers::pi_v<float>;
   angle = simd::select(steep, 0.5f * kPi - angle, angle);
   return simd::select(simd::lt(x, 0.0f), kPi - angle, angle);
+}
+
+// The environment's diffuse light at unit normals n: E(n) / pi from its irradiance map
+// (tracer/environment.h), the texel coordinates from the normal's angles (IEEE-exact float
+// arithmetic, atan2_upper), the bilinear lookup IrradianceMap::at, per lane.
+MESHTOUR_SIMD_INLINE V3 environment_light(const Frame& f, const V3& n) {
+  const IrradianceMap& map = *f.sky_light;
+  const Eigen::Matrix3f& m = map.environment_from_world;
+  const V3 e{m(0, 0) * n.x + m(0, 1) * n.y + m(0, 2) * n.z, m(1, 0) * n.x + m(1, 1) * n.y + m(1, 2) * n.z,
+             m(2, 0) * n.x + m(2, 1) * n.y + m(2, 2) * n.z};
+  constexpr float kPi = std::numbers::pi_v<float>;
+  const F16 theta = atan2_upper(simd::sqrt(e.x * e.x + e.z * e.z), e.y);
+  const F16 phi_abs = atan2_upper(simd::max(e.x, -e.x), -e.z);
+  const F16 phi = simd::select(simd::lt(e.x, 0.0f), -phi_abs, phi_abs);  // atan2(x, -z), u = 0.5 along -z
+  const F16 row = theta * (static_cast<float>(map.height - 1) / kPi);
+  const F16 column = (phi * (0.5f / kPi) + 0.5f) * static_cast<float>(map.width) - 0.5f;
+  alignas(64) float lr[16], lg[16], lb[16];
+  for (int l = 0; l < simd::kLanes; ++l) {
+    const Eigen::Vector3f value = map.at(row[l], column[l]);
+    lr[l] = value.x(), lg[l] = value.y(), lb[l] = value.z();
+  }
+  return {simd::load(lr), simd::load(lg), simd::load(lb)};
 }
 
 // EnvironmentDistribution::density at world directions `dir` (unit), vectorized for the lanes in
@@ -1141,10 +1150,14 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
   I16 model_sky_valid = on_model;
   if (f.ambient_occlusion && f.sample_sky) {
     // The image's radiance along each lane's ray, times its lobe's factor; a ray that can
-    // bring nothing (below the surface, a zero weight) is not traced.
+    // bring nothing (below the surface, a zero weight) is not traced. The look's diffuse lanes
+    // get their whole irradiance (the map's, exact in the open) and the ray estimates what the
+    // model takes away of it, (1 - V) x the sample: the same expectation as V x the sample, but
+    // no noise where the ray is unblocked (a control variate; as the ground's shadow).
     V3 t1, t2;
     basis(n, t1, t2);
-    const SkySample look = diffuse_sky_sample(f, n, t1, t2, any_ggx ? simd::both(on_model, ~ggx) : on_model, s.u_sky, s.v_sky);
+    const I16 look_lanes = any_ggx ? simd::both(on_model, ~ggx) : on_model;
+    const SkySample look = diffuse_sky_sample(f, n, t1, t2, look_lanes, s.u_sky, s.v_sky);
     const F16 keep = open * look.scale;
     V3 factor{keep * albedo.x, keep * albedo.y, keep * albedo.z};
     V3 dir = look.dir;
@@ -1154,6 +1167,8 @@ MESHTOUR_SIMD_INLINE void shade_model(const Frame& f, const PacketSamples& s, co
     }
     const V3 radiance = environment_radiance_at(f, on_model, dir);
     model_sky = {factor.x * radiance.x, factor.y * radiance.y, factor.z * radiance.z};
+    const V3 open_sky = select(look_lanes, V3{sky.x - model_sky.x, sky.y - model_sky.y, sky.z - model_sky.z}, V3{zero, zero, zero});
+    model_base = {model_base.x + open_sky.x, model_base.y + open_sky.y, model_base.z + open_sky.z};
     model_sky_valid = simd::both(on_model, simd::gt(simd::max(factor.x, simd::max(factor.y, factor.z)), 0.0f));
     bounce_weight = factor;
     sh.sky_dir = select(on_model, dir, sh.sky_dir);
