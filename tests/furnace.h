@@ -19,6 +19,19 @@ inline std::shared_ptr<const EnvironmentImage> uniform_environment(float value, 
   return env;
 }
 
+/// A sky of `sky` with a square sun of `sun` (`size` pixels a side, its top-left pixel at column i,
+/// row j from the zenith), width x width / 2.
+inline std::shared_ptr<EnvironmentImage> sun_environment(int width, float sky, float sun, int i, int j, int size) {
+  auto env = std::make_shared<EnvironmentImage>();
+  env->width = width;
+  env->height = width / 2;
+  env->rgb.assign(static_cast<std::size_t>(env->width) * env->height * 3, sky);
+  for (int y = j; y < j + size; ++y)
+    for (int x = i; x < i + size; ++x)
+      for (int c = 0; c < 3; ++c) env->rgb[(static_cast<std::size_t>(y) * width + x) * 3 + c] = sun;
+  return env;
+}
+
 /// An environment of two halves, 64 x 32: `sky` above the horizon, `floor` below it.
 inline std::shared_ptr<const EnvironmentImage> sky_and_floor(const Eigen::Vector3f& sky, const Eigen::Vector3f& floor) {
   auto env = std::make_shared<EnvironmentImage>();

@@ -22,16 +22,7 @@ constexpr double kPiSampling = std::numbers::pi;
 
 // 128 x 64: a dim grey sky of 0.2 and a 4 x 4-pixel sun (about 11 degrees) of 300 at 45 degrees of
 // elevation towards +x (u = 0.75): the sun brings about three times the rest's light.
-std::shared_ptr<const EnvironmentImage> small_sun_environment() {
-  auto env = std::make_shared<EnvironmentImage>();
-  env->width = 128;
-  env->height = 64;
-  env->rgb.assign(128 * 64 * 3, 0.2f);
-  for (int j = 14; j < 18; ++j)
-    for (int i = 94; i < 98; ++i)
-      for (int c = 0; c < 3; ++c) env->rgb[(static_cast<std::size_t>(j) * 128 + i) * 3 + c] = 300.0f;
-  return env;
-}
+std::shared_ptr<const EnvironmentImage> small_sun_environment() { return test::sun_environment(128, 0.2f, 300.0f, 94, 14, 4); }
 
 TEST(EnvironmentSampling, TheDensityIntegratesToOneAndPicksPixelsByTheirShare) {
   const auto env = small_sun_environment();

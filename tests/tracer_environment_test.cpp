@@ -158,13 +158,7 @@ TEST(Environment, NeutralLightsAWhiteSurfaceFacingUpAsOne) {
 // all round, under a small sun (a sharp kink at its terminator) and the neutral studio: within 1 %
 // of the largest irradiance everywhere, and within 2 % of the value where it is at least a tenth.
 TEST(Environment, TheIrradianceMapIsTheIntegralOfTheRadiance) {
-  auto sun = std::make_shared<EnvironmentImage>();
-  sun->width = 256;
-  sun->height = 128;
-  sun->rgb.assign(256 * 128 * 3, 0.2f);
-  for (int j = 30; j < 36; ++j)
-    for (int i = 180; i < 186; ++i)
-      for (int c = 0; c < 3; ++c) sun->rgb[(static_cast<std::size_t>(j) * 256 + i) * 3 + c] = 400.0f;
+  const std::shared_ptr<EnvironmentImage> sun = test::sun_environment(256, 0.2f, 400.0f, 180, 30, 6);
   const auto neutral = std::make_shared<EnvironmentImage>(neutral_environment());
   const Eigen::Vector3f up = Eigen::Vector3f(0.2f, 1.0f, -0.1f).normalized();
   for (const auto& env : {sun, neutral}) {
