@@ -12,7 +12,7 @@ pairs=${1:-3}
 ground=${2:-catcher}
 mesh=../shared/meshes/bunny.ply
 [ -f "$mesh" ] || { echo "cycles_compare: $mesh not found (the shared test meshes)" >&2; exit 2; }
-command -v blender >/dev/null || { echo "cycles_compare: blender not found (apt-get install blender)" >&2; exit 2; }
+command -v blender >/dev/null || { echo "cycles_compare: blender not found (scripts/install-deps.sh --bench)" >&2; exit 2; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 for ((i = 1; i <= pairs; ++i)); do

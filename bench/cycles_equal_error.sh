@@ -43,7 +43,7 @@ ladder=("$@")
 case $ground in none | catcher) ;; *) echo "cycles_equal_error: GROUND must be none or catcher, not '$ground'" >&2; exit 2 ;; esac
 mesh=../shared/meshes/bunny.ply
 [ -f "$mesh" ] || { echo "cycles_equal_error: $mesh not found (the shared test meshes)" >&2; exit 2; }
-command -v blender >/dev/null || { echo "cycles_equal_error: blender not found (apt-get install blender)" >&2; exit 2; }
+command -v blender >/dev/null || { echo "cycles_equal_error: blender not found (scripts/install-deps.sh --bench)" >&2; exit 2; }
 dq=build-test/bench/denoise_quality
 [ -x "$dq" ] || { echo "cycles_equal_error: $dq not found (scripts/build.sh --tests)" >&2; exit 2; }
 

@@ -21,10 +21,14 @@
 # tracer_bench's: 18 degrees above the bunny's centre, a 35-degree vertical field of view, the
 # whole model in frame. Same work, not the same picture: Cycles bounces light, meshtour does not.
 import math
+import os
 import sys
 import time
 
 import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cycles_settings  # noqa: E402 (beside this script)
 from mathutils import Vector
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
@@ -52,20 +56,7 @@ hi = Vector((max(c.x for c in corners), max(c.y for c in corners), max(c.z for c
 centre, diagonal = (lo + hi) / 2, (hi - lo).length
 
 scene = bpy.context.scene
-scene.render.engine = "CYCLES"
-scene.cycles.device = "CPU"
-scene.cycles.samples = spp
-scene.cycles.use_adaptive_sampling = False
-scene.cycles.use_denoising = False
-scene.cycles.seed = seed
-scene.render.threads_mode = "FIXED"
-scene.render.threads = threads
-scene.render.resolution_x, scene.render.resolution_y = width, height
-scene.render.resolution_percentage = 100
-scene.render.film_transparent = False
-scene.render.image_settings.file_format = "OPEN_EXR"
-scene.render.image_settings.color_depth = "32"
-scene.view_settings.view_transform = "Standard"
+cycles_settings.apply(scene, spp, seed, threads, width, height, transparent=False)
 
 # The camera: tracer_bench's (Y up there; Z up here).
 fov = math.radians(35.0)

@@ -7,6 +7,7 @@
 //   build-test/bench/denoise_quality --compare-exr bunny=old/frame_000030.exr   # another renderer's raw frame vs the reference
 //   build-test/bench/denoise_quality --case bunny --dump /tmp/dq  # also write every frame (linear RGBA EXR) to look at
 //   build-test/bench/denoise_quality --error A.exr REFERENCE.exr  # A's relative RMSE against REFERENCE (any renderer's)
+//   build-test/bench/denoise_quality --model-error A.exr REFERENCE.exr  # the same over the pixels both cover (transparent frames)
 //
 // Cases: bunny, default, textured and transparent are frame 30 of the tour `meshtour tour` makes;
 // vertex-colours a banded sphere; bunny-studio the frame of the speed comparisons (tracer_bench's,
@@ -281,21 +282,27 @@ Image read_exr(const fs::path& file, const Image& like) {
 
 // The relative RMSE of `file` against `reference_file` (the tables' definition, over R, G, B), for
 // frames of any renderer: each against its own converged reference.
+// The named channels of an image file, pixel by pixel, as float.
+std::vector<float> read_channels(const fs::path& f, const std::vector<std::string>& names, int* width, int* height) {
+  OIIO::ImageBuf buf(f.string());
+  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error("cannot read " + f.string() + ": " + buf.geterror());
+  const OIIO::ImageSpec& spec = buf.spec();
+  std::vector<int> idx;
+  for (const std::string& name : names) {
+    idx.push_back(spec.channelindex(name));
+    if (idx.back() < 0) throw std::runtime_error(f.string() + " has no " + name + " channel");
+  }
+  std::vector<float> all(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels), out;
+  buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, all.data());
+  out.reserve(static_cast<std::size_t>(spec.width) * spec.height * names.size());
+  for (std::size_t p = 0; p < all.size() / spec.nchannels; ++p)
+    for (int k : idx) out.push_back(all[p * spec.nchannels + k]);
+  *width = spec.width, *height = spec.height;
+  return out;
+}
+
 double relative_rmse_of_files(const fs::path& file, const fs::path& reference_file) {
-  const auto rgb = [](const fs::path& f, int* width, int* height) {
-    OIIO::ImageBuf buf(f.string());
-    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error("cannot read " + f.string() + ": " + buf.geterror());
-    const OIIO::ImageSpec& spec = buf.spec();
-    const int idx[3] = {spec.channelindex("R"), spec.channelindex("G"), spec.channelindex("B")};
-    if (idx[0] < 0 || idx[1] < 0 || idx[2] < 0) throw std::runtime_error(f.string() + " has no R, G, B channels");
-    std::vector<float> all(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels), out;
-    buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, all.data());
-    out.reserve(static_cast<std::size_t>(spec.width) * spec.height * 3);
-    for (std::size_t p = 0; p < all.size() / spec.nchannels; ++p)
-      for (int k = 0; k < 3; ++k) out.push_back(all[p * spec.nchannels + idx[k]]);
-    *width = spec.width, *height = spec.height;
-    return out;
-  };
+  const auto rgb = [](const fs::path& f, int* width, int* height) { return read_channels(f, {"R", "G", "B"}, width, height); };
   int w = 0, h = 0, rw = 0, rh = 0;
   const std::vector<float> a = rgb(file, &w, &h), r = rgb(reference_file, &rw, &rh);
   if (w != rw || h != rh)
@@ -304,6 +311,37 @@ double relative_rmse_of_files(const fs::path& file, const fs::path& reference_fi
   double err = 0, ref = 0;
   for (std::size_t i = 0; i < a.size(); ++i) err += (double(a[i]) - r[i]) * (double(a[i]) - r[i]), ref += double(r[i]) * r[i];
   return std::sqrt(err / ref);
+}
+
+// --model-error: A against REFERENCE over the model's pixels only, two frames with transparent
+// backgrounds (another renderer's beside meshtour's): the pixels both cover wholly (alpha of at
+// least 0.999 in both). Prints the relative RMSE, the ratio of the mean values (a bias in
+// exposure or light shows there, not in the noise) and the share of pixels whose coverage the two
+// disagree on (alpha over 0.5 in one only: a camera or orientation mismatch shows there).
+void print_model_error(const fs::path& file, const fs::path& reference_file) {
+  const auto rgba = [](const fs::path& f, int* width, int* height) { return read_channels(f, {"R", "G", "B", "A"}, width, height); };
+  int w = 0, h = 0, rw = 0, rh = 0;
+  const std::vector<float> a = rgba(file, &w, &h), r = rgba(reference_file, &rw, &rh);
+  if (w != rw || h != rh)
+    throw std::runtime_error(file.string() + " is " + std::to_string(w) + "x" + std::to_string(h) + ", its reference " +
+                             std::to_string(rw) + "x" + std::to_string(rh));
+  double err = 0, ref = 0, sum_a = 0, sum_r = 0;
+  std::size_t both = 0, disagree = 0, either = 0;
+  for (std::size_t p = 0; p < a.size() / 4; ++p) {
+    const float alpha_a = a[p * 4 + 3], alpha_r = r[p * 4 + 3];
+    either += alpha_a > 0.5f || alpha_r > 0.5f;
+    disagree += (alpha_a > 0.5f) != (alpha_r > 0.5f);
+    if (alpha_a < 0.999f || alpha_r < 0.999f) continue;
+    ++both;
+    for (int k = 0; k < 3; ++k) {
+      const double x = a[p * 4 + k], y = r[p * 4 + k];
+      err += (x - y) * (x - y), ref += y * y, sum_a += x, sum_r += y;
+    }
+  }
+  if (both == 0 || !(ref > 0)) throw std::runtime_error("no pixel is covered in both frames (are their backgrounds transparent?)");
+  std::printf("model pixels: %zu, coverage disagrees on %.2f %% of the covered pixels\n", both, 100.0 * disagree / std::max<std::size_t>(either, 1));
+  std::printf("relative RMSE over the model: %.4f %%\n", 100 * std::sqrt(err / ref));
+  std::printf("mean ratio (A / REFERENCE): %.4f\n", sum_a / sum_r);
 }
 
 // A linear RGBA frame as a float EXR (for --dump).
@@ -337,11 +375,19 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "denoise_quality: %s\n", e.what());
         return 1;
       }
+    } else if (a == "--model-error" && i + 2 < argc) {
+      try {
+        print_model_error(argv[i + 1], argv[i + 2]);
+        return 0;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "denoise_quality: %s\n", e.what());
+        return 1;
+      }
     } else if (a == "--compare-exr" && i + 1 < argc) {
       const std::string v = argv[++i];
       compare_exr[v.substr(0, v.find('='))] = v.substr(v.find('=') + 1);
     } else {
-      std::fprintf(stderr, "usage: denoise_quality [--case NAME] [--size WxH] [--compare-exr CASE=FILE.exr] [--dump DIR] | --error A.exr REFERENCE.exr\n");
+      std::fprintf(stderr, "usage: denoise_quality [--case NAME] [--size WxH] [--compare-exr CASE=FILE.exr] [--dump DIR] | --error A.exr REFERENCE.exr | --model-error A.exr REFERENCE.exr\n");
       return 2;
     }
   }

@@ -3,16 +3,21 @@
 #   scripts/install-deps.sh           to build and run the program (scripts/tour.sh)
 #   scripts/install-deps.sh --tests   also to build and run the tests, the benchmarks and the fuzz
 #                                     targets, with Node.js and the tests' npm packages (scripts/test.sh)
+#   scripts/install-deps.sh --bench   also the independent renderer the comparisons run against
+#                                     (Blender's Cycles, with the numpy its glTF importer needs:
+#                                     bench/cycles_*.sh); not needed by any test
 # The first command installs only the first list: the tests' tools (Chromium, Slurm, clang, ...)
 # are most of the download.
 # Idempotent: packages already present are not touched, and nothing is printed for them.
 set -euo pipefail
 
-with_tests=0
+with_tests=0 with_bench=0
 if [ "${1:-}" = --tests ]; then
   with_tests=1
+elif [ "${1:-}" = --bench ]; then
+  with_tests=1 with_bench=1
 elif [ $# -gt 0 ]; then
-  echo "usage: scripts/install-deps.sh [--tests]" >&2
+  echo "usage: scripts/install-deps.sh [--tests | --bench]" >&2
   exit 2
 fi
 
@@ -41,7 +46,11 @@ test_packages=(
   clang libclang-rt-14-dev                  # fuzz targets: clang with libFuzzer and the sanitizers
   python3                                   # the soak test's driver (scripts/soak.py)
 )
+bench_packages=(
+  blender python3-numpy                     # bench/cycles_*: Cycles, and the numpy of Blender's glTF importer
+)
 [ "$with_tests" = 1 ] && packages+=("${test_packages[@]}")
+[ "$with_bench" = 1 ] && packages+=("${bench_packages[@]}")
 
 missing=()
 for p in "${packages[@]}"; do

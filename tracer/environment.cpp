@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <OpenImageIO/imageio.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -277,7 +278,9 @@ IrradianceMap irradiance_map(const EnvironmentImage& full, const Eigen::Vector3f
   map.height = IrradianceMap::kHeight;
   map.environment_from_world = world_from_environment(up, rotation_deg).transpose();  // a rotation
   map.rgb.resize(static_cast<std::size_t>(map.width) * map.height * 3);
-  for (int j = 0; j < map.height; ++j) {
+  // Rows in parallel (about 0.4 s of one core for the whole map); each texel is one sum in a fixed
+  // order, so the map does not depend on the threads.
+  tbb::parallel_for(0, map.height, [&](int j) {
     double sin_theta = 0.0, cos_theta = 0.0;
     portable_sincos_turns(0.5 * j / (map.height - 1), sin_theta, cos_theta);  // rows from the zenith to the nadir
     for (int i = 0; i < map.width; ++i) {
@@ -295,7 +298,7 @@ IrradianceMap irradiance_map(const EnvironmentImage& full, const Eigen::Vector3f
       const Eigen::Vector3f value = (e * (static_cast<double>(intensity) / std::numbers::pi)).cast<float>();
       std::copy(value.data(), value.data() + 3, &map.rgb[(static_cast<std::size_t>(j) * map.width + i) * 3]);
     }
-  }
+  });
   return map;
 }
 
