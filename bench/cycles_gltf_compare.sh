@@ -41,16 +41,20 @@ while [ $# -gt 0 ]; do
     --reuse-cycles) reuse=1; shift ;;
     --meshtour) meshtour=$2; shift 2 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
-    -*) echo "compare.sh: unknown option $1 (--help lists them)" >&2; exit 2 ;;
+    -*) echo "cycles_gltf_compare: unknown option $1 (--help lists them)" >&2; exit 2 ;;
     *) break ;;
   esac
 done
-[ $# -ge 2 ] && [ $(($# % 2)) -eq 0 ] || { echo "compare.sh: give MODEL ENV pairs (--help)" >&2; exit 2; }
-command -v blender >/dev/null || { echo "compare.sh: blender not found (apt-get install blender python3-numpy)" >&2; exit 2; }
-[ -x "$meshtour" ] || { echo "compare.sh: $meshtour not found (scripts/build.sh --tests)" >&2; exit 2; }
+[ $# -ge 2 ] && [ $(($# % 2)) -eq 0 ] || { echo "cycles_gltf_compare: give MODEL ENV pairs (--help)" >&2; exit 2; }
+command -v blender >/dev/null || { echo "cycles_gltf_compare: blender not found (scripts/install-deps.sh --bench)" >&2; exit 2; }
+[ -x "$meshtour" ] || { echo "cycles_gltf_compare: $meshtour not found (scripts/build.sh --tests)" >&2; exit 2; }
 quality="$root/build-test/bench/denoise_quality"
-[ -x "$quality" ] || { echo "compare.sh: $quality not found (scripts/build.sh --tests)" >&2; exit 2; }
+[ -x "$quality" ] || { echo "cycles_gltf_compare: $quality not found (scripts/build.sh --tests)" >&2; exit 2; }
 width=${size%x*} height=${size#*x}
+suffix="" lambert_look=""
+if [ "$lambert" = 1 ]; then
+  suffix=-lambert lambert_look=', "materials": "look", "specular": 0'
+fi
 if [ -z "$work" ]; then
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
@@ -60,12 +64,12 @@ printf '%-28s %-12s %8s %8s %9s %9s %9s\n' model environment rmse% ratio coverag
 while [ $# -gt 0 ]; do
   model=$(realpath "$1") env=$(realpath "$2")
   shift 2
-  name=$(basename "${model%.*}")-$(basename "${env%.*}")$([ "$lambert" = 1 ] && echo -lambert)
+  name=$(basename "${model%.*}")-$(basename "${env%.*}")$suffix
   dir="$work/$name"
   mkdir -p "$dir"
   cat > "$dir/scene.json" <<JSON
 { "format": "meshtour-scene/1", "model": { "file": "$model" }, "up": "y",
-  "look": { "preset": "studio", "lights": [], "ground": false, "background": "transparent"$([ "$lambert" = 1 ] && echo ', "materials": "look", "specular": 0') } }
+  "look": { "preset": "studio", "lights": [], "ground": false, "background": "transparent"$lambert_look } }
 JSON
   "$meshtour" path "$model" --up y --path turntable --frames 8 --elevation 18 --width "$width" --height "$height" \
       --camera-frames "$dir/cams.json" -q
@@ -78,7 +82,7 @@ JSON
   else
     theirs=$(blender -b --factory-startup --python "$root/bench/cycles_gltf.py" -- "$model" "$dir/cams.json" "$frame" "$env" \
         "$dir/cycles.exr" "$cycles_spp" 2 "$width" "$height" "$bounces" 1 -90 "$lambert" 2>"$dir/blender.err" | sed -n 's/^cycles: \([0-9.]*\) seconds.*/\1/p')
-    [ -n "$theirs" ] || { echo "compare.sh: Cycles failed on $model (see $dir/blender.err)" >&2; exit 1; }
+    [ -n "$theirs" ] || { echo "cycles_gltf_compare: Cycles failed on $model (see $dir/blender.err)" >&2; exit 1; }
   fi
   ours_exr=$(printf '%s/meshtour/frame_%06d.exr' "$dir" "$frame")
   report=$("$quality" --model-error "$ours_exr" "$dir/cycles.exr")
