@@ -18,7 +18,8 @@
 namespace meshtour {
 
 /// An environment image: linear RGB, rows from the zenith (top) to the nadir; column u runs round
-/// the up axis (u = 0.5 looks along the environment's -z, as Blender and three.js lay it out).
+/// the up axis (u = 0.5 looks along the environment's -z; Blender, after its glTF import, puts
+/// u = 0.5 along +x: docs/RENDERING.md).
 struct EnvironmentImage {
   int width = 0, height = 0;
   std::vector<float> rgb;  ///< width * height * 3
