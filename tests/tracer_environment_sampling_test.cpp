@@ -66,6 +66,31 @@ TEST(EnvironmentSampling, TheDensityIntegratesToOneAndPicksPixelsByTheirShare) {
   EXPECT_TRUE(environment_distribution(*test::uniform_environment(0.0f), Eigen::Vector3f::UnitY(), 0.0f).empty());
 }
 
+// The pick is the bin that holds its number, in rows and then in the row's columns (the guide
+// tables only shorten the search): checked against the cdfs themselves for numbers on a fine
+// grid, at the bins' edges and just below 1, for a sun (most bins nearly empty) and an even sky.
+TEST(EnvironmentSampling, APickIsTheBinThatHoldsItsNumber) {
+  for (const auto& env : {small_sun_environment(), test::uniform_environment(0.5f)}) {
+    const EnvironmentDistribution d = environment_distribution(*env, Eigen::Vector3f::UnitY(), 10.0f);
+    ASSERT_FALSE(d.empty());
+    std::vector<float> numbers;
+    for (int a = 0; a < 4096; ++a) numbers.push_back((a + 0.5f) / 4096.0f);
+    for (float edge : d.row_cdf)
+      if (edge < 1.0f) numbers.push_back(edge), numbers.push_back(std::nextafter(edge, 0.0f));
+    numbers.push_back(0.0f), numbers.push_back(0x1.fffffep-1f);
+    const auto holds = [](const float* cdf, int k, float u) { return cdf[k] <= u && u < cdf[k + 1]; };
+    for (float u : numbers)
+      for (float v : {0.0f, 0.3f, 0.5f, std::nextafter(0.75f, 0.0f), 0x1.fffffep-1f, u}) {
+        int i = 0, j = 0;
+        float fu = 0.0f, fv = 0.0f;
+        d.pick(u, v, i, j, fu, fv);
+        ASSERT_TRUE(j >= 0 && j < d.height && i >= 0 && i < d.width);
+        ASSERT_TRUE(holds(d.row_cdf.data(), j, u)) << "u " << u << " row " << j;
+        ASSERT_TRUE(holds(&d.column_cdf[static_cast<std::size_t>(j) * (d.width + 1)], i, v)) << "v " << v << " column " << i;
+      }
+  }
+}
+
 // A rough metal sphere (roughness 0.5) under the sun, raw frames: the mean of the BRDF's samples
 // alone and of the mixture agree at 1024 spp (both converge to the same frame), and at 16 spp
 // the mixture's error against that frame is well under half the BRDF's alone.

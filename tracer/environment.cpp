@@ -112,19 +112,54 @@ Eigen::Vector3f EnvironmentRadiance::operator()(const Eigen::Vector3f& world) co
   // same bits on every CPU).
   const double sin_theta = std::sqrt(static_cast<double>(d.x()) * d.x() + static_cast<double>(d.z()) * d.z());
   const float theta = static_cast<float>(portable_atan2(sin_theta, d.y())), phi = static_cast<float>(portable_atan2(d.x(), -d.z()));
-  const float x = (phi / (2.0f * kPi) + 0.5f) * static_cast<float>(env.width) - 0.5f;
-  const float y = std::clamp(theta / kPi * static_cast<float>(env.height) - 0.5f, 0.0f, static_cast<float>(env.height - 1));
+  return at((phi / (2.0f * kPi) + 0.5f) * static_cast<float>(env.width) - 0.5f, theta / kPi * static_cast<float>(env.height) - 0.5f);
+}
+
+Eigen::Vector3f EnvironmentRadiance::at(float x, float y_unclamped) const {
+  const EnvironmentImage& env = *image;
+  const float y = std::clamp(y_unclamped, 0.0f, static_cast<float>(env.height - 1));
   const float fx = std::floor(x), fy = std::floor(y);
   const float ax = x - fx, ay = y - fy;
   const int i0 = static_cast<int>(fx), j0 = static_cast<int>(fy), j1 = std::min(j0 + 1, env.height - 1);
-  const auto at = [&](int i, int j) {
+  const auto texel = [&](int i, int j) {
     i = ((i % env.width) + env.width) % env.width;
     const float* p = &env.rgb[(static_cast<std::size_t>(j) * env.width + i) * 3];
     return Eigen::Vector3f(p[0], p[1], p[2]);
   };
-  const Eigen::Vector3f top = (1.0f - ax) * at(i0, j0) + ax * at(i0 + 1, j0), bottom = (1.0f - ax) * at(i0, j1) + ax * at(i0 + 1, j1);
+  const Eigen::Vector3f top = (1.0f - ax) * texel(i0, j0) + ax * texel(i0 + 1, j0), bottom = (1.0f - ax) * texel(i0, j1) + ax * texel(i0 + 1, j1);
   return intensity * ((1.0f - ay) * top + ay * bottom);
 }
+
+namespace {
+// The index k in [0, n) with cdf[k] <= u < cdf[k + 1] (cdf[0] = 0 <= u < 1 = cdf[n]): never an
+// empty bin. `within` is where u falls in bin k, in [0, 1). `guide` (n + 1 values, from
+// guide_table) narrows the search to the bins that u's n-th of [0, 1) spans; the answer is the
+// one bin that holds u either way, so the guide changes the time, never the pick.
+int invert_cdf(const float* cdf, const int* guide, int n, float u, float& within) {
+  int lo = 0, hi = n;  // cdf[lo] <= u < cdf[hi] (cdf[n] = 1 > u)
+  const int bucket = std::clamp(static_cast<int>(u * static_cast<float>(n)), 0, n - 1);
+  const int guide_lo = guide[bucket], guide_hi = std::min(n, guide[bucket + 1] + 1);
+  if (cdf[guide_lo] <= u && u < cdf[guide_hi]) lo = guide_lo, hi = guide_hi;  // else rounding put u outside: search all
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (cdf[mid] <= u) lo = mid;
+    else hi = mid;
+  }
+  const float width = cdf[lo + 1] - cdf[lo];
+  within = width > 0.0f ? std::clamp((u - cdf[lo]) / width, 0.0f, 0x1.fffffep-1f) : 0.5f;
+  return lo;
+}
+
+// guide[b] = the bin that holds b / n, for b = 0 ... n (the last is n - 1: u < 1).
+void guide_table(const float* cdf, int n, int* guide) {
+  int k = 0;
+  for (int b = 0; b <= n; ++b) {
+    const float u = std::min(static_cast<float>(b) / static_cast<float>(n), 0x1.fffffep-1f);
+    while (k + 1 < n && cdf[k + 1] <= u) ++k;
+    guide[b] = k;
+  }
+}
+}  // namespace
 
 EnvironmentDistribution environment_distribution(const EnvironmentImage& env, const Eigen::Vector3f& up, float rotation_deg) {
   EnvironmentDistribution out;
@@ -200,6 +235,13 @@ EnvironmentDistribution environment_distribution(const EnvironmentImage& env, co
     cdf[w] = 1.0f;
   }
   out.row_cdf[static_cast<std::size_t>(h)] = 1.0f;
+  out.row_guide.resize(out.row_cdf.size());
+  guide_table(out.row_cdf.data(), h, out.row_guide.data());
+  out.column_guide.resize(out.column_cdf.size());
+  for (int j = 0; j < h; ++j) {
+    const std::size_t row = static_cast<std::size_t>(j) * (w + 1);
+    guide_table(&out.column_cdf[row], w, &out.column_guide[row]);
+  }
   return out;
 }
 
@@ -220,25 +262,10 @@ Eigen::Vector3f upward_irradiance(const EnvironmentImage& env, float intensity) 
                         : Eigen::Vector3f::Zero();
 }
 
-namespace {
-// The index k in [0, n) with cdf[k] <= u < cdf[k + 1] (cdf[0] = 0 <= u < 1 = cdf[n]): never an
-// empty bin. `within` is where u falls in bin k, in [0, 1).
-int invert_cdf(const float* cdf, int n, float u, float& within) {
-  int lo = 0, hi = n;  // cdf[lo] <= u < cdf[hi] (cdf[n] = 1 > u)
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    if (cdf[mid] <= u) lo = mid;
-    else hi = mid;
-  }
-  const float width = cdf[lo + 1] - cdf[lo];
-  within = width > 0.0f ? std::clamp((u - cdf[lo]) / width, 0.0f, 0x1.fffffep-1f) : 0.5f;
-  return lo;
-}
-}  // namespace
-
 void EnvironmentDistribution::pick(float u, float v, int& i, int& j, float& fu, float& fv) const {
-  j = invert_cdf(row_cdf.data(), height, u, fv);
-  i = invert_cdf(&column_cdf[static_cast<std::size_t>(j) * (width + 1)], width, v, fu);
+  j = invert_cdf(row_cdf.data(), row_guide.data(), height, u, fv);
+  const std::size_t row = static_cast<std::size_t>(j) * (width + 1);
+  i = invert_cdf(&column_cdf[row], &column_guide[row], width, v, fu);
 }
 
 float EnvironmentDistribution::density_times_sin(int i, int j) const {
@@ -260,43 +287,60 @@ float EnvironmentDistribution::density(const Eigen::Vector3f& world) const {
 IrradianceMap irradiance_map(const EnvironmentImage& full, const Eigen::Vector3f& up, float rotation_deg, float intensity) {
   // 256 x 128 pixels hold an environment's irradiance: it is the image blurred by a cosine lobe.
   const EnvironmentImage env = downsampled(full, 256);
-  struct Pixel {
-    Eigen::Vector3f direction;
-    Eigen::Vector3f radiance_times_solid_angle;
-  };
-  std::vector<Pixel> pixels;
-  pixels.reserve(static_cast<std::size_t>(env.width) * env.height);
+  // The lit pixels, as columns (structure of arrays) for the texel loop below.
+  std::vector<float> dx, dy, dz, lr, lg, lb;
   for (int j = 0; j < env.height; ++j)
     for (int i = 0; i < env.width; ++i) {
       float d_omega = 0.0f;
       const Eigen::Vector3f d = pixel_direction(env, i, j, d_omega);
       const float* p = &env.rgb[(static_cast<std::size_t>(j) * env.width + i) * 3];
-      if (p[0] > 0.0f || p[1] > 0.0f || p[2] > 0.0f) pixels.push_back({d, Eigen::Vector3f(p[0], p[1], p[2]) * d_omega});
+      if (!(p[0] > 0.0f || p[1] > 0.0f || p[2] > 0.0f)) continue;
+      dx.push_back(d.x()), dy.push_back(d.y()), dz.push_back(d.z());
+      lr.push_back(p[0] * d_omega), lg.push_back(p[1] * d_omega), lb.push_back(p[2] * d_omega);
     }
   IrradianceMap map;
   map.width = IrradianceMap::kWidth;
   map.height = IrradianceMap::kHeight;
   map.environment_from_world = world_from_environment(up, rotation_deg).transpose();  // a rotation
   map.rgb.resize(static_cast<std::size_t>(map.width) * map.height * 3);
-  // Rows in parallel (about 0.4 s of one core for the whole map); each texel is one sum in a fixed
-  // order, so the map does not depend on the threads.
+  // Rows in parallel; within a row, kGroup texels at once, each with its own sums over the pixels
+  // in one fixed order (the inner loop runs across the texels, so the compiler makes it vector
+  // code without reordering any texel's sum): the map does not depend on the threads, and it
+  // takes a fraction of the time one texel at a time took (--environment neutral's whole set-up
+  // fell from 0.60 to 0.26 s of CPU).
+  constexpr int kGroup = 8;
+  static_assert(IrradianceMap::kWidth % kGroup == 0);
+  const std::size_t count = dx.size(), block = static_cast<std::size_t>(env.width);
   tbb::parallel_for(0, map.height, [&](int j) {
     double sin_theta = 0.0, cos_theta = 0.0;
     portable_sincos_turns(0.5 * j / (map.height - 1), sin_theta, cos_theta);  // rows from the zenith to the nadir
-    for (int i = 0; i < map.width; ++i) {
-      double sin_phi = 0.0, cos_phi = 0.0;
-      portable_sincos_turns((i + 0.5) / map.width - 0.5, sin_phi, cos_phi);
-      const Eigen::Vector3f n = Eigen::Vector3d(sin_theta * sin_phi, cos_theta, -sin_theta * cos_phi).cast<float>();
-      // Per texel in float, summed in double per row of pixels (a sum of 32768 terms).
-      Eigen::Vector3d e = Eigen::Vector3d::Zero();
-      for (std::size_t start = 0; start < pixels.size(); start += static_cast<std::size_t>(env.width)) {
-        Eigen::Vector3f row = Eigen::Vector3f::Zero();
-        for (std::size_t k = start; k < std::min(pixels.size(), start + static_cast<std::size_t>(env.width)); ++k)
-          row += pixels[k].radiance_times_solid_angle * std::max(0.0f, n.dot(pixels[k].direction));
-        e += row.cast<double>();
+    for (int i0 = 0; i0 < map.width; i0 += kGroup) {
+      float nx[kGroup], ny[kGroup], nz[kGroup];
+      for (int t = 0; t < kGroup; ++t) {
+        double sin_phi = 0.0, cos_phi = 0.0;
+        portable_sincos_turns((i0 + t + 0.5) / map.width - 0.5, sin_phi, cos_phi);
+        nx[t] = static_cast<float>(sin_theta * sin_phi), ny[t] = static_cast<float>(cos_theta), nz[t] = static_cast<float>(-sin_theta * cos_phi);
       }
-      const Eigen::Vector3f value = (e * (static_cast<double>(intensity) / std::numbers::pi)).cast<float>();
-      std::copy(value.data(), value.data() + 3, &map.rgb[(static_cast<std::size_t>(j) * map.width + i) * 3]);
+      // Per texel in float over a block of env.width pixels, the blocks summed in double (a sum
+      // of up to 32768 terms).
+      double er[kGroup] = {}, eg[kGroup] = {}, eb[kGroup] = {};
+      for (std::size_t start = 0; start < count; start += block) {
+        float sr[kGroup] = {}, sg[kGroup] = {}, sb[kGroup] = {};
+        const std::size_t end = std::min(count, start + block);
+        for (std::size_t k = start; k < end; ++k) {
+          const float x = dx[k], y = dy[k], z = dz[k], r = lr[k], g = lg[k], b = lb[k];
+          for (int t = 0; t < kGroup; ++t) {
+            const float cosine = std::max(0.0f, nx[t] * x + ny[t] * y + nz[t] * z);
+            sr[t] += r * cosine, sg[t] += g * cosine, sb[t] += b * cosine;
+          }
+        }
+        for (int t = 0; t < kGroup; ++t) er[t] += sr[t], eg[t] += sg[t], eb[t] += sb[t];
+      }
+      const double scale = static_cast<double>(intensity) / std::numbers::pi;
+      for (int t = 0; t < kGroup; ++t) {
+        float* texel = &map.rgb[(static_cast<std::size_t>(j) * map.width + i0 + t) * 3];
+        texel[0] = static_cast<float>(er[t] * scale), texel[1] = static_cast<float>(eg[t] * scale), texel[2] = static_cast<float>(eb[t] * scale);
+      }
     }
   });
   return map;

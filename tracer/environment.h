@@ -73,6 +73,9 @@ struct EnvironmentRadiance {
   /// The radiance arriving from unit world direction `d`: bilinear between the four nearest
   /// pixels' centres (wrapping round the up axis, clamped at the poles).
   Eigen::Vector3f operator()(const Eigen::Vector3f& d) const;
+  /// The same at image coordinates (x across from u = 0, y down from the zenith, pixel centres
+  /// at whole numbers + 0 ... width - 1), for callers that compute the angles themselves.
+  Eigen::Vector3f at(float x, float y) const;
 };
 EnvironmentRadiance environment_radiance(std::shared_ptr<const EnvironmentImage> env, const Eigen::Vector3f& up, float rotation_deg,
                                          float intensity);
@@ -86,6 +89,9 @@ struct EnvironmentDistribution {
   std::vector<float> row_cdf;            ///< height + 1 values from 0 to 1
   std::vector<float> column_cdf;         ///< per row, width + 1 values from 0 to 1
   std::vector<float> pixel_probability;  ///< per pixel (row-major), its share of the whole
+  /// Where to start looking in each cdf: entry b is the bin that holds b / n (n bins; row_guide
+  /// height + 1 values, column_guide width + 1 per row), so a pick searches a few bins, not all.
+  std::vector<int> row_guide, column_guide;
   Eigen::Matrix3f world_from_environment = Eigen::Matrix3f::Identity();
   Eigen::Matrix3f environment_from_world = Eigen::Matrix3f::Identity();
   /// The share of the light that comes from pixels brighter than four times the mean luminance

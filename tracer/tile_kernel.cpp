@@ -941,13 +941,24 @@ MESHTOUR_SIMD_INLINE V3 environment_sample(const EnvironmentDistribution& d, I16
 }
 
 // The environment's radiance along unit world directions, for the lanes in `lanes` (0 elsewhere):
-// EnvironmentRadiance per lane (bilinear; portable angles, the same bits on every CPU).
+// the image coordinates from the direction's angles in float (atan2_upper: plain arithmetic, the
+// same bits on every CPU and kernel), EnvironmentRadiance::at's bilinear lookup per lane.
 MESHTOUR_SIMD_INLINE V3 environment_radiance_at(const Frame& f, I16 lanes, const V3& dir) {
+  const EnvironmentRadiance& radiance = *f.sky_radiance;
+  const Eigen::Matrix3f& m = radiance.environment_from_world;
+  const V3 e{m(0, 0) * dir.x + m(0, 1) * dir.y + m(0, 2) * dir.z, m(1, 0) * dir.x + m(1, 1) * dir.y + m(1, 2) * dir.z,
+             m(2, 0) * dir.x + m(2, 1) * dir.y + m(2, 2) * dir.z};
+  constexpr float kPi = std::numbers::pi_v<float>;
+  const F16 theta = atan2_upper(simd::sqrt(e.x * e.x + e.z * e.z), e.y);
+  const F16 phi_abs = atan2_upper(simd::max(e.x, -e.x), -e.z);
+  const F16 phi = simd::select(simd::lt(e.x, 0.0f), -phi_abs, phi_abs);  // atan2(x, -z)
+  const float width = static_cast<float>(radiance.image->width), height = static_cast<float>(radiance.image->height);
+  const F16 x = (phi * (0.5f / kPi) + 0.5f) * width - 0.5f, y = theta * (height / kPi) - 0.5f;
   alignas(64) float lr[16], lg[16], lb[16];
   for (int l = 0; l < simd::kLanes; ++l) {
-    Eigen::Vector3f radiance = Eigen::Vector3f::Zero();
-    if (lanes[l]) radiance = (*f.sky_radiance)(Eigen::Vector3f(dir.x[l], dir.y[l], dir.z[l]));
-    lr[l] = radiance.x(), lg[l] = radiance.y(), lb[l] = radiance.z();
+    Eigen::Vector3f value = Eigen::Vector3f::Zero();
+    if (lanes[l]) value = radiance.at(x[l], y[l]);
+    lr[l] = value.x(), lg[l] = value.y(), lb[l] = value.z();
   }
   return {simd::load(lr), simd::load(lg), simd::load(lb)};
 }
